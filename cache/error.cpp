@@ -1,0 +1,16 @@
+#include "cache/error.h"
+
+#include <cstring>
+
+namespace pushpin {
+
+IoError::IoError(const std::filesystem::path& path, const std::string& what, int errnoValue)
+    : Error(path.string() + ": " + what + ": " + std::strerror(errnoValue)), m_path(path) {}
+
+IoError::IoError(const std::filesystem::path& path, const std::string& message)
+    : Error(path.string() + ": " + message), m_path(path) {}
+
+FormatError::FormatError(const std::filesystem::path& path, const std::string& message)
+    : Error(path.string() + ": " + message), m_path(path) {}
+
+}  // namespace pushpin

@@ -1,0 +1,601 @@
+#include "core/scene/graph.h"
+
+#include "cache/error.h"
+
+#include <algorithm>
+#include <charconv>
+#include <functional>
+
+namespace pushpin::scene {
+
+// ------------------------------------------------------------------ plug paths
+
+namespace {
+
+bool isNameStart(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
+bool isNameChar(char c) { return isNameStart(c) || (c >= '0' && c <= '9'); }
+
+bool parseIndex(std::string_view s, int64_t& out) {
+    if (s.empty()) return false;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+    return ec == std::errc() && ptr == s.data() + s.size() && out >= 0;
+}
+
+bool isNumericCompound(AttrType t) {
+    switch (t) {
+        case AttrType::Double2: case AttrType::Double3: case AttrType::Double4:
+        case AttrType::Float2: case AttrType::Float3: case AttrType::Long2: case AttrType::Long3:
+        case AttrType::Short2: case AttrType::Short3: return true;
+        default: return false;
+    }
+}
+
+std::vector<double> defaultNumbers(const AttrSpec& spec) {
+    int n = componentCount(spec.type);
+    if (n <= 0) return {};
+    return std::vector<double>(spec.defaults.begin(), spec.defaults.begin() + std::min(n, 4));
+}
+
+}  // namespace
+
+std::optional<std::vector<PlugSegment>> parsePlugPath(std::string_view text) {
+    std::vector<PlugSegment> out;
+    size_t i = 0;
+    if (i < text.size() && text[i] == '.') ++i;
+    if (i >= text.size()) return std::nullopt;
+    while (i < text.size()) {
+        PlugSegment seg;
+        size_t start = i;
+        if (!isNameStart(text[i])) return std::nullopt;
+        while (i < text.size() && isNameChar(text[i])) ++i;
+        seg.name.assign(text.substr(start, i - start));
+        if (i < text.size() && text[i] == '[') {
+            size_t close = text.find(']', i);
+            if (close == std::string_view::npos) return std::nullopt;
+            std::string_view inside = text.substr(i + 1, close - i - 1);
+            size_t colon = inside.find(':');
+            if (colon == std::string_view::npos) {
+                if (!parseIndex(inside, seg.first)) return std::nullopt;
+                seg.last = seg.first;
+            } else {
+                if (!parseIndex(inside.substr(0, colon), seg.first) ||
+                    !parseIndex(inside.substr(colon + 1), seg.last) || seg.last < seg.first)
+                    return std::nullopt;
+            }
+            if (seg.first > 0xFFFFFFF0LL || seg.last > 0xFFFFFFF0LL) return std::nullopt;
+            i = close + 1;
+        }
+        out.push_back(std::move(seg));
+        if (i == text.size()) break;
+        if (text[i] != '.') return std::nullopt;
+        ++i;
+        if (i == text.size()) return std::nullopt;
+    }
+    return out;
+}
+
+std::string formatPlugPath(const std::vector<PlugSegment>& segments) {
+    std::string s;
+    for (size_t k = 0; k < segments.size(); ++k) {
+        if (k) s += '.';
+        s += segments[k].name;
+        if (segments[k].indexed()) {
+            s += '[' + std::to_string(segments[k].first);
+            if (segments[k].last != segments[k].first) s += ':' + std::to_string(segments[k].last);
+            s += ']';
+        }
+    }
+    return s;
+}
+
+// ------------------------------------------------------------------ MultiStore
+
+void MultiStore::erase(uint32_t first, uint32_t count) {
+    uint64_t end = uint64_t(first) + count;
+    auto it = m_runs.upper_bound(first);
+    if (it != m_runs.begin()) --it;
+    while (it != m_runs.end() && it->first < end) {
+        uint64_t runFirst = it->first, runEnd = runFirst + it->second.count;
+        if (runEnd <= first) {
+            ++it;
+            continue;
+        }
+        Run run = std::move(it->second);
+        it = m_runs.erase(it);
+        auto* nums = std::get_if<Numbers>(&run.value);
+        // Keep the parts of the old run outside [first, end). Only numeric runs can be split;
+        // other kinds (polyFaces, strings) are replaced whole.
+        if (nums) {
+            size_t w = size_t(run.width);
+            if (runFirst < first) {
+                Run head{uint32_t(first - runFirst), run.width, Numbers{nums->kind, nums->tupleSize, {}}};
+                auto& hv = std::get<Numbers>(head.value).values;
+                hv.assign(nums->values.begin(), nums->values.begin() + (first - runFirst) * w);
+                m_runs.emplace(uint32_t(runFirst), std::move(head));
+            }
+            if (runEnd > end) {
+                Run tail{uint32_t(runEnd - end), run.width, Numbers{nums->kind, nums->tupleSize, {}}};
+                auto& tv = std::get<Numbers>(tail.value).values;
+                tv.assign(nums->values.begin() + (end - runFirst) * w, nums->values.end());
+                it = m_runs.emplace(uint32_t(end), std::move(tail)).first;
+                ++it;
+            }
+        }
+    }
+}
+
+void MultiStore::assign(uint32_t first, uint32_t count, Value value) {
+    if (count == 0) return;
+    erase(first, count);
+    int width = 1;
+    if (auto* nums = std::get_if<Numbers>(&value)) width = std::max<int>(1, int(nums->values.size() / count));
+    // Appending single elements one after another (`.pt[5]`, `.pt[6]` …) grows the previous run
+    // instead of creating one map entry per element.
+    if (auto* nums = std::get_if<Numbers>(&value); nums && first > 0) {
+        auto prev = m_runs.lower_bound(first);
+        if (prev != m_runs.begin()) {
+            --prev;
+            auto* pn = std::get_if<Numbers>(&prev->second.value);
+            if (pn && prev->first + prev->second.count == first && prev->second.width == width &&
+                pn->kind == nums->kind) {
+                pn->values.insert(pn->values.end(), nums->values.begin(), nums->values.end());
+                prev->second.count += count;
+                return;
+            }
+        }
+    }
+    m_runs.emplace(first, Run{count, width, std::move(value)});
+}
+
+const MultiStore::Run* MultiStore::find(uint32_t index, uint32_t* offsetInRun) const {
+    auto it = m_runs.upper_bound(index);
+    if (it == m_runs.begin()) return nullptr;
+    --it;
+    if (index >= uint64_t(it->first) + it->second.count) return nullptr;
+    if (offsetInRun) *offsetInRun = index - it->first;
+    return &it->second;
+}
+
+const double* MultiStore::numbers(uint32_t index, int* width) const {
+    uint32_t off = 0;
+    const Run* run = find(index, &off);
+    if (!run) return nullptr;
+    auto* nums = std::get_if<Numbers>(&run->value);
+    if (!nums || size_t(off + 1) * size_t(run->width) > nums->values.size()) return nullptr;
+    if (width) *width = run->width;
+    return nums->values.data() + size_t(off) * size_t(run->width);
+}
+
+std::vector<uint32_t> MultiStore::indices() const {
+    std::vector<uint32_t> out;
+    for (auto& [first, run] : m_runs)
+        for (uint32_t k = 0; k < run.count; ++k) out.push_back(first + k);
+    return out;
+}
+
+uint32_t MultiStore::endIndex() const {
+    if (m_runs.empty()) return 0;
+    auto it = std::prev(m_runs.end());
+    return it->first + it->second.count;
+}
+
+// ------------------------------------------------------------------ Node
+
+bool Node::isDag() const {
+    if (schema) return schema->isA("dagNode");
+    return !parents.empty() || !children.empty();
+}
+
+const AttrSpec* Node::findAttr(std::string_view attrName) const {
+    if (schema)
+        if (const AttrSpec* s = schema->find(attrName)) return s;
+    for (const AttrSpec& s : dynamicAttrs)
+        if (s.longName == attrName || s.shortName == attrName) return &s;
+    return nullptr;
+}
+
+// ------------------------------------------------------------------ Graph
+
+Graph::Graph() {
+    // Nodes every Maya scene has without creating them; files only `select -ne` them.
+    static const std::pair<const char*, const char*> defaults[] = {
+        {"time", "time1"},
+        {"partition", "renderPartition"},
+        {"renderGlobalsList", "renderGlobalsList1"},
+        {"defaultShaderList", "defaultShaderList1"},
+        {"postProcessList", "postProcessList1"},
+        {"defaultRenderUtilityList", "defaultRenderUtilityList1"},
+        {"defaultTextureList", "defaultTextureList1"},
+        {"lightList", "lightList1"},
+        {"shadingEngine", "initialShadingGroup"},
+        {"shadingEngine", "initialParticleSE"},
+        {"lambert", "lambert1"},
+        {"particleCloud", "particleCloud1"},
+        {"renderGlobals", "defaultRenderGlobals"},
+        {"renderQuality", "defaultRenderQuality"},
+        {"resolution", "defaultResolution"},
+        {"objectSet", "defaultLightSet"},
+        {"objectSet", "defaultObjectSet"},
+        {"hardwareRenderGlobals", "hardwareRenderGlobals"},
+        {"hardwareRenderingGlobals", "hardwareRenderingGlobals"},
+        {"lightLinker", "lightLinker1"},
+        {"strokeGlobals", "strokeGlobals"},
+        {"defaultHardwareRenderGlobals", "defaultHardwareRenderGlobals"},
+        {"ikSystem", "ikSystem"},
+    };
+    for (auto& [type, name] : defaults) {
+        NodeId id = createNode(type, name);
+        m_nodes[id].shared = true;
+    }
+    // The unknown-type counter should only reflect what files contain.
+    m_unsupportedTypes.clear();
+    connect({find("lambert1"), "outColor"}, {find("initialShadingGroup"), "surfaceShader"});
+    connect({find("initialShadingGroup"), "partition"}, {find("renderPartition"), "sets"}, true);
+}
+
+NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId parent, uint32_t line) {
+    const NodeSchema* schema = findSchema(type);
+    bool dag = schema ? schema->isA("dagNode") : parent != kNoNode;
+    auto range = m_byName.equal_range(std::string(name));
+    for (auto it = range.first; it != range.second; ++it) {
+        const Node& other = m_nodes[it->second];
+        bool clash = !dag || !other.isDag();
+        if (!clash) {
+            bool otherWorld = other.parents.empty();
+            clash = (parent == kNoNode && otherWorld) ||
+                    std::find(other.parents.begin(), other.parents.end(), parent) != other.parents.end();
+        }
+        if (clash)
+            throw Error("a node named '" + std::string(name) + "' already exists (" + other.type + ")");
+    }
+    if (parent != kNoNode && parent >= m_nodes.size()) throw Error("createNode: invalid parent id");
+    Node n;
+    n.id = NodeId(m_nodes.size());
+    n.type = std::string(type);
+    n.name = std::string(name);
+    n.schema = schema;
+    n.line = line;
+    if (!schema) ++m_unsupportedTypes[n.type];
+    m_nodes.push_back(std::move(n));
+    NodeId id = m_nodes.back().id;
+    m_byName.emplace(m_nodes.back().name, id);
+    if (parent != kNoNode) setParent(id, parent, true);
+    return id;
+}
+
+void Graph::setParent(NodeId child, NodeId parent, bool add) {
+    Node& c = m_nodes.at(child);
+    if (!add) {
+        for (NodeId p : c.parents) {
+            auto& kids = m_nodes[p].children;
+            kids.erase(std::remove(kids.begin(), kids.end(), child), kids.end());
+        }
+        c.parents.clear();
+    }
+    if (parent == kNoNode) return;
+    // Refuse cycles: the new parent must not be the child or one of its descendants.
+    std::function<bool(NodeId)> isDescendant = [&](NodeId n) {
+        if (n == child) return true;
+        for (NodeId p : m_nodes[n].parents)
+            if (isDescendant(p)) return true;
+        return false;
+    };
+    if (isDescendant(parent)) throw Error("parenting '" + c.name + "' under '" + m_nodes[parent].name + "' would make a cycle");
+    if (std::find(c.parents.begin(), c.parents.end(), parent) != c.parents.end()) return;
+    c.parents.push_back(parent);
+    m_nodes[parent].children.push_back(child);
+}
+
+void Graph::rename(NodeId id, std::string_view newName) {
+    Node& n = m_nodes.at(id);
+    auto range = m_byName.equal_range(n.name);
+    for (auto it = range.first; it != range.second; ++it)
+        if (it->second == id) {
+            m_byName.erase(it);
+            break;
+        }
+    n.name = std::string(newName);
+    m_byName.emplace(n.name, id);
+}
+
+std::string Graph::canonicalPath(NodeId nodeId, const std::vector<PlugSegment>& segments) const {
+    const Node& n = m_nodes.at(nodeId);
+    std::vector<PlugSegment> out = segments;
+    for (PlugSegment& s : out)
+        if (const AttrSpec* spec = n.findAttr(s.name)) s.name = spec->longName;
+    return formatPlugPath(out);
+}
+
+AttrData& Graph::attrData(NodeId node, const std::string& key) { return m_nodes.at(node).attrs[key]; }
+
+void Graph::noteUnsupportedAttribute(const Node& n, std::string_view attrName) {
+    ++m_unsupportedAttrs[n.type + "." + std::string(attrName)];
+}
+
+void Graph::setValue(NodeId nodeId, const std::vector<PlugSegment>& segs, Value value) {
+    if (segs.empty()) throw Error("setValue: empty attribute path");
+    Node& n = m_nodes.at(nodeId);
+    if (n.schema && !n.findAttr(segs.front().name)) noteUnsupportedAttribute(n, segs.front().name);
+    const PlugSegment& last = segs.back();
+    const AttrSpec* spec = n.findAttr(last.name);
+
+    if (last.indexed()) {
+        std::vector<PlugSegment> keySegs = segs;
+        keySegs.back().first = keySegs.back().last = -1;
+        AttrData& a = n.attrs[canonicalPath(nodeId, keySegs)];
+        a.multi.assign(uint32_t(last.first), uint32_t(last.last - last.first + 1), std::move(value));
+        return;
+    }
+
+    // A component of a numeric compound (translateX, colorR, pnts[3].pntx) updates its parent's value.
+    const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
+    auto* nums = std::get_if<Numbers>(&value);
+    if (parentSpec && isNumericCompound(parentSpec->type) && nums && nums->values.size() == 1) {
+        double v = nums->values[0];
+        int width = componentCount(parentSpec->type);
+        if (segs.size() >= 2 && segs[segs.size() - 2].indexed() &&
+            n.findAttr(segs[segs.size() - 2].name) == parentSpec) {
+            std::vector<PlugSegment> keySegs(segs.begin(), segs.end() - 1);
+            uint32_t index = uint32_t(keySegs.back().first);
+            keySegs.back().first = keySegs.back().last = -1;
+            AttrData& a = n.attrs[canonicalPath(nodeId, keySegs)];
+            int w = 0;
+            const double* cur = a.multi.numbers(index, &w);
+            std::vector<double> el = cur && w == width ? std::vector<double>(cur, cur + w) : defaultNumbers(*parentSpec);
+            el.resize(size_t(width), 0.0);
+            el[size_t(spec->component)] = v;
+            a.multi.assign(index, 1, Numbers{Numbers::Kind::Tuple, width, std::move(el)});
+            return;
+        }
+        std::vector<PlugSegment> keySegs(segs.begin(), segs.end() - 1);
+        keySegs.push_back(PlugSegment{parentSpec->longName});
+        AttrData& a = n.attrs[canonicalPath(nodeId, keySegs)];
+        std::vector<double> el;
+        if (auto* curNums = a.hasValue ? std::get_if<Numbers>(&a.value) : nullptr) el = curNums->values;
+        if (el.size() != size_t(width)) el = defaultNumbers(*parentSpec);
+        el.resize(size_t(width), 0.0);
+        el[size_t(spec->component)] = v;
+        a.value = Numbers{Numbers::Kind::Tuple, width, std::move(el)};
+        a.hasValue = true;
+        return;
+    }
+    AttrData& a = n.attrs[canonicalPath(nodeId, segs)];
+    a.value = std::move(value);
+    a.hasValue = true;
+}
+
+Plug Graph::canonicalPlug(const Plug& p) const {
+    auto segs = parsePlugPath(p.path);
+    if (!segs) throw Error("malformed plug '" + p.path + "'");
+    return Plug{p.node, canonicalPath(p.node, *segs)};
+}
+
+size_t Graph::connect(Plug src, Plug dst, bool nextAvailable) {
+    if (src.node >= m_nodes.size() || dst.node >= m_nodes.size()) throw Error("connect: invalid node id");
+    src = canonicalPlug(src);
+    dst = canonicalPlug(dst);
+    auto dstSegs = parsePlugPath(dst.path);
+    if (nextAvailable && !dstSegs->back().indexed()) {
+        // Next free logical index of the destination multi: after every connected or set element.
+        const std::string prefix = dst.path + "[";
+        int64_t next = 0;
+        for (size_t ci : m_nodes[dst.node].inConnections) {
+            const Connection& c = m_connections[ci];
+            if (!c.alive || c.dst.path.compare(0, prefix.size(), prefix) != 0) continue;
+            int64_t idx = 0;
+            std::string_view rest(c.dst.path);
+            rest.remove_prefix(prefix.size());
+            size_t close = rest.find(']');
+            if (close != std::string_view::npos && parseIndex(rest.substr(0, close), idx)) next = std::max(next, idx + 1);
+        }
+        if (const AttrData* a = findAttr(dst.node, dst.path)) next = std::max<int64_t>(next, a->multi.endIndex());
+        dst.path += "[" + std::to_string(next) + "]";
+    }
+    // A destination plug has one source: a new connection replaces the old one (connectAttr -f).
+    for (size_t ci : m_nodes[dst.node].inConnections) {
+        Connection& c = m_connections[ci];
+        if (c.alive && c.dst.path == dst.path) c.alive = false;
+    }
+    size_t index = m_connections.size();
+    m_connections.push_back(Connection{src, dst, true});
+    m_nodes[src.node].outConnections.push_back(index);
+    m_nodes[dst.node].inConnections.push_back(index);
+    return index;
+}
+
+bool Graph::disconnect(const Plug& srcIn, const Plug& dstIn) {
+    Plug src = canonicalPlug(srcIn), dst = canonicalPlug(dstIn);
+    for (size_t ci : m_nodes.at(dst.node).inConnections) {
+        Connection& c = m_connections[ci];
+        if (c.alive && c.dst == dst && c.src == src) {
+            c.alive = false;
+            return true;
+        }
+    }
+    return false;
+}
+
+void Graph::warn(Diagnostic d) { m_warnings.push_back(std::move(d)); }
+
+NodeId Graph::find(std::string_view text) const {
+    if (!text.empty() && text.front() == ':') text.remove_prefix(1);
+    if (text.empty()) return kNoNode;
+    bool absolute = text.front() == '|';
+    std::vector<std::string_view> parts;
+    size_t start = absolute ? 1 : 0;
+    while (start <= text.size()) {
+        size_t bar = text.find('|', start);
+        if (bar == std::string_view::npos) bar = text.size();
+        std::string_view part = text.substr(start, bar - start);
+        if (!part.empty() && part.front() == ':') part.remove_prefix(1);
+        if (part.empty()) return kNoNode;
+        parts.push_back(part);
+        start = bar + 1;
+    }
+    auto range = m_byName.equal_range(std::string(parts.back()));
+    NodeId best = kNoNode;
+    // Does node `id` sit under the path parts[0..k] (k = index of its own part)?
+    std::function<bool(NodeId, size_t)> matches = [&](NodeId id, size_t k) -> bool {
+        if (m_nodes[id].name != parts[k]) return false;
+        if (k == 0) {
+            if (!absolute) return true;
+            return m_nodes[id].parents.empty();
+        }
+        for (NodeId p : m_nodes[id].parents)
+            if (matches(p, k - 1)) return true;
+        return false;
+    };
+    for (auto it = range.first; it != range.second; ++it)
+        if (matches(it->second, parts.size() - 1)) best = std::min(best, it->second);
+    return best;
+}
+
+std::vector<NodeId> Graph::nodesOfType(std::string_view type, bool derived) const {
+    std::vector<NodeId> out;
+    for (const Node& n : m_nodes)
+        if (n.type == type || (derived && n.schema && n.schema->isA(type))) out.push_back(n.id);
+    return out;
+}
+
+std::vector<std::vector<NodeId>> Graph::dagPaths(NodeId id) const {
+    const Node& n = m_nodes.at(id);
+    if (n.parents.empty()) return {{id}};
+    std::vector<std::vector<NodeId>> out;
+    for (NodeId p : n.parents)
+        for (auto& path : dagPaths(p)) {
+            path.push_back(id);
+            out.push_back(std::move(path));
+        }
+    return out;
+}
+
+std::string Graph::dagPathName(const std::vector<NodeId>& path) const {
+    std::string s;
+    for (NodeId id : path) s += "|" + m_nodes.at(id).name;
+    return s;
+}
+
+// ------------------------------------------------------------------ values
+
+const AttrData* Graph::findAttr(NodeId node, std::string_view key) const {
+    const auto& attrs = m_nodes.at(node).attrs;
+    auto it = attrs.find(std::string(key));
+    return it == attrs.end() ? nullptr : &it->second;
+}
+
+const Value* Graph::value(NodeId node, std::string_view plugPath) const {
+    auto segs = parsePlugPath(plugPath);
+    if (!segs) return nullptr;
+    const PlugSegment last = segs->back();
+    if (last.indexed()) {
+        segs->back().first = segs->back().last = -1;
+        const AttrData* a = findAttr(node, canonicalPath(node, *segs));
+        if (!a) return nullptr;
+        const MultiStore::Run* run = a->multi.find(uint32_t(last.first), nullptr);
+        return run ? &run->value : nullptr;
+    }
+    const AttrData* a = findAttr(node, canonicalPath(node, *segs));
+    return a && a->hasValue ? &a->value : nullptr;
+}
+
+bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double>& out) const {
+    out.clear();
+    auto segs = parsePlugPath(plugPath);
+    if (!segs) return false;
+    const Node& n = m_nodes.at(nodeId);
+    const PlugSegment last = segs->back();
+    const AttrSpec* spec = n.findAttr(last.name);
+
+    if (last.indexed()) {
+        std::vector<PlugSegment> keySegs = *segs;
+        keySegs.back().first = keySegs.back().last = -1;
+        if (const AttrData* a = findAttr(nodeId, canonicalPath(nodeId, keySegs))) {
+            int w = 0;
+            if (const double* p = a->multi.numbers(uint32_t(last.first), &w)) {
+                out.assign(p, p + w);
+                return true;
+            }
+        }
+        if (spec && componentCount(spec->type) > 0) {
+            out = defaultNumbers(*spec);
+            return true;
+        }
+        return false;
+    }
+
+    const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
+    if (parentSpec && isNumericCompound(parentSpec->type)) {
+        std::vector<PlugSegment> parentSegs(segs->begin(), segs->end() - 1);
+        if (!(parentSegs.size() && parentSegs.back().indexed() && n.findAttr(parentSegs.back().name) == parentSpec))
+            parentSegs.push_back(PlugSegment{parentSpec->longName});
+        std::vector<double> whole;
+        // An explicitly stored child value wins (unknown layouts, addAttr children).
+        if (const AttrData* a = findAttr(nodeId, canonicalPath(nodeId, *segs)); a && a->hasValue)
+            if (auto* nums = std::get_if<Numbers>(&a->value); nums && !nums->values.empty()) {
+                out.push_back(nums->values[0]);
+                return true;
+            }
+        if (numbers(nodeId, formatPlugPath(parentSegs), whole) && size_t(spec->component) < whole.size()) {
+            out.push_back(whole[size_t(spec->component)]);
+            return true;
+        }
+    }
+    if (const AttrData* a = findAttr(nodeId, canonicalPath(nodeId, *segs)); a && a->hasValue)
+        if (auto* nums = std::get_if<Numbers>(&a->value)) {
+            out = nums->values;
+            return true;
+        }
+    if (spec && componentCount(spec->type) > 0) {
+        out = defaultNumbers(*spec);
+        return true;
+    }
+    return false;
+}
+
+double Graph::getDouble(NodeId node, std::string_view plugPath, double fallback) const {
+    std::vector<double> v;
+    return numbers(node, plugPath, v) && !v.empty() ? v[0] : fallback;
+}
+
+bool Graph::getBool(NodeId node, std::string_view plugPath, bool fallback) const {
+    std::vector<double> v;
+    return numbers(node, plugPath, v) && !v.empty() ? v[0] != 0.0 : fallback;
+}
+
+int Graph::getInt(NodeId node, std::string_view plugPath, int fallback) const {
+    std::vector<double> v;
+    return numbers(node, plugPath, v) && !v.empty() ? int(v[0]) : fallback;
+}
+
+std::string Graph::getString(NodeId node, std::string_view plugPath, std::string_view fallback) const {
+    if (const Value* v = value(node, plugPath))
+        if (auto* s = std::get_if<StringValue>(v)) return s->text;
+    return std::string(fallback);
+}
+
+std::optional<Plug> Graph::source(NodeId node, std::string_view plugPath) const {
+    auto segs = parsePlugPath(plugPath);
+    if (!segs) return std::nullopt;
+    std::string path = canonicalPath(node, *segs);
+    for (size_t ci : m_nodes.at(node).inConnections) {
+        const Connection& c = m_connections[ci];
+        if (c.alive && c.dst.path == path) return c.src;
+    }
+    return std::nullopt;
+}
+
+std::vector<const Connection*> Graph::inputs(NodeId node) const {
+    std::vector<const Connection*> out;
+    for (size_t ci : m_nodes.at(node).inConnections)
+        if (m_connections[ci].alive) out.push_back(&m_connections[ci]);
+    return out;
+}
+
+std::vector<const Connection*> Graph::outputs(NodeId node) const {
+    std::vector<const Connection*> out;
+    for (size_t ci : m_nodes.at(node).outConnections)
+        if (m_connections[ci].alive) out.push_back(&m_connections[ci]);
+    return out;
+}
+
+}  // namespace pushpin::scene

@@ -1,0 +1,204 @@
+// core/scene/graph.h: the dependency graph a .ma file describes: nodes with typed attributes
+// (addressed by long or short name), multi attributes with sparse indices, connections in both
+// directions, DAG parenting with instancing. Static data only; animation and construction history
+// are evaluated on top of it (core/scene/evaluator.h).
+// Thread safety: building is single-threaded; a finished Graph may be read from many threads.
+// Memory: numeric arrays are stored once as doubles in chunks as the file wrote them
+// (`.vt[0:165]` is one chunk), so a 1M-vertex mesh costs its numbers and little more.
+#pragma once
+
+#include "core/scene/schema.h"
+#include "core/scene/units.h"
+#include "core/scene/value.h"
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+namespace pushpin::scene {
+
+using NodeId = uint32_t;
+constexpr NodeId kNoNode = ~NodeId(0);
+
+// One segment of an attribute path: `og[3]`, `vt[0:7]`, `t`.
+struct PlugSegment {
+    std::string name;
+    int64_t first = -1;  // -1: no index
+    int64_t last = -1;   // == first for a single index; inclusive range end
+    bool indexed() const { return first >= 0; }
+};
+// Parses the attribute part of a plug ("iog[0].og[3].gcl", ".vt[0:7]"; a leading '.' is allowed).
+// Returns nullopt on a syntax error (unbalanced brackets, negative or reversed ranges, empty names).
+std::optional<std::vector<PlugSegment>> parsePlugPath(std::string_view text);
+std::string formatPlugPath(const std::vector<PlugSegment>& segments);
+
+// Sparse storage of one multi attribute: runs of consecutive elements, each run one Value as the
+// file wrote it. A later write replaces the elements it covers.
+class MultiStore {
+public:
+    struct Run {
+        uint32_t count = 0;
+        int width = 1;  // numbers per element for Numbers runs
+        Value value;
+    };
+    // Stores `count` elements starting at `first`. For Numbers, width = values.size() / count.
+    void assign(uint32_t first, uint32_t count, Value value);
+    // The run holding element `index` and the element's position within it; nullptr if unset.
+    const Run* find(uint32_t index, uint32_t* offsetInRun) const;
+    // Numbers of element `index` (width numbers) or nullptr when unset or not numeric.
+    const double* numbers(uint32_t index, int* width = nullptr) const;
+    std::vector<uint32_t> indices() const;  // every set element index, ascending
+    uint32_t endIndex() const;              // one past the highest set index (0 when empty)
+    const std::map<uint32_t, Run>& runs() const { return m_runs; }
+    bool empty() const { return m_runs.empty(); }
+
+private:
+    void erase(uint32_t first, uint32_t count);
+    std::map<uint32_t, Run> m_runs;  // keyed by first element index
+};
+
+// What a node holds for one attribute path (without its final index).
+struct AttrData {
+    Value value;             // the plain value, when set without an index
+    bool hasValue = false;
+    MultiStore multi;        // elements, when set with an index or range
+    int64_t sizeHint = -1;   // `setAttr -s N`
+    bool locked = false;     // `-l on`
+    bool keyable = false;    // `-k on`
+};
+
+struct Node {
+    NodeId id = kNoNode;
+    std::string type;
+    std::string name;                  // unique among non-DAG nodes; DAG siblings differ
+    const NodeSchema* schema = nullptr;  // nullptr for types pushpin does not model
+    std::vector<NodeId> parents;       // DAG parents; more than one = instanced
+    std::vector<NodeId> children;
+    std::map<std::string, AttrData> attrs;  // canonical path (long names, indices) → data
+    std::vector<AttrSpec> dynamicAttrs;     // from addAttr
+    std::vector<size_t> inConnections;      // indices into Graph::connections()
+    std::vector<size_t> outConnections;
+    uint32_t line = 0;                 // source line of the createNode (0 for implicit defaults)
+    bool shared = false;               // createNode -s
+    bool locked = false;               // lockNode
+    bool isDag() const;                // transform, shape, camera, light… (schema says so)
+
+    // Attribute spec by long or short name, including addAttr'ed ones; nullptr if unknown.
+    const AttrSpec* findAttr(std::string_view name) const;
+};
+
+struct Plug {
+    NodeId node = kNoNode;
+    std::string path;  // canonical: long names where known, indices kept ("instObjGroups[0].objectGroups[1]")
+    bool operator==(const Plug&) const = default;
+};
+
+struct Connection {
+    Plug src;
+    Plug dst;
+    bool alive = true;  // false after disconnectAttr
+};
+
+struct Relationship {
+    std::string type;             // "link", "shadowLink", …
+    std::vector<Plug> plugs;      // as written: the linker node first, then the linked plugs
+};
+
+struct Diagnostic {
+    std::string file;
+    uint32_t line = 0;
+    uint32_t column = 0;
+    std::string node;
+    std::string message;
+};
+
+class Graph {
+public:
+    Graph();
+
+    // ---- building (used by MaReader and tests)
+    // Creates a node. `parent` may be kNoNode (world). Throws pushpin::Error if a DAG node with the same
+    // name already exists under the same parent, or a non-DAG node with the same name exists.
+    NodeId createNode(std::string_view type, std::string_view name, NodeId parent = kNoNode, uint32_t line = 0);
+    // Adds `parent` as another DAG parent of `child` (instancing) or, with add == false, reparents.
+    void setParent(NodeId child, NodeId parent, bool add);
+    void rename(NodeId node, std::string_view newName);
+    // Canonical form of an attribute path on `node`: names resolved to long names where the schema or
+    // addAttr knows them, indices kept. Unknown names stay as written.
+    std::string canonicalPath(NodeId node, const std::vector<PlugSegment>& segments) const;
+    // Stores a value. `segments` is the parsed path; a final index/range writes multi elements
+    // (`count` = last − first + 1). A component child of a numeric compound (translateX) writes
+    // into its parent's value, filling the other components from defaults.
+    void setValue(NodeId node, const std::vector<PlugSegment>& segments, Value value);
+    AttrData& attrData(NodeId node, const std::string& canonicalKey);
+    // Connects two plugs (canonical paths). With nextAvailable, the destination gets the next free
+    // index appended (`connectAttr -na`). Returns the connection index.
+    size_t connect(Plug src, Plug dst, bool nextAvailable = false);
+    // Removes the connection src → dst if present; returns whether one was removed.
+    bool disconnect(const Plug& src, const Plug& dst);
+    void addRelationship(Relationship r) { m_relationships.push_back(std::move(r)); }
+    void warn(Diagnostic d);  // kept in warnings(), never fatal
+    void noteUnsupportedAttribute(const Node& node, std::string_view attrName);
+
+    // ---- lookup
+    size_t size() const { return m_nodes.size(); }
+    const Node& node(NodeId id) const { return m_nodes[id]; }
+    Node& node(NodeId id) { return m_nodes[id]; }
+    const std::vector<Node>& nodes() const { return m_nodes; }
+    // Finds a node by name or DAG path: "pCube1", "|group1|pCube1", "group1|pCube1", ":lambert1",
+    // "ns:name". An ambiguous short DAG name returns the first created. kNoNode if none.
+    NodeId find(std::string_view nameOrPath) const;
+    std::vector<NodeId> nodesOfType(std::string_view type, bool derived = true) const;
+    // Full DAG paths of every instance of a DAG node ("|pCube1|pCubeShape1", …), in a stable order.
+    std::vector<std::vector<NodeId>> dagPaths(NodeId node) const;
+    std::string dagPathName(const std::vector<NodeId>& path) const;
+
+    // ---- attribute values (static, as stored; no animation)
+    const AttrData* findAttr(NodeId node, std::string_view canonicalKey) const;
+    // Numbers of a plug path ("translate", "translateX", "vrts[5]", "colorEntryList[0].position"):
+    // the stored value, else the schema default for the plug's components. False if neither exists.
+    bool numbers(NodeId node, std::string_view plugPath, std::vector<double>& out) const;
+    double getDouble(NodeId node, std::string_view plugPath, double fallback = 0.0) const;
+    bool getBool(NodeId node, std::string_view plugPath, bool fallback = false) const;
+    int getInt(NodeId node, std::string_view plugPath, int fallback = 0) const;
+    std::string getString(NodeId node, std::string_view plugPath, std::string_view fallback = {}) const;
+    // The stored Value of an exact plug path (no defaults); nullptr if unset.
+    const Value* value(NodeId node, std::string_view plugPath) const;
+
+    // ---- connections
+    const std::vector<Connection>& connections() const { return m_connections; }
+    // The source plug feeding `node.plugPath` exactly (canonical path), if any.
+    std::optional<Plug> source(NodeId node, std::string_view plugPath) const;
+    // Every live connection into / out of a node.
+    std::vector<const Connection*> inputs(NodeId node) const;
+    std::vector<const Connection*> outputs(NodeId node) const;
+
+    const std::vector<Relationship>& relationships() const { return m_relationships; }
+    const std::vector<Diagnostic>& warnings() const { return m_warnings; }
+    // type → node count for node types without a schema; "type.attr" → count for unknown attributes.
+    const std::map<std::string, int>& unsupportedTypes() const { return m_unsupportedTypes; }
+    const std::map<std::string, int>& unsupportedAttributes() const { return m_unsupportedAttrs; }
+
+    // ---- file-level facts
+    Units units;
+    std::string sourceFile;
+    std::vector<std::pair<std::string, std::string>> fileInfo;
+    std::vector<std::string> requirements;  // `requires` lines: "maya 2018", "mtoa 1.0" …
+    std::vector<std::string> references;  // referenced files that were loaded
+
+private:
+    Plug canonicalPlug(const Plug& p) const;
+    std::vector<Node> m_nodes;
+    std::unordered_multimap<std::string, NodeId> m_byName;
+    std::vector<Connection> m_connections;
+    std::vector<Relationship> m_relationships;
+    std::vector<Diagnostic> m_warnings;
+    std::map<std::string, int> m_unsupportedTypes;
+    std::map<std::string, int> m_unsupportedAttrs;
+};
+
+}  // namespace pushpin::scene

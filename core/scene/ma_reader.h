@@ -1,0 +1,50 @@
+// core/scene/ma_reader.h: reads Maya ASCII (.ma) text into a scene::Graph.
+// The reader tokenises the restricted MEL a .ma file is, one command at a time, without holding
+// more than one copy of the file (it streams through a fixed-size buffer). scriptNode bodies and
+// any MEL/Python are stored as strings and never executed. Unknown commands, node types and
+// attributes are kept or skipped with a warning, never fatal.
+// Thread safety: each call builds its own Graph; concurrent calls are independent.
+#pragma once
+
+#include "cache/error.h"
+#include "core/scene/graph.h"
+
+#include <filesystem>
+#include <istream>
+#include <string>
+#include <string_view>
+
+namespace pushpin::scene {
+
+// A .ma file that cannot be read: `file:line:column: message`, plus the node it concerned (if any).
+class ParseError : public Error {
+public:
+    ParseError(std::string file, uint32_t line, uint32_t column, std::string node, const std::string& message);
+    const std::string& file() const { return m_file; }
+    uint32_t line() const { return m_line; }
+    uint32_t column() const { return m_column; }
+    const std::string& node() const { return m_node; }
+
+private:
+    std::string m_file;
+    uint32_t m_line, m_column;
+    std::string m_node;
+};
+
+struct ReadOptions {
+    bool loadReferences = true;  // `file -r`: load the referenced .ma relative to the scene when found
+    int maxReferenceDepth = 8;   // guards against reference cycles
+};
+
+class MaReader {
+public:
+    // Reads a file. Throws IoError when it cannot be opened and ParseError on malformed content.
+    static Graph readFile(const std::filesystem::path& path, const ReadOptions& options = {});
+    // Reads text already in memory; `name` stands for the file in messages and for resolving references.
+    static Graph readString(std::string_view text, const std::string& name = "<string>",
+                            const ReadOptions& options = {});
+    // Reads from a stream (the general entry point the others use).
+    static Graph readStream(std::istream& in, const std::string& name, const ReadOptions& options = {});
+};
+
+}  // namespace pushpin::scene
