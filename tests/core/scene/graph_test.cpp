@@ -1,0 +1,205 @@
+#include "core/scene/graph.h"
+
+#include "cache/error.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pushpin::scene {
+namespace {
+
+std::vector<PlugSegment> path(std::string_view text) {
+    auto p = parsePlugPath(text);
+    EXPECT_TRUE(p.has_value()) << text;
+    return p.value_or(std::vector<PlugSegment>{});
+}
+
+Numbers nums(std::vector<double> v, Numbers::Kind kind = Numbers::Kind::Plain, int tuple = 1) {
+    return Numbers{kind, tuple, std::move(v)};
+}
+
+TEST(PlugPath, ParsesIndicesRangesAndNesting) {
+    auto p = path(".iog[0].og[3].gcl");
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_EQ(p[0].name, "iog");
+    EXPECT_EQ(p[0].first, 0);
+    EXPECT_EQ(p[1].first, 3);
+    EXPECT_FALSE(p[2].indexed());
+    auto r = path("vt[0:7]");
+    EXPECT_EQ(r[0].first, 0);
+    EXPECT_EQ(r[0].last, 7);
+    EXPECT_EQ(formatPlugPath(r), "vt[0:7]");
+}
+
+TEST(PlugPath, RejectsMalformedPaths) {
+    for (const char* bad : {"", ".", "vt[3:1]", "a[", "a[]", "a[-1]", "a..b", "a.", "1abc", "a[x]", "a[1]b", "a[99999999999]"})
+        EXPECT_FALSE(parsePlugPath(bad).has_value()) << bad;
+}
+
+TEST(Graph, HasMayaDefaultNodes) {
+    Graph g;
+    for (const char* n : {"time1", "defaultRenderGlobals", "defaultRenderQuality", "defaultResolution",
+                          "lambert1", "initialShadingGroup", "defaultLightSet", "lightLinker1"})
+        EXPECT_NE(g.find(n), kNoNode) << n;
+    EXPECT_NE(g.find(":defaultRenderGlobals"), kNoNode);
+    auto src = g.source(g.find("initialShadingGroup"), "ss");
+    ASSERT_TRUE(src.has_value());
+    EXPECT_EQ(src->node, g.find("lambert1"));
+    EXPECT_EQ(src->path, "outColor");
+    EXPECT_TRUE(g.unsupportedTypes().empty());
+}
+
+TEST(Graph, ResolvesLongAndShortNamesWithDefaults) {
+    Graph g;
+    NodeId t = g.createNode("transform", "pCube1");
+    EXPECT_EQ(g.canonicalPath(t, path("t")), "translate");
+    EXPECT_EQ(g.canonicalPath(t, path("iog[0].og[3].gcl")), "instObjGroups[0].objectGroups[3].objectGrpCompList");
+    std::vector<double> v;
+    ASSERT_TRUE(g.numbers(t, "s", v));
+    EXPECT_EQ(v, (std::vector<double>{1, 1, 1}));
+    EXPECT_DOUBLE_EQ(g.getDouble(t, "scaleY"), 1.0);
+    g.setValue(t, path("t"), nums({1, 2, 3}, Numbers::Kind::Tuple, 3));
+    EXPECT_DOUBLE_EQ(g.getDouble(t, "translateY"), 2.0);
+    EXPECT_DOUBLE_EQ(g.getDouble(t, "ty"), 2.0);
+    g.setValue(t, path("tx"), nums({5}));
+    ASSERT_TRUE(g.numbers(t, "translate", v));
+    EXPECT_EQ(v, (std::vector<double>{5, 2, 3}));
+    // A child set before its parent starts from the parent's defaults.
+    g.setValue(t, path("sz"), nums({4}));
+    ASSERT_TRUE(g.numbers(t, "scale", v));
+    EXPECT_EQ(v, (std::vector<double>{1, 1, 4}));
+    EXPECT_TRUE(g.getBool(t, "v"));
+    EXPECT_FALSE(g.numbers(t, "noSuchAttr", v));
+}
+
+TEST(Graph, StoresMultiRangesSparselyAndOverwritesElements) {
+    Graph g;
+    NodeId m = g.createNode("mesh", "shape");
+    g.setValue(m, path("vt[0:3]"), nums({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}));
+    g.setValue(m, path("vt[10]"), nums({9, 9, 9}, Numbers::Kind::Tuple, 3));
+    const AttrData* a = g.findAttr(m, "vrts");
+    ASSERT_NE(a, nullptr);
+    EXPECT_EQ(a->multi.indices(), (std::vector<uint32_t>{0, 1, 2, 3, 10}));
+    EXPECT_EQ(a->multi.runs().size(), 2u);
+    std::vector<double> v;
+    ASSERT_TRUE(g.numbers(m, "vt[2]", v));
+    EXPECT_EQ(v, (std::vector<double>{1, 1, 0}));
+    // Overwrite the middle of a run: the run splits, the rest keeps its values.
+    g.setValue(m, path("vt[1:2]"), nums({7, 7, 7, 8, 8, 8}));
+    ASSERT_TRUE(g.numbers(m, "vt[0]", v));
+    EXPECT_EQ(v, (std::vector<double>{0, 0, 0}));
+    ASSERT_TRUE(g.numbers(m, "vt[2]", v));
+    EXPECT_EQ(v, (std::vector<double>{8, 8, 8}));
+    ASSERT_TRUE(g.numbers(m, "vt[3]", v));
+    EXPECT_EQ(v, (std::vector<double>{0, 1, 0}));
+    // A component of an element.
+    g.setValue(m, path("pt[5].pz"), nums({0.5}));
+    ASSERT_TRUE(g.numbers(m, "pt[5]", v));
+    EXPECT_EQ(v, (std::vector<double>{0, 0, 0.5}));
+    // Consecutive single-element writes grow one run.
+    for (uint32_t i = 0; i < 100; ++i) {
+        std::vector<PlugSegment> seg{PlugSegment{"uvpt", int64_t(i), int64_t(i)}};
+        g.setValue(m, seg, nums({double(i), 0}, Numbers::Kind::Tuple, 2));
+    }
+    EXPECT_EQ(g.findAttr(m, "uvpt")->multi.runs().size(), 1u);
+}
+
+TEST(Graph, DagPathsAndInstancing) {
+    Graph g;
+    NodeId a = g.createNode("transform", "a");
+    NodeId b = g.createNode("transform", "b");
+    NodeId shape = g.createNode("mesh", "shape", a);
+    g.setParent(shape, b, true);
+    auto paths = g.dagPaths(shape);
+    ASSERT_EQ(paths.size(), 2u);
+    EXPECT_EQ(g.dagPathName(paths[0]), "|a|shape");
+    EXPECT_EQ(g.dagPathName(paths[1]), "|b|shape");
+    EXPECT_EQ(g.find("|a|shape"), shape);
+    EXPECT_EQ(g.find("b|shape"), shape);
+    EXPECT_EQ(g.find("|shape"), kNoNode);
+    // Same short name under different parents is legal for DAG nodes.
+    NodeId c1 = g.createNode("transform", "child", a);
+    NodeId c2 = g.createNode("transform", "child", b);
+    EXPECT_EQ(g.find("|b|child"), c2);
+    EXPECT_EQ(g.find("child"), c1);
+    EXPECT_THROW(g.createNode("transform", "child", a), Error);
+    EXPECT_THROW(g.createNode("lambert", "a"), Error);
+    EXPECT_THROW(g.setParent(a, shape, true), Error);  // would make a cycle
+    g.setParent(c1, kNoNode, false);
+    EXPECT_EQ(g.find("|child"), c1);
+}
+
+TEST(Graph, ConnectionsNextAvailableAndReplacement) {
+    Graph g;
+    NodeId sg = g.createNode("shadingEngine", "sg");
+    NodeId s1 = g.createNode("mesh", "s1");
+    NodeId s2 = g.createNode("mesh", "s2");
+    g.connect({s1, "iog"}, {sg, "dsm"}, true);
+    g.connect({s2, "iog"}, {sg, "dsm"}, true);
+    auto src = g.source(sg, "dagSetMembers[1]");
+    ASSERT_TRUE(src.has_value());
+    EXPECT_EQ(src->node, s2);
+    EXPECT_EQ(src->path, "instObjGroups");
+    EXPECT_EQ(g.outputs(s1).size(), 1u);
+    // A second connection into the same plug replaces the first.
+    NodeId l1 = g.createNode("lambert", "l1");
+    NodeId l2 = g.createNode("lambert", "l2");
+    g.connect({l1, "oc"}, {sg, "ss"});
+    g.connect({l2, "outColor"}, {sg, "surfaceShader"});
+    EXPECT_EQ(g.source(sg, "ss")->node, l2);
+    EXPECT_TRUE(g.disconnect({l2, "oc"}, {sg, "ss"}));
+    EXPECT_FALSE(g.source(sg, "ss").has_value());
+    EXPECT_FALSE(g.disconnect({l2, "oc"}, {sg, "ss"}));
+}
+
+TEST(Graph, UnknownTypesAndAttributesAreKeptAndCounted) {
+    Graph g;
+    NodeId n = g.createNode("aiStandardSurface", "ai1");
+    g.setValue(n, path("base"), nums({0.8}));
+    EXPECT_DOUBLE_EQ(g.getDouble(n, "base"), 0.8);
+    EXPECT_EQ(g.unsupportedTypes().at("aiStandardSurface"), 1);
+    NodeId t = g.createNode("transform", "t1");
+    g.setValue(t, path("myCustom"), nums({1}));
+    EXPECT_EQ(g.unsupportedAttributes().at("transform.myCustom"), 1);
+    // addAttr'ed attributes resolve by both names.
+    AttrSpec dyn;
+    dyn.longName = "myCustomAttr";
+    dyn.shortName = "mca";
+    g.node(t).dynamicAttrs.push_back(dyn);
+    g.setValue(t, path("mca"), nums({3}));
+    EXPECT_DOUBLE_EQ(g.getDouble(t, "myCustomAttr"), 3.0);
+}
+
+TEST(Schema, InheritanceAndDefaults) {
+    const NodeSchema* blinn = findSchema("blinn");
+    ASSERT_NE(blinn, nullptr);
+    EXPECT_TRUE(blinn->isA("lambert"));
+    EXPECT_FALSE(blinn->isA("dagNode"));
+    EXPECT_EQ(blinn->find("c")->longName, "color");
+    EXPECT_FLOAT_EQ(float(blinn->find("ec")->defaults[0]), 0.3f);
+    const NodeSchema* spot = findSchema("spotLight");
+    ASSERT_NE(spot, nullptr);
+    EXPECT_TRUE(spot->isA("dagNode"));
+    EXPECT_NEAR(spot->find("coneAngle")->defaults[0], 40.0 * 3.14159265358979 / 180.0, 1e-12);
+    EXPECT_EQ(spot->find("ca")->unit, UnitKind::Angle);
+    const NodeSchema* cam = findSchema("camera");
+    EXPECT_EQ(cam->find("hfa")->parent, "cameraAperture");
+    EXPECT_EQ(cam->find("ncp")->unit, UnitKind::Distance);
+    EXPECT_EQ(findSchema("renderQuality")->find("eaa")->defaults[0], 3.0);
+    EXPECT_EQ(findSchema("aiStandardSurface"), nullptr);
+    // No type declares the same name twice (a long name shadowing another attribute's short name
+    // within one type would make lookups ambiguous).
+    for (const std::string& type : schemaTypes()) {
+        const NodeSchema* s = findSchema(type);
+        for (const AttrSpec& a : s->ownAttributes()) {
+            EXPECT_EQ(s->find(a.longName), &a) << type << "." << a.longName;
+            if (!a.shortName.empty()) {
+                EXPECT_EQ(s->find(a.shortName), &a) << type << "." << a.shortName;
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace pushpin::scene
