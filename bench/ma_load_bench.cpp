@@ -1,0 +1,220 @@
+// Load throughput of scene::MaReader on a generated Maya ASCII scene holding one big polygon grid
+// (default 1000 × 1000 = 1M vertices, ~2M edges, ~1M quads with UVs), written the way Maya writes
+// meshes: `.vt`, `.ed`, `.fc` (polyFaces) and `.uvst[0].uvsp` in chunks of a few hundred elements.
+// Prints file size, min/median/max load time and MB/s over several runs, and the peak RSS growth
+// of the process during the loads next to the bytes the Graph stores.
+//
+// Usage: ma_load_bench [--grid=N] [--runs=R] [--keep]
+#include "core/scene/ma_reader.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using pushpin::scene::Graph;
+using pushpin::scene::MaReader;
+
+// Appends numbers with std::to_chars into a buffer flushed to the file in large blocks.
+class Writer {
+public:
+    explicit Writer(const fs::path& path) : m_out(path, std::ios::binary) { m_buf.reserve(kFlush + 4096); }
+    ~Writer() { flush(); }
+    Writer& operator<<(std::string_view s) {
+        m_buf.append(s);
+        maybeFlush();
+        return *this;
+    }
+    Writer& num(double v) {
+        char tmp[32];
+        auto r = std::to_chars(tmp, tmp + sizeof tmp, v, std::chars_format::general, 9);
+        m_buf.append(tmp, size_t(r.ptr - tmp));
+        m_buf.push_back(' ');
+        maybeFlush();
+        return *this;
+    }
+    Writer& num(int64_t v) {
+        char tmp[24];
+        auto r = std::to_chars(tmp, tmp + sizeof tmp, v);
+        m_buf.append(tmp, size_t(r.ptr - tmp));
+        m_buf.push_back(' ');
+        maybeFlush();
+        return *this;
+    }
+    void flush() {
+        m_out.write(m_buf.data(), std::streamsize(m_buf.size()));
+        m_buf.clear();
+    }
+
+private:
+    static constexpr size_t kFlush = size_t(1) << 20;
+    void maybeFlush() {
+        if (m_buf.size() >= kFlush) flush();
+    }
+    std::ofstream m_out;
+    std::string m_buf;
+};
+
+std::string range(const char* attr, int64_t first, int64_t last) {
+    return std::string("\tsetAttr \"") + attr + "[" + std::to_string(first) + ":" + std::to_string(last) + "]\"";
+}
+
+// Writes the grid scene; returns the number of faces.
+int64_t writeGridScene(const fs::path& path, int n) {
+    Writer w(path);
+    const int64_t verts = int64_t(n) * n;
+    const int64_t hEdges = int64_t(n) * (n - 1);  // along x, one row of n-1 per y
+    const int64_t edges = 2 * hEdges;
+    const int64_t faces = int64_t(n - 1) * (n - 1);
+    auto vid = [n](int64_t i, int64_t j) { return j * n + i; };
+    auto hEdge = [n](int64_t i, int64_t j) { return j * (n - 1) + i; };          // (i,j) → (i+1,j)
+    auto vEdge = [n, hEdges](int64_t i, int64_t j) { return hEdges + j * n + i; };  // (i,j) → (i,j+1)
+
+    w << "//Maya ASCII 2018 scene\n//Name: grid.ma\nrequires maya \"2018\";\n"
+      << "currentUnit -l centimeter -a degree -t film;\nfileInfo \"application\" \"maya\";\n"
+      << "createNode transform -n \"grid\";\ncreateNode mesh -n \"gridShape\" -p \"grid\";\n"
+      << "\tsetAttr -k off \".v\";\n\tsetAttr \".uvst[0].uvsn\" -type \"string\" \"map1\";\n";
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+
+    w << "\tsetAttr -s " << std::to_string(verts) << " \".uvst[0].uvsp\";\n";
+    for (int64_t first = 0; first < verts; first += 500) {
+        const int64_t last = std::min(verts, first + 500) - 1;
+        w << range(".uvst[0].uvsp", first, last) << " -type \"float2\"";
+        for (int64_t v = first; v <= last; ++v) {
+            if ((v - first) % 6 == 0) w << "\n\t\t ";
+            w.num(double(v % n) / (n - 1)).num(double(v / n) / (n - 1));
+        }
+        w << ";\n";
+    }
+    w << "\tsetAttr \".cuvs\" -type \"string\" \"map1\";\n";
+    w << "\tsetAttr -s " << std::to_string(verts) << " \".vt\";\n";
+    for (int64_t first = 0; first < verts; first += 166) {
+        const int64_t last = std::min(verts, first + 166) - 1;
+        w << range(".vt", first, last);
+        for (int64_t v = first; v <= last; ++v) {
+            if ((v - first) % 4 == 0) w << "\n\t\t ";
+            w.num(double(v % n) * 0.1 - n * 0.05).num(jitter(rng)).num(double(v / n) * -0.1 + n * 0.05);
+        }
+        w << ";\n";
+    }
+    w << "\tsetAttr -s " << std::to_string(edges) << " \".ed\";\n";
+    for (int64_t first = 0; first < edges; first += 500) {
+        const int64_t last = std::min(edges, first + 500) - 1;
+        w << range(".ed", first, last);
+        for (int64_t e = first; e <= last; ++e) {
+            if ((e - first) % 8 == 0) w << "\n\t\t";
+            int64_t a, b;
+            if (e < hEdges) {
+                const int64_t j = e / (n - 1), i = e % (n - 1);
+                a = vid(i, j), b = vid(i + 1, j);
+            } else {
+                const int64_t k = e - hEdges, j = k / n, i = k % n;
+                a = vid(i, j), b = vid(i, j + 1);
+            }
+            w.num(a).num(b).num(int64_t(1));
+        }
+        w << ";\n";
+    }
+    w << "\tsetAttr -s " << std::to_string(faces) << " -ch " << std::to_string(faces * 4) << " \".fc\";\n";
+    for (int64_t first = 0; first < faces; first += 500) {
+        const int64_t last = std::min(faces, first + 500) - 1;
+        w << range(".fc", first, last) << " -type \"polyFaces\"";
+        for (int64_t f = first; f <= last; ++f) {
+            const int64_t j = f / (n - 1), i = f % (n - 1);
+            w << "\n\t\tf 4 ";
+            w.num(hEdge(i, j)).num(vEdge(i + 1, j)).num(-hEdge(i, j + 1) - 1).num(-vEdge(i, j) - 1);
+            w << "\n\t\tmu 0 4 ";
+            w.num(vid(i, j)).num(vid(i + 1, j)).num(vid(i + 1, j + 1)).num(vid(i, j + 1));
+        }
+        w << ";\n";
+    }
+    w << "select -ne :initialShadingGroup;\n\tsetAttr \".ro\" yes;\n"
+      << "connectAttr \"gridShape.iog\" \":initialShadingGroup.dsm\" -na;\n// End of grid.ma\n";
+    return faces;
+}
+
+double peakRssMiB() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_maxrss) / 1024.0;  // Linux reports kilobytes
+}
+
+// Bytes of numbers and face records the Graph keeps for the mesh (its own, necessary copy).
+double graphPayloadMiB(const Graph& g) {
+    double bytes = 0;
+    for (const auto& node : g.nodes())
+        for (const auto& [key, data] : node.attrs)
+            for (const auto& [first, run] : data.multi.runs()) {
+                if (auto* nums = std::get_if<pushpin::scene::Numbers>(&run.value)) bytes += 8.0 * nums->values.size();
+                if (auto* pf = std::get_if<std::shared_ptr<const pushpin::scene::PolyFaces>>(&run.value))
+                    for (const auto& face : (*pf)->faces) {
+                        bytes += sizeof(face) + 4.0 * face.outer.edges.size();
+                        for (const auto& uv : face.outer.uvs) bytes += sizeof(uv) + 4.0 * uv.second.size();
+                    }
+            }
+    return bytes / (1024.0 * 1024.0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int grid = 1000, runs = 5;
+    bool keep = false;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strncmp(argv[i], "--grid=", 7) == 0) grid = std::max(2, std::atoi(argv[i] + 7));
+        else if (std::strncmp(argv[i], "--runs=", 7) == 0) runs = std::max(1, std::atoi(argv[i] + 7));
+        else if (std::strcmp(argv[i], "--keep") == 0) keep = true;
+        else {
+            std::fprintf(stderr, "usage: %s [--grid=N] [--runs=R] [--keep]\n", argv[0]);
+            return 2;
+        }
+    }
+    const fs::path path = fs::temp_directory_path() / ("pushpin_ma_load_bench_" + std::to_string(grid) + ".ma");
+    const auto t0 = std::chrono::steady_clock::now();
+    const int64_t faces = writeGridScene(path, grid);
+    const double genSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double fileMiB = double(fs::file_size(path)) / (1024.0 * 1024.0);
+    std::printf("scene: %s, %d x %d grid = %lld vertices, %lld faces, %.1f MiB (written in %.2f s)\n",
+                path.c_str(), grid, grid, (long long)grid * grid, (long long)faces, fileMiB, genSeconds);
+
+    const double rssBefore = peakRssMiB();
+    std::vector<double> seconds;
+    double payloadMiB = 0;
+    for (int r = 0; r < runs; ++r) {
+        const auto s = std::chrono::steady_clock::now();
+        Graph g = MaReader::readFile(path);
+        seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
+        if (r == 0) {
+            payloadMiB = graphPayloadMiB(g);
+            std::vector<double> p;
+            if (!g.numbers(g.find("gridShape"), "vrts[" + std::to_string(int64_t(grid) * grid - 1) + "]", p)) {
+                std::fprintf(stderr, "the last vertex was not loaded\n");
+                return 1;
+            }
+        }
+    }
+    const double rssGrowth = peakRssMiB() - rssBefore;
+    std::vector<double> sorted = seconds;
+    std::sort(sorted.begin(), sorted.end());
+    const double tMin = sorted.front(), tMed = sorted[sorted.size() / 2], tMax = sorted.back();
+    std::printf("load over %d runs: min %.3f s, median %.3f s, max %.3f s\n", runs, tMin, tMed, tMax);
+    std::printf("throughput: best %.1f MiB/s, median %.1f MiB/s, worst %.1f MiB/s\n", fileMiB / tMin, fileMiB / tMed,
+                fileMiB / tMax);
+    std::printf("peak RSS growth during loads: %.1f MiB (%.2f x file size); graph payload (numbers + face "
+                "records): %.1f MiB\n",
+                rssGrowth, rssGrowth / fileMiB, payloadMiB);
+    if (!keep) fs::remove(path);
+    return 0;
+}

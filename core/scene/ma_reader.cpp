@@ -1,0 +1,1468 @@
+// Maya ASCII reader: a command-at-a-time interpreter of the restricted MEL that .ma files are
+// (reference/ma-format.md). Commands that build the graph are decoded; everything else is skipped
+// with one warning per command name. Nothing is ever executed.
+//
+// Choices worth knowing:
+// - A non-shared `createNode` whose name is taken is renamed the way Maya does (trailing number
+//   incremented) with a warning, except when it names one of the implicit default nodes of
+//   the same type, which is then reused (older files create `lightLinker1` without `-s`).
+// - `:name` (root namespace) that does not exist yet is created as an implicit default node.
+// - When a reference could not be loaded, edits and connections naming missing nodes become
+//   warnings instead of errors, since those nodes live in the missing file.
+// - Sizes written in the file (`-s`, array counts, ranges) are validated against the values that
+//   follow and only ever reserve memory in proportion to the bytes left in the input.
+#include "core/scene/ma_reader.h"
+
+#include "core/scene/detail/ma_lexer.h"
+#include "core/scene/detail/ma_number.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <set>
+#include <unordered_set>
+
+namespace pushpin::scene {
+
+namespace {
+
+std::string formatParseError(const std::string& file, uint32_t line, uint32_t column, const std::string& node,
+                             const std::string& message) {
+    std::string s = file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
+    if (!node.empty()) s += " (node '" + node + "')";
+    return s;
+}
+
+}  // namespace
+
+ParseError::ParseError(std::string file, uint32_t line, uint32_t column, std::string node, const std::string& message)
+    : Error(formatParseError(file, line, column, node, message)),
+      m_file(std::move(file)),
+      m_line(line),
+      m_column(column),
+      m_node(std::move(node)) {}
+
+namespace {
+
+using detail::MaLexer;
+using detail::MaLexError;
+using detail::MaNumber;
+using detail::MaNumberStatus;
+using detail::MaToken;
+using detail::MaTokenKind;
+
+// Largest multi index / array count accepted; MultiStore indexes elements with uint32.
+constexpr int64_t kMaxIndex = 0x7fffffff;
+// Arguments of one command other than setAttr values; guards against junk that never ends.
+constexpr size_t kMaxArgs = size_t(1) << 20;
+
+// Nodes every scene has that Graph() does not create; files name them as `:name`.
+const char* implicitNodeType(std::string_view name) {
+    static const std::pair<const char*, const char*> known[] = {
+        {"defaultRenderingList1", "defaultRenderingList"},
+        {"defaultLightList1", "defaultLightList"},
+        {"defaultColorMgtGlobals", "colorManagementGlobals"},
+        {"characterPartition", "partition"},
+        {"sequenceManager1", "sequenceManager"},
+        {"shaderGlow1", "shaderGlow"},
+        {"initialMaterialInfo", "materialInfo"},
+        {"standardSurface1", "standardSurface"},
+        {"hyperGraphLayout", "hyperLayout"},
+        {"globalCacheControl", "globalCacheControl"},
+        {"dynController1", "dynController"},
+        {"defaultViewColorManager", "viewColorManager"},
+        {"dof1", "dof"},
+        {"defaultLayer", "displayLayer"},
+        {"defaultRenderLayer", "renderLayer"},
+        {"renderLayerManager", "renderLayerManager"},
+        {"layerManager", "displayLayerManager"},
+    };
+    for (auto& [n, t] : known)
+        if (name == n) return t;
+    return "unknown";
+}
+
+// Data types setAttr -type knows but pushpin keeps as tokens.
+bool isRawDataType(std::string_view t) {
+    static const char* const raw[] = {
+        "attributeAlias", "dataPolyComponent", "dataReferenceEdits", "mesh", "lattice", "sphere", "cone",
+        "reflectanceRGB", "spectrumRGB", "nurbsTrimface", "subd", "Int64Array", "matrixArray", "polyFace",
+        "dynArrayAttrsData", "particleData", "nObject", "nId", "characterMapping", "componentArray",
+    };
+    for (const char* r : raw)
+        if (t == r) return true;
+    return false;
+}
+
+// Numeric tuple types and their component counts.
+int tupleWidth(std::string_view t) {
+    if (t == "double2" || t == "float2" || t == "long2" || t == "short2" || t == "int2") return 2;
+    if (t == "double3" || t == "float3" || t == "long3" || t == "short3" || t == "int3") return 3;
+    if (t == "double4") return 4;
+    return 0;
+}
+
+bool isIdentifier(std::string_view w) {
+    if (w.empty()) return false;
+    auto alpha = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
+    if (!alpha(w.front())) return false;
+    for (char c : w)
+        if (!alpha(c) && !(c >= '0' && c <= '9')) return false;
+    return true;
+}
+
+// Maya node names: letters, digits and '_', namespaces separated by ':'; not starting with a digit.
+bool isValidNodeName(std::string_view name) {
+    if (name.empty()) return false;
+    size_t start = 0;
+    while (start <= name.size()) {
+        size_t colon = name.find(':', start);
+        if (colon == std::string_view::npos) colon = name.size();
+        std::string_view part = name.substr(start, colon - start);
+        if (part.empty()) {
+            if (start != 0) return false;  // a leading ':' means the root namespace
+        } else if (!isIdentifier(part)) {
+            return false;
+        }
+        start = colon + 1;
+    }
+    return true;
+}
+
+// State shared by a scene and the references it loads.
+struct ReadContext {
+    Graph& graph;
+    const ReadOptions& options;
+    std::set<std::string> warnedCommands;
+    std::set<std::string> knownDataTypes;  // from `requires -dataType` and `addAttr -dt`
+    bool missingReferences = false;
+};
+
+struct ResolvedPlug {
+    NodeId node = kNoNode;
+    std::vector<PlugSegment> segments;  // empty for a plain node name
+};
+
+class Parser {
+public:
+    Parser(ReadContext& ctx, MaLexer& lex, std::string fileName, std::filesystem::path sceneDir,
+           std::string nsPrefix, int depth, uint64_t totalBytes)
+        : m_ctx(ctx),
+          m_g(ctx.graph),
+          m_lex(lex),
+          m_file(std::move(fileName)),
+          m_sceneDir(std::move(sceneDir)),
+          m_ns(std::move(nsPrefix)),
+          m_depth(depth),
+          m_totalBytes(totalBytes) {}
+
+    void run();
+
+private:
+    // ---- tokens
+    void lexNext(MaToken& t);
+    void rawNext(MaToken& t);
+    void peekRaw();
+    void nextArg(MaToken& t);
+    void appendConcatenation(MaToken& t);
+    void advance() { nextArg(m_tok); }
+    bool atCommandEnd();  // true at ';'; throws at end of input
+    void collectArgs();
+    void skipCommand();
+
+    // ---- errors and warnings
+    [[noreturn]] void fail(uint32_t line, uint32_t column, const std::string& message) const;
+    [[noreturn]] void failAt(const MaToken& t, const std::string& message) const { fail(t.line, t.column, message); }
+    void warn(uint32_t line, uint32_t column, const std::string& message);
+    std::string describe(const MaToken& t) const;
+
+    // ---- names
+    std::string qualify(std::string_view name) const;
+    NodeId lookupNode(std::string_view name, uint32_t line, uint32_t column, bool* tolerated);
+    bool resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out);
+    void setCurrent(NodeId id);
+
+    // ---- commands
+    void dispatch(const std::string& command, uint32_t line, uint32_t column);
+    void cmdRequires();
+    void cmdCurrentUnit();
+    void cmdFileInfo();
+    void cmdCreateNode(uint32_t line);
+    void cmdRename();
+    void cmdSetAttr();
+    void cmdAddAttr();
+    void cmdConnectAttr(bool connect);
+    void cmdParent();
+    void cmdSelect();
+    void cmdRelationship();
+    void cmdLockNode();
+    void cmdFile();
+    void loadReference(const std::string& path, const std::string& ns, const std::string& type, uint32_t line,
+                       uint32_t column);
+
+    // ---- setAttr values
+    double readNumber(UnitKind unit, double factor, const char* what);
+    int64_t readInteger(const char* what, int64_t min, int64_t max);
+    int64_t readCount(const char* what);
+    bool readBoolWord(const char* what);
+    void readNumbersUntilEnd(std::vector<double>& out, UnitKind unit, double factor);
+    void readExactNumbers(std::vector<double>& out, int64_t count, UnitKind unit, double factor, const char* what);
+    void readInts(std::vector<int32_t>& out, int64_t count, const char* what);
+    std::string readStringValue(const char* what);
+    size_t plausibleCount(int64_t n) const;
+    Value readPolyFaces(int64_t elements);
+    Value readNurbsCurve();
+    Value readNurbsSurface();
+    Value readRawData(const std::string& type);
+
+    ReadContext& m_ctx;
+    Graph& m_g;
+    MaLexer& m_lex;
+    std::string m_file;
+    std::filesystem::path m_sceneDir;
+    std::string m_ns;  // namespace prefix of a referenced file ("ns:"), empty for the scene itself
+    int m_depth;
+    uint64_t m_totalBytes;  // 0 when unknown
+    Units m_units;          // this file's currentUnit
+
+    MaToken m_tok;   // current argument
+    MaToken m_peek;  // one token of lookahead for string concatenation
+    MaToken m_tmp;
+    MaToken m_plug;  // plug of the current setAttr
+    bool m_hasPeek = false;
+    std::vector<MaToken> m_args;  // arguments of the current command (capacity reused)
+    size_t m_argc = 0;
+
+    NodeId m_current = kNoNode;
+    bool m_currentMissing = false;  // the selected node lives in a reference that was not loaded
+    std::string m_errorNode;        // node named in errors
+    std::vector<PlugSegment> m_segScratch;
+};
+
+// ------------------------------------------------------------------ tokens
+
+void Parser::lexNext(MaToken& t) {
+    try {
+        m_lex.next(t);
+    } catch (const MaLexError& e) {
+        fail(e.line, e.column, e.message);
+    }
+}
+
+void Parser::rawNext(MaToken& t) {
+    if (m_hasPeek) {
+        std::swap(t, m_peek);
+        m_hasPeek = false;
+    } else {
+        lexNext(t);
+    }
+}
+
+void Parser::peekRaw() {
+    if (!m_hasPeek) {
+        lexNext(m_peek);
+        m_hasPeek = true;
+    }
+}
+
+// `"a" + "b"` continues a string; MEL needs it inside parentheses, but files written by hand omit them.
+void Parser::appendConcatenation(MaToken& t) {
+    for (;;) {
+        peekRaw();
+        if (!m_peek.isWord("+")) return;
+        m_hasPeek = false;
+        lexNext(m_tmp);
+        if (m_tmp.kind != MaTokenKind::String) failAt(m_tmp, "expected a string after '+', found " + describe(m_tmp));
+        t.text += m_tmp.text;
+    }
+}
+
+void Parser::nextArg(MaToken& t) {
+    rawNext(t);
+    if (t.kind == MaTokenKind::String) {
+        appendConcatenation(t);
+    } else if (t.kind == MaTokenKind::LParen) {
+        const uint32_t line = t.line, column = t.column;
+        rawNext(t);
+        if (t.kind == MaTokenKind::String) {
+            appendConcatenation(t);
+        } else if (t.kind != MaTokenKind::Word) {
+            failAt(t, "expected a string expression after '(', found " + describe(t));
+        }
+        rawNext(m_tmp);
+        if (m_tmp.kind != MaTokenKind::RParen) failAt(m_tmp, "expected ')' to close the '(' at line " +
+                                                                std::to_string(line) + ", found " + describe(m_tmp));
+        t.line = line;
+        t.column = column;
+    }
+}
+
+bool Parser::atCommandEnd() {
+    if (m_tok.kind == MaTokenKind::Semicolon) return true;
+    if (m_tok.kind == MaTokenKind::End) failAt(m_tok, "unexpected end of file: the last command has no ';'");
+    return false;
+}
+
+void Parser::collectArgs() {
+    m_argc = 0;
+    for (;;) {
+        advance();
+        if (atCommandEnd()) return;
+        if (m_argc == kMaxArgs) failAt(m_tok, "command has more than " + std::to_string(kMaxArgs) + " arguments");
+        if (m_argc == m_args.size()) m_args.emplace_back();
+        std::swap(m_args[m_argc++], m_tok);
+    }
+}
+
+void Parser::skipCommand() {
+    do advance();
+    while (!atCommandEnd());
+}
+
+// ------------------------------------------------------------------ errors
+
+void Parser::fail(uint32_t line, uint32_t column, const std::string& message) const {
+    throw ParseError(m_file, line, column, m_errorNode, message);
+}
+
+void Parser::warn(uint32_t line, uint32_t column, const std::string& message) {
+    m_g.warn(Diagnostic{m_file, line, column, m_errorNode, message});
+}
+
+std::string Parser::describe(const MaToken& t) const {
+    switch (t.kind) {
+        case MaTokenKind::Word: return "'" + t.text.substr(0, 40) + (t.text.size() > 40 ? "…'" : "'");
+        case MaTokenKind::String: return "string \"" + t.text.substr(0, 40) + (t.text.size() > 40 ? "…\"" : "\"");
+        case MaTokenKind::End: return "end of file";
+        default: return "'" + t.text + "'";
+    }
+}
+
+// ------------------------------------------------------------------ names
+
+// Applies the namespace of a referenced file to a name or DAG path (`|a|b` → `|ns:a|ns:b`).
+// `:name` stays in the root namespace.
+std::string Parser::qualify(std::string_view name) const {
+    if (m_ns.empty() || name.empty()) return std::string(name);
+    if (name.front() == ':') return std::string(name);
+    std::string out;
+    size_t start = 0;
+    while (start <= name.size()) {
+        size_t bar = name.find('|', start);
+        if (bar == std::string_view::npos) bar = name.size();
+        std::string_view part = name.substr(start, bar - start);
+        if (!part.empty()) {
+            if (part.front() == ':') out += part.substr(1);
+            else out += m_ns + std::string(part);
+        }
+        if (bar < name.size()) out += '|';
+        start = bar + 1;
+    }
+    return out;
+}
+
+// Finds a node by name or DAG path. `:name` that does not exist becomes an implicit default
+// node. A missing node is an error unless a reference failed to load (then *tolerated is set).
+NodeId Parser::lookupNode(std::string_view name, uint32_t line, uint32_t column, bool* tolerated) {
+    if (tolerated) *tolerated = false;
+    const std::string full = qualify(name);
+    NodeId id = m_g.find(full);
+    if (id != kNoNode) return id;
+    if (name.size() > 1 && name.front() == ':' && name.find('|') == std::string_view::npos &&
+        isValidNodeName(name.substr(1))) {
+        std::string_view bare = name.substr(1);
+        id = m_g.createNode(implicitNodeType(bare), bare, kNoNode, 0);
+        m_g.node(id).shared = true;
+        return id;
+    }
+    if (tolerated && m_ctx.missingReferences) {
+        *tolerated = true;
+        warn(line, column, "no node named '" + full + "' (it may live in a reference that was not loaded); ignored");
+        return kNoNode;
+    }
+    m_errorNode = full;
+    fail(line, column, "no node named '" + full + "'");
+}
+
+// Splits "node.attr[1].child" / ".attr" into node and attribute path.
+bool Parser::resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out) {
+    if (t.kind != MaTokenKind::String && t.kind != MaTokenKind::Word)
+        failAt(t, "expected a plug (\"node.attribute\"), found " + describe(t));
+    std::string_view text = t.text;
+    const size_t dot = text.find('.');
+    std::string_view nodePart = dot == std::string_view::npos ? text : text.substr(0, dot);
+    std::string_view attrPart = dot == std::string_view::npos ? std::string_view() : text.substr(dot);
+    if (requireAttr && attrPart.empty()) failAt(t, "malformed plug \"" + t.text + "\": no attribute");
+    out.segments.clear();
+    if (!attrPart.empty()) {
+        auto segs = parsePlugPath(attrPart);
+        if (!segs || segs->empty()) failAt(t, "malformed plug \"" + t.text + "\"");
+        for (size_t i = 0; i < segs->size(); ++i) {
+            const PlugSegment& s = (*segs)[i];
+            if (!s.indexed()) continue;
+            if (s.last > kMaxIndex) failAt(t, "index out of range in plug \"" + t.text + "\"");
+            if (s.last != s.first && i + 1 != segs->size())
+                failAt(t, "malformed plug \"" + t.text + "\": a range may only end the path");
+        }
+        out.segments = std::move(*segs);
+    }
+    if (nodePart.empty()) {
+        if (m_current == kNoNode) {
+            if (m_currentMissing) return false;
+            failAt(t, "plug \"" + t.text + "\" names no node and no node is selected");
+        }
+        out.node = m_current;
+        m_errorNode = m_g.node(m_current).name;
+        return true;
+    }
+    bool tolerated = false;
+    out.node = lookupNode(nodePart, t.line, t.column, &tolerated);
+    if (tolerated) return false;
+    m_errorNode = m_g.node(out.node).name;
+    return true;
+}
+
+void Parser::setCurrent(NodeId id) {
+    m_current = id;
+    m_currentMissing = false;
+    m_errorNode = id == kNoNode ? std::string() : m_g.node(id).name;
+}
+
+// ------------------------------------------------------------------ driver
+
+void Parser::run() {
+    for (;;) {
+        advance();
+        if (m_tok.kind == MaTokenKind::End) return;
+        if (m_tok.kind == MaTokenKind::Semicolon) continue;
+        if (m_tok.kind != MaTokenKind::Word || !isIdentifier(m_tok.text))
+            failAt(m_tok, "expected a command, found " + describe(m_tok));
+        const std::string command = m_tok.text;
+        const uint32_t line = m_tok.line, column = m_tok.column;
+        m_errorNode = m_current == kNoNode ? std::string() : m_g.node(m_current).name;
+        try {
+            dispatch(command, line, column);
+        } catch (const ParseError&) {
+            throw;
+        } catch (const Error& e) {
+            // The Graph refused an operation (name clash, cycle…): report it where the command starts.
+            fail(line, column, command + ": " + e.what());
+        }
+    }
+}
+
+void Parser::dispatch(const std::string& c, uint32_t line, uint32_t column) {
+    if (c == "setAttr") return cmdSetAttr();
+    if (c == "connectAttr") return cmdConnectAttr(true);
+    if (c == "createNode") return cmdCreateNode(line);
+    if (c == "addAttr") return cmdAddAttr();
+    if (c == "rename") return cmdRename();
+    if (c == "select") return cmdSelect();
+    if (c == "relationship") return cmdRelationship();
+    if (c == "disconnectAttr") return cmdConnectAttr(false);
+    if (c == "parent") return cmdParent();
+    if (c == "requires") return cmdRequires();
+    if (c == "currentUnit") return cmdCurrentUnit();
+    if (c == "fileInfo") return cmdFileInfo();
+    if (c == "lockNode") return cmdLockNode();
+    if (c == "file") return cmdFile();
+    // dataStructure, applyMetadata, workspace, MEL procedures…: not part of the graph.
+    if (m_ctx.warnedCommands.insert(c).second)
+        warn(line, column, "command '" + c + "' is not supported; skipped (reported once)");
+    skipCommand();
+}
+
+// ------------------------------------------------------------------ simple commands
+
+void Parser::cmdRequires() {
+    collectArgs();
+    std::vector<std::string> positional;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (a.isFlag()) {
+            if (i + 1 >= m_argc) failAt(a, "requires: flag " + a.text + " needs a value");
+            const MaToken& v = m_args[++i];
+            if (a.text == "-dataType" || a.text == "-dt") m_ctx.knownDataTypes.insert(v.text);
+            continue;
+        }
+        positional.push_back(a.text);
+    }
+    if (positional.empty()) failAt(m_tok, "requires: no plug-in named");
+    std::string entry;
+    for (const std::string& p : positional) entry += (entry.empty() ? "" : " ") + p;
+    m_g.requirements.push_back(std::move(entry));
+}
+
+void Parser::cmdCurrentUnit() {
+    collectArgs();
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (!a.isFlag()) failAt(a, "currentUnit: unexpected argument " + describe(a));
+        const std::string& f = a.text;
+        const bool linear = f == "-l" || f == "-linear";
+        const bool angle = f == "-a" || f == "-angle";
+        const bool time = f == "-t" || f == "-time";
+        if (!linear && !angle && !time) {
+            // -f/-fullName, -ua/-updateAnimation: query/animation options with a value or none.
+            if (i + 1 < m_argc && !m_args[i + 1].isFlag()) ++i;
+            continue;
+        }
+        if (i + 1 >= m_argc) failAt(a, "currentUnit: " + f + " needs a unit");
+        const MaToken& v = m_args[++i];
+        if (linear) {
+            auto cm = linearUnitInCm(v.text);
+            if (!cm) failAt(v, "currentUnit: unknown linear unit " + describe(v));
+            m_units.cmPerLinearUnit = *cm;
+        } else if (angle) {
+            auto rad = angleUnitInRadians(v.text);
+            if (!rad) failAt(v, "currentUnit: unknown angle unit " + describe(v));
+            m_units.radiansPerAngleUnit = *rad;
+        } else {
+            auto fps = timeUnitFps(v.text);
+            if (!fps) failAt(v, "currentUnit: unknown time unit " + describe(v));
+            m_units.framesPerSecond = *fps;
+        }
+    }
+    if (m_depth == 0) m_g.units = m_units;
+}
+
+void Parser::cmdFileInfo() {
+    collectArgs();
+    if (m_argc != 2) failAt(m_tok, "fileInfo: expected a key and a value, found " + std::to_string(m_argc) + " arguments");
+    if (m_depth == 0) m_g.fileInfo.emplace_back(m_args[0].text, m_args[1].text);
+}
+
+void Parser::cmdCreateNode(uint32_t line) {
+    collectArgs();
+    const MaToken* type = nullptr;
+    const MaToken* name = nullptr;
+    const MaToken* parent = nullptr;
+    bool shared = false;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (!a.isFlag()) {
+            if (type) failAt(a, "createNode: unexpected argument " + describe(a));
+            type = &a;
+            continue;
+        }
+        const std::string& f = a.text;
+        if (f == "-s" || f == "-shared") {
+            shared = true;
+        } else if (f == "-ss" || f == "-skipSelect") {
+        } else if (f == "-n" || f == "-name" || f == "-p" || f == "-parent") {
+            if (i + 1 >= m_argc || m_args[i + 1].isFlag()) failAt(a, "createNode: " + f + " needs a value");
+            (f[1] == 'n' ? name : parent) = &m_args[++i];
+        } else {
+            failAt(a, "createNode: unknown flag " + f);
+        }
+    }
+    if (!type) failAt(m_tok, "createNode: no node type given");
+    if (!isIdentifier(type->text)) failAt(*type, "createNode: invalid node type " + describe(*type));
+
+    NodeId parentId = kNoNode;
+    if (parent) {
+        bool tolerated = false;
+        parentId = lookupNode(parent->text, parent->line, parent->column, &tolerated);
+        if (tolerated) parent = nullptr;  // its parent is in a missing reference: keep the node at world level
+    }
+    std::string nodeName;
+    if (name) {
+        if (!isValidNodeName(name->text) || name->text.front() == ':')
+            failAt(*name, "createNode: invalid node name " + describe(*name));
+        nodeName = qualify(name->text);
+    } else {
+        // Maya names an unnamed node after its type: mesh1, mesh2, …
+        for (int k = 1;; ++k) {
+            nodeName = qualify(type->text + std::to_string(k));
+            if (m_g.find(nodeName) == kNoNode) break;
+        }
+    }
+    m_errorNode = nodeName;
+
+    // An existing node of that name at that place in the DAG: reused for -s and implicit defaults.
+    {
+        const std::string path = parent ? qualify(parent->text) + "|" + nodeName : nodeName;
+        NodeId existing = m_g.find(path);
+        if (existing != kNoNode && !parent && !m_g.node(existing).parents.empty()) existing = kNoNode;
+        if (existing != kNoNode) {
+            const Node& n = m_g.node(existing);
+            const bool implicitDefault = n.line == 0 && n.shared && n.type == type->text;
+            if (shared || implicitDefault) {
+                if (n.type != type->text)
+                    warn(type->line, type->column,
+                         "createNode -s: '" + nodeName + "' exists with type " + n.type + ", not " + type->text);
+                setCurrent(existing);
+                return;
+            }
+        }
+    }
+    NodeId id = kNoNode;
+    try {
+        id = m_g.createNode(type->text, nodeName, parentId, line);
+    } catch (const ParseError&) {
+        throw;
+    } catch (const Error&) {
+        // Name taken: Maya renames the new node by incrementing its trailing number.
+        std::string base = nodeName;
+        while (!base.empty() && base.back() >= '0' && base.back() <= '9') base.pop_back();
+        std::string candidate;
+        for (int k = 1;; ++k) {
+            candidate = base + std::to_string(k);
+            if (m_g.find(candidate) == kNoNode) break;
+        }
+        warn(name ? name->line : type->line, name ? name->column : type->column,
+             "a node named '" + nodeName + "' already exists; the new " + type->text + " is renamed '" + candidate + "'");
+        id = m_g.createNode(type->text, candidate, parentId, line);
+    }
+    if (shared) m_g.node(id).shared = true;
+    setCurrent(id);
+}
+
+void Parser::cmdRename() {
+    collectArgs();
+    std::vector<const MaToken*> positional;
+    bool uid = false;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (a.text == "-uid" || a.text == "-uuid") {
+            uid = true;  // node UUIDs (Maya 2016+) carry nothing pushpin uses
+            ++i;
+        } else if (a.isFlag()) {
+            // -is/-ignoreShape: no value.
+        } else {
+            positional.push_back(&a);
+        }
+    }
+    if (uid) return;
+    if (positional.empty() || positional.size() > 2) failAt(m_tok, "rename: expected [node] newName");
+    NodeId id = m_current;
+    if (positional.size() == 2) {
+        id = lookupNode(positional[0]->text, positional[0]->line, positional[0]->column, nullptr);
+    } else if (id == kNoNode) {
+        if (m_currentMissing) return;
+        failAt(*positional[0], "rename: no node selected");
+    }
+    const MaToken& newName = *positional.back();
+    if (!isValidNodeName(newName.text)) failAt(newName, "rename: invalid node name " + describe(newName));
+    const std::string full = qualify(newName.text);
+    if (m_g.find(full) != kNoNode && m_g.find(full) != id) failAt(newName, "rename: a node named '" + full + "' exists");
+    m_g.rename(id, full);
+    if (id == m_current) m_errorNode = full;
+}
+
+void Parser::cmdFile() {
+    collectArgs();
+    std::string ns, type, renamingPrefix;
+    const MaToken* path = nullptr;
+    bool reference = false;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (!a.isFlag()) {
+            path = &a;
+            continue;
+        }
+        const std::string& f = a.text;
+        static const std::unordered_set<std::string> noValue = {
+            "-r", "-reference", "-gl", "-groupLocator", "-gr", "-groupReference", "-iv", "-ignoreVersion",
+            "-dns", "-defaultNamespace", "-i", "-import", "-o", "-open", "-f", "-force", "-rdi0"};
+        if (f == "-r" || f == "-reference") reference = true;
+        if (noValue.count(f)) continue;
+        if (i + 1 >= m_argc) failAt(a, "file: flag " + f + " needs a value");
+        const MaToken& v = m_args[++i];
+        if (f == "-rdi" || f == "-referenceDepthInfo") return;  // depth bookkeeping for Maya's UI
+        if (f == "-ns" || f == "-namespace") ns = v.text;
+        else if (f == "-typ" || f == "-type") type = v.text;
+        else if (f == "-rpr" || f == "-renamingPrefix") renamingPrefix = v.text;
+    }
+    if (!reference) {
+        if (m_ctx.warnedCommands.insert("file").second)
+            warn(m_tok.line, m_tok.column, "file: only -r (reference) is supported; skipped (reported once)");
+        return;
+    }
+    if (!path) failAt(m_tok, "file -r: no file named");
+    if (ns.empty()) ns = renamingPrefix;
+    if (ns.empty()) ns = std::filesystem::path(path->text).stem().string();
+    loadReference(path->text, ns, type, path->line, path->column);
+}
+
+void Parser::loadReference(const std::string& pathText, const std::string& ns, const std::string& type,
+                           uint32_t line, uint32_t column) {
+    auto missing = [&](const std::string& why) {
+        m_ctx.missingReferences = true;
+        warn(line, column, "reference \"" + pathText + "\" not loaded: " + why +
+                               "; its nodes are missing and edits to them are ignored");
+    };
+    if (!m_ctx.options.loadReferences) return missing("loading references is turned off");
+    if (m_depth + 1 > m_ctx.options.maxReferenceDepth) return missing("reference depth limit reached");
+    if (!isValidNodeName(ns)) return missing("invalid namespace '" + ns + "'");
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path given(pathText);
+    std::vector<fs::path> candidates;
+    if (given.is_absolute()) candidates.push_back(given);
+    candidates.push_back(m_sceneDir / given);
+    candidates.push_back(m_sceneDir / given.filename());
+    fs::path found;
+    for (const fs::path& c : candidates)
+        if (!c.filename().empty() && fs::is_regular_file(c, ec)) {
+            found = c;
+            break;
+        }
+    if (found.empty()) return missing("file not found (looked next to the scene)");
+    if (type == "mayaBinary" || found.extension() == ".mb") return missing("Maya binary files are not supported");
+    std::ifstream in(found, std::ios::binary);
+    if (!in) return missing("cannot open " + found.string());
+    const uint64_t size = fs::file_size(found, ec);
+    MaLexer lex(in);
+    Parser sub(m_ctx, lex, found.string(), found.parent_path(), m_ns + ns + ":", m_depth + 1, ec ? 0 : size);
+    sub.run();
+    m_g.references.push_back(found.string());
+}
+
+// ------------------------------------------------------------------ connections, DAG, selection
+
+void Parser::cmdConnectAttr(bool connect) {
+    collectArgs();
+    const char* cmd = connect ? "connectAttr" : "disconnectAttr";
+    const MaToken* plugs[2] = {nullptr, nullptr};
+    int count = 0;
+    bool nextAvailable = false;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (a.isFlag()) {
+            const std::string& f = a.text;
+            if (f == "-na" || f == "-nextAvailable") {
+                nextAvailable = true;
+            } else if (f == "-f" || f == "-force") {
+            } else if (f == "-l" || f == "-lock" || f == "-rd" || f == "-referenceDest") {
+                if (i + 1 < m_argc && m_args[i + 1].kind == MaTokenKind::Word && !m_args[i + 1].isFlag()) ++i;
+            } else {
+                failAt(a, std::string(cmd) + ": unknown flag " + f);
+            }
+            continue;
+        }
+        if (count == 2) failAt(a, std::string(cmd) + ": more than two plugs");
+        plugs[count++] = &a;
+    }
+    if (count != 2) failAt(m_tok, std::string(cmd) + ": expected a source and a destination plug");
+    ResolvedPlug src, dst;
+    if (!resolvePlug(*plugs[0], true, src)) return;
+    if (!resolvePlug(*plugs[1], true, dst)) return;
+    for (const ResolvedPlug* p : {&src, &dst})
+        if (p->segments.back().last != p->segments.back().first)
+            failAt(*plugs[p == &src ? 0 : 1], std::string(cmd) + ": a plug cannot name a range");
+    Plug s{src.node, m_g.canonicalPath(src.node, src.segments)};
+    Plug d{dst.node, m_g.canonicalPath(dst.node, dst.segments)};
+    if (connect) {
+        m_g.connect(std::move(s), std::move(d), nextAvailable);
+    } else if (!m_g.disconnect(s, d)) {
+        warn(plugs[0]->line, plugs[0]->column, "disconnectAttr: no connection " + plugs[0]->text + " -> " + plugs[1]->text);
+    }
+}
+
+void Parser::cmdParent() {
+    collectArgs();
+    bool add = false, world = false, remove = false;
+    std::vector<const MaToken*> objects;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (!a.isFlag()) {
+            objects.push_back(&a);
+            continue;
+        }
+        const std::string& f = a.text;
+        if (f == "-add" || f == "-addObject") add = true;
+        else if (f == "-w" || f == "-world") world = true;
+        else if (f == "-rm" || f == "-removeObject") remove = true;
+        else if (f == "-s" || f == "-shape" || f == "-nc" || f == "-noConnections" || f == "-r" || f == "-relative" ||
+                 f == "-a" || f == "-absolute" || f == "-nis" || f == "-noInvScale") {
+        } else {
+            failAt(a, "parent: unknown flag " + f);
+        }
+    }
+    if (remove) {
+        warn(m_tok.line, m_tok.column, "parent -rm (remove instance) is not supported; skipped");
+        return;
+    }
+    if (objects.size() < (world ? 1u : 2u)) failAt(m_tok, "parent: expected child objects and a parent");
+    NodeId parentId = kNoNode;
+    size_t childCount = objects.size();
+    if (!world) {
+        const MaToken& p = *objects.back();
+        bool tolerated = false;
+        parentId = lookupNode(p.text, p.line, p.column, &tolerated);
+        if (tolerated) return;
+        --childCount;
+    }
+    for (size_t i = 0; i < childCount; ++i) {
+        const MaToken& c = *objects[i];
+        bool tolerated = false;
+        NodeId child = lookupNode(c.text, c.line, c.column, &tolerated);
+        if (tolerated) continue;
+        m_errorNode = m_g.node(child).name;
+        if (add && parentId != kNoNode) {
+            const auto& ps = m_g.node(child).parents;
+            if (std::find(ps.begin(), ps.end(), parentId) != ps.end()) {
+                warn(c.line, c.column, "parent -add: '" + c.text + "' already is a child of '" + objects.back()->text + "'");
+                continue;
+            }
+        }
+        try {
+            m_g.setParent(child, parentId, add && !world);
+        } catch (const ParseError&) {
+            throw;
+        } catch (const Error& e) {
+            failAt(c, std::string("parent: ") + e.what());
+        }
+    }
+}
+
+void Parser::cmdSelect() {
+    collectArgs();
+    bool clear = false;
+    const MaToken* first = nullptr;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (a.isFlag()) {
+            if (a.text == "-cl" || a.text == "-clear") clear = true;
+            continue;  // -ne/-noExpand, -r/-replace, -add, -d … take no value
+        }
+        if (!first) first = &a;
+    }
+    if (!first) {
+        if (clear) setCurrent(kNoNode);
+        return;
+    }
+    bool tolerated = false;
+    NodeId id = lookupNode(first->text, first->line, first->column, &tolerated);
+    if (tolerated) {
+        setCurrent(kNoNode);
+        m_currentMissing = true;
+        return;
+    }
+    setCurrent(id);
+}
+
+void Parser::cmdRelationship() {
+    collectArgs();
+    if (m_argc < 2) failAt(m_tok, "relationship: expected a type and plugs");
+    Relationship r;
+    r.type = m_args[0].text;
+    for (size_t i = 1; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (a.isFlag()) continue;
+        ResolvedPlug p;
+        if (!resolvePlug(a, false, p)) return;
+        r.plugs.push_back(Plug{p.node, p.segments.empty() ? std::string() : m_g.canonicalPath(p.node, p.segments)});
+    }
+    m_g.addRelationship(std::move(r));
+}
+
+void Parser::cmdLockNode() {
+    collectArgs();
+    bool lock = true;
+    std::vector<const MaToken*> nodes;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (!a.isFlag()) {
+            nodes.push_back(&a);
+            continue;
+        }
+        bool value = true;
+        if (i + 1 < m_argc && detail::parseMaBool(m_args[i + 1].text, value)) ++i;
+        if (a.text == "-l" || a.text == "-lock") lock = value;
+    }
+    if (nodes.empty()) {
+        if (m_current != kNoNode) m_g.node(m_current).locked = lock;
+        return;
+    }
+    for (const MaToken* n : nodes) {
+        bool tolerated = false;
+        NodeId id = lookupNode(n->text, n->line, n->column, &tolerated);
+        if (!tolerated) m_g.node(id).locked = lock;
+    }
+}
+
+// ------------------------------------------------------------------ addAttr
+
+namespace {
+
+struct AttributeType {
+    AttrType type;
+    UnitKind unit;
+};
+
+std::optional<AttributeType> attributeTypeFromAt(std::string_view t) {
+    using A = AttrType;
+    using U = UnitKind;
+    static const std::pair<const char*, AttributeType> table[] = {
+        {"bool", {A::Bool, U::None}},        {"long", {A::Int, U::None}},
+        {"short", {A::Int, U::None}},        {"byte", {A::Int, U::None}},
+        {"char", {A::Int, U::None}},         {"enum", {A::Enum, U::None}},
+        {"float", {A::Float, U::None}},      {"double", {A::Double, U::None}},
+        {"doubleLinear", {A::Double, U::Distance}}, {"floatLinear", {A::Float, U::Distance}},
+        {"doubleAngle", {A::Double, U::Angle}},     {"floatAngle", {A::Float, U::Angle}},
+        {"time", {A::Double, U::Time}},      {"float2", {A::Float2, U::None}},
+        {"float3", {A::Float3, U::None}},    {"double2", {A::Double2, U::None}},
+        {"double3", {A::Double3, U::None}},  {"double4", {A::Double4, U::None}},
+        {"long2", {A::Long2, U::None}},      {"long3", {A::Long3, U::None}},
+        {"short2", {A::Short2, U::None}},    {"short3", {A::Short3, U::None}},
+        {"compound", {A::Compound, U::None}}, {"message", {A::Message, U::None}},
+        {"matrix", {A::Matrix, U::None}},    {"fltMatrix", {A::Matrix, U::None}},
+        {"reflectance", {A::Float3, U::None}}, {"spectrum", {A::Float3, U::None}},
+        {"typed", {A::Generic, U::None}},    {"generic", {A::Generic, U::None}},
+    };
+    for (auto& [name, at] : table)
+        if (t == name) return at;
+    return std::nullopt;
+}
+
+AttrType attributeTypeFromDt(std::string_view t) {
+    using A = AttrType;
+    static const std::pair<const char*, AttrType> table[] = {
+        {"string", A::String},          {"stringArray", A::StringArray}, {"matrix", A::Matrix},
+        {"Int32Array", A::Int32Array},  {"doubleArray", A::DoubleArray}, {"floatArray", A::DoubleArray},
+        {"pointArray", A::PointArray},  {"vectorArray", A::VectorArray}, {"mesh", A::Mesh},
+        {"nurbsCurve", A::NurbsCurve},  {"nurbsSurface", A::NurbsSurface}, {"componentList", A::ComponentList},
+        {"double2", A::Double2},        {"double3", A::Double3},         {"float2", A::Float2},
+        {"float3", A::Float3},          {"long2", A::Long2},             {"long3", A::Long3},
+        {"short2", A::Short2},          {"short3", A::Short3},
+    };
+    for (auto& [name, at] : table)
+        if (t == name) return at;
+    return A::Generic;
+}
+
+}  // namespace
+
+void Parser::cmdAddAttr() {
+    collectArgs();
+    AttrSpec spec;
+    std::string parentName;
+    const MaToken* targetNode = nullptr;
+    bool hasType = false, hasDefault = false;
+    double defaultValue = 0.0;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (!a.isFlag()) {
+            if (targetNode) failAt(a, "addAttr: unexpected argument " + describe(a));
+            targetNode = &a;
+            continue;
+        }
+        const std::string& f = a.text;
+        auto value = [&]() -> const MaToken& {
+            if (i + 1 >= m_argc) failAt(a, "addAttr: " + f + " needs a value");
+            return m_args[++i];
+        };
+        if (f == "-ln" || f == "-longName") {
+            spec.longName = value().text;
+        } else if (f == "-sn" || f == "-shortName") {
+            spec.shortName = value().text;
+        } else if (f == "-at" || f == "-attributeType") {
+            const MaToken& v = value();
+            auto at = attributeTypeFromAt(v.text);
+            if (!at) failAt(v, "addAttr: unknown attribute type " + describe(v));
+            spec.type = at->type;
+            spec.unit = at->unit;
+            hasType = true;
+        } else if (f == "-dt" || f == "-dataType") {
+            const MaToken& v = value();
+            spec.type = attributeTypeFromDt(v.text);
+            m_ctx.knownDataTypes.insert(v.text);
+            hasType = true;
+        } else if (f == "-p" || f == "-parent") {
+            parentName = value().text;
+        } else if (f == "-dv" || f == "-defaultValue") {
+            const MaToken& v = value();
+            MaNumber n = detail::parseMaNumber(v.text, UnitKind::None, m_units);
+            if (n.status != MaNumberStatus::Ok) failAt(v, "addAttr: -dv needs a finite number, found " + describe(v));
+            defaultValue = n.value;
+            hasDefault = true;
+        } else if (f == "-m" || f == "-multi" || f == "-uac" || f == "-usedAsColor" || f == "-uaf" ||
+                   f == "-usedAsFilename") {
+            if (f == "-m" || f == "-multi") spec.multi = true;
+        } else if (f == "-min" || f == "-minValue" || f == "-max" || f == "-maxValue" || f == "-smn" ||
+                   f == "-softMinValue" || f == "-smx" || f == "-softMaxValue" || f == "-nc" ||
+                   f == "-numberOfChildren" || f == "-dcb" || f == "-disconnectBehaviour") {
+            const MaToken& v = value();
+            if (detail::parseMaNumber(v.text, UnitKind::None, m_units).status != MaNumberStatus::Ok)
+                failAt(v, "addAttr: " + f + " needs a finite number, found " + describe(v));
+        } else if (f == "-nn" || f == "-niceName" || f == "-en" || f == "-enumName" || f == "-bt" ||
+                   f == "-ct" || f == "-category") {
+            value();
+        } else {
+            // Boolean options (-ci, -k, -h, -is, -im, -r, -w, -s, …): the value is optional.
+            bool ignored = false;
+            if (i + 1 < m_argc && detail::parseMaBool(m_args[i + 1].text, ignored)) ++i;
+        }
+    }
+    if (spec.longName.empty()) spec.longName = spec.shortName;
+    if (spec.shortName.empty()) spec.shortName = spec.longName;
+    if (spec.longName.empty()) failAt(m_tok, "addAttr: no attribute name (-ln/-sn)");
+    if (!isIdentifier(spec.longName) || !isIdentifier(spec.shortName))
+        failAt(m_tok, "addAttr: invalid attribute name '" + spec.longName + "'");
+    if (!hasType) spec.type = AttrType::Double;  // Maya's default attribute type
+
+    NodeId nodeId = m_current;
+    if (targetNode) {
+        bool tolerated = false;
+        nodeId = lookupNode(targetNode->text, targetNode->line, targetNode->column, &tolerated);
+        if (tolerated) return;
+    } else if (nodeId == kNoNode) {
+        if (m_currentMissing) return;
+        failAt(m_tok, "addAttr: no node selected");
+    }
+    Node& node = m_g.node(nodeId);
+    m_errorNode = node.name;
+    if (const AttrSpec* existing = node.findAttr(spec.longName) ? node.findAttr(spec.longName) : node.findAttr(spec.shortName)) {
+        // Attributes some Maya versions add dynamically may be part of pushpin's schema already.
+        bool dynamic = false;
+        for (const AttrSpec& d : node.dynamicAttrs) dynamic = dynamic || &d == existing;
+        if (dynamic) warn(m_tok.line, m_tok.column, "addAttr: attribute '" + spec.longName + "' already exists; ignored");
+        return;
+    }
+    if (hasDefault) spec.defaults = {defaultValue, defaultValue, defaultValue, defaultValue};
+    if (!parentName.empty()) {
+        AttrSpec* parent = nullptr;
+        for (AttrSpec& s : node.dynamicAttrs)
+            if (s.longName == parentName || s.shortName == parentName) parent = &s;
+        if (!parent) failAt(m_tok, "addAttr: parent attribute '" + parentName + "' does not exist");
+        spec.parent = parent->longName;
+        if (componentCount(parent->type) > 1) {
+            int index = 0;
+            for (const AttrSpec& s : node.dynamicAttrs)
+                if (s.parent == parent->longName) ++index;
+            if (index >= componentCount(parent->type))
+                failAt(m_tok, "addAttr: '" + parent->longName + "' already has all its children");
+            spec.component = index;
+            if (parent->unit == UnitKind::None) parent->unit = spec.unit;
+            if (hasDefault) parent->defaults[size_t(index)] = defaultValue;
+        }
+    }
+    node.dynamicAttrs.push_back(std::move(spec));
+}
+
+// ------------------------------------------------------------------ setAttr
+
+size_t Parser::plausibleCount(int64_t n) const {
+    // Every number takes at least two bytes ("0 "); never reserve more than the input can hold.
+    const uint64_t left = m_totalBytes > m_lex.offset() ? (m_totalBytes - m_lex.offset()) / 2 + 16 : 4096;
+    return size_t(std::min<uint64_t>(uint64_t(std::max<int64_t>(n, 0)), left));
+}
+
+double Parser::readNumber(UnitKind unit, double factor, const char* what) {
+    if (atCommandEnd()) failAt(m_tok, std::string(what) + ": missing value");
+    if (m_tok.kind != MaTokenKind::Word) failAt(m_tok, std::string(what) + ": expected a number, found " + describe(m_tok));
+    MaNumber n = detail::parseMaNumber(m_tok.text, unit, m_units);
+    switch (n.status) {
+        case MaNumberStatus::Ok: break;
+        case MaNumberStatus::NotANumber:
+            failAt(m_tok, std::string(what) + ": expected a number, found " + describe(m_tok));
+        case MaNumberStatus::NotFinite:
+            failAt(m_tok, std::string(what) + ": value " + describe(m_tok) + " is not finite");
+        case MaNumberStatus::OutOfRange:
+            failAt(m_tok, std::string(what) + ": value " + describe(m_tok) + " is out of range");
+    }
+    advance();
+    return n.hasUnit ? n.value : n.value * factor;
+}
+
+int64_t Parser::readInteger(const char* what, int64_t min, int64_t max) {
+    if (atCommandEnd()) failAt(m_tok, std::string(what) + ": missing value");
+    int64_t v = 0;
+    if (m_tok.kind != MaTokenKind::Word || !detail::parseMaInteger(m_tok.text, v))
+        failAt(m_tok, std::string(what) + ": expected an integer, found " + describe(m_tok));
+    if (v < min || v > max)
+        failAt(m_tok, std::string(what) + ": " + std::to_string(v) + " is outside [" + std::to_string(min) + ", " +
+                          std::to_string(max) + "]");
+    advance();
+    return v;
+}
+
+int64_t Parser::readCount(const char* what) { return readInteger(what, 0, kMaxIndex); }
+
+bool Parser::readBoolWord(const char* what) {
+    if (atCommandEnd()) failAt(m_tok, std::string(what) + ": missing value");
+    bool b = false;
+    if (m_tok.kind != MaTokenKind::Word || !detail::parseMaBool(m_tok.text, b))
+        failAt(m_tok, std::string(what) + ": expected yes or no, found " + describe(m_tok));
+    advance();
+    return b;
+}
+
+void Parser::readNumbersUntilEnd(std::vector<double>& out, UnitKind unit, double factor) {
+    while (!atCommandEnd()) out.push_back(readNumber(unit, factor, "setAttr"));
+}
+
+void Parser::readExactNumbers(std::vector<double>& out, int64_t count, UnitKind unit, double factor, const char* what) {
+    out.reserve(out.size() + plausibleCount(count));
+    for (int64_t i = 0; i < count; ++i) {
+        if (atCommandEnd())
+            failAt(m_tok, std::string(what) + ": expected " + std::to_string(count) + " numbers, found " + std::to_string(i));
+        out.push_back(readNumber(unit, factor, what));
+    }
+}
+
+void Parser::readInts(std::vector<int32_t>& out, int64_t count, const char* what) {
+    out.reserve(std::min<size_t>(plausibleCount(count), 64));
+    for (int64_t i = 0; i < count; ++i) {
+        if (atCommandEnd())
+            failAt(m_tok, std::string(what) + ": expected " + std::to_string(count) + " values, found " + std::to_string(i));
+        out.push_back(int32_t(readInteger(what, INT32_MIN, INT32_MAX)));
+    }
+}
+
+std::string Parser::readStringValue(const char* what) {
+    if (atCommandEnd()) failAt(m_tok, std::string(what) + ": missing string");
+    if (m_tok.kind != MaTokenKind::String) failAt(m_tok, std::string(what) + ": expected a string, found " + describe(m_tok));
+    std::string s = std::move(m_tok.text);
+    advance();
+    return s;
+}
+
+Value Parser::readPolyFaces(int64_t elements) {
+    auto faces = std::make_shared<PolyFaces>();
+    // A face record takes at least 10 bytes ("f 3 0 1 2 "), which bounds what the range may reserve.
+    faces->faces.reserve(plausibleCount(elements * 5) / 5);
+    PolyFaceLoop* last = nullptr;
+    while (!atCommandEnd()) {
+        if (m_tok.kind != MaTokenKind::Word)
+            failAt(m_tok, "polyFaces: expected f, h, mu, mf, mh or fc, found " + describe(m_tok));
+        const uint32_t line = m_tok.line, column = m_tok.column;
+        const std::string key = m_tok.text;
+        advance();
+        if (key == "f" || key == "h") {
+            if (key == "h" && faces->faces.empty()) fail(line, column, "polyFaces: hole 'h' before any face 'f'");
+            const int64_t n = readInteger("polyFaces: edge count", 1, kMaxIndex);
+            if (key == "f") {
+                faces->faces.emplace_back();
+                last = &faces->faces.back().outer;
+            } else {
+                faces->faces.back().holes.emplace_back();
+                last = &faces->faces.back().holes.back();
+            }
+            readInts(last->edges, n, key == "f" ? "polyFaces: face edges" : "polyFaces: hole edges");
+        } else if (key == "mu" || key == "mf" || key == "mh" || key == "fc") {
+            PolyFaceLoop* loop = last;
+            if (key == "mf") loop = faces->faces.empty() ? nullptr : &faces->faces.back().outer;
+            if (key == "mh") loop = faces->faces.empty() || faces->faces.back().holes.empty()
+                                        ? nullptr : &faces->faces.back().holes.back();
+            if (!loop) fail(line, column, "polyFaces: '" + key + "' before the loop it belongs to");
+            const int64_t uvSet = key == "mu" ? readInteger("polyFaces: uv set", 0, kMaxIndex) : 0;
+            const int64_t n = readCount(("polyFaces: " + key + " count").c_str());
+            if (n != int64_t(loop->edges.size()))
+                fail(line, column, "polyFaces: '" + key + "' has " + std::to_string(n) + " values for a loop of " +
+                                       std::to_string(loop->edges.size()) + " edges");
+            if (key == "fc") {
+                if (!loop->colors.empty()) fail(line, column, "polyFaces: second 'fc' for the same loop");
+                readInts(loop->colors, n, "polyFaces: colour ids");
+            } else {
+                loop->uvs.emplace_back(int32_t(uvSet), std::vector<int32_t>());
+                readInts(loop->uvs.back().second, n, "polyFaces: uv ids");
+            }
+        } else {
+            fail(line, column, "polyFaces: unknown keyword '" + key.substr(0, 40) + "'");
+        }
+    }
+    if (elements > 0 && int64_t(faces->faces.size()) != elements)
+        failAt(m_tok, "polyFaces: the range holds " + std::to_string(elements) + " faces but " +
+                          std::to_string(faces->faces.size()) + " are given");
+    return std::shared_ptr<const PolyFaces>(std::move(faces));
+}
+
+Value Parser::readNurbsCurve() {
+    auto c = std::make_shared<NurbsCurveData>();
+    const uint32_t line = m_tok.line, column = m_tok.column;
+    c->degree = int(readInteger("nurbsCurve: degree", 1, 64));
+    c->spans = int(readInteger("nurbsCurve: spans", 0, kMaxIndex));
+    c->form = int(readInteger("nurbsCurve: form", 0, 2));
+    c->rational = readBoolWord("nurbsCurve: rational");
+    c->dimension = int(readInteger("nurbsCurve: dimension", 2, 3));
+    const int64_t knots = readCount("nurbsCurve: knot count");
+    readExactNumbers(c->knots, knots, UnitKind::None, 1.0, "nurbsCurve: knots");
+    const int64_t cvs = readCount("nurbsCurve: CV count");
+    if (knots != cvs + c->degree - 1)
+        fail(line, column, "nurbsCurve: " + std::to_string(knots) + " knots do not fit " + std::to_string(cvs) +
+                               " CVs of degree " + std::to_string(c->degree) + " (expected CVs + degree - 1 = " +
+                               std::to_string(cvs + c->degree - 1) + ")");
+    readExactNumbers(c->cvs, cvs * (c->dimension + (c->rational ? 1 : 0)), UnitKind::None, 1.0, "nurbsCurve: CVs");
+    if (!atCommandEnd()) failAt(m_tok, "nurbsCurve: unexpected value " + describe(m_tok) + " after the CVs");
+    return std::shared_ptr<const NurbsCurveData>(std::move(c));
+}
+
+Value Parser::readNurbsSurface() {
+    auto s = std::make_shared<NurbsSurfaceData>();
+    const uint32_t line = m_tok.line, column = m_tok.column;
+    s->degreeU = int(readInteger("nurbsSurface: degree U", 1, 64));
+    s->degreeV = int(readInteger("nurbsSurface: degree V", 1, 64));
+    s->formU = int(readInteger("nurbsSurface: form U", 0, 2));
+    s->formV = int(readInteger("nurbsSurface: form V", 0, 2));
+    s->rational = readBoolWord("nurbsSurface: rational");
+    const int64_t knotsU = readCount("nurbsSurface: knot count U");
+    readExactNumbers(s->knotsU, knotsU, UnitKind::None, 1.0, "nurbsSurface: knots U");
+    const int64_t knotsV = readCount("nurbsSurface: knot count V");
+    readExactNumbers(s->knotsV, knotsV, UnitKind::None, 1.0, "nurbsSurface: knots V");
+    if (m_tok.isWord("TRIM") || m_tok.isWord("NOTRIM")) {
+        s->trimmed = m_tok.text == "TRIM";
+        advance();
+    }
+    const int64_t cvs = readCount("nurbsSurface: CV count");
+    const int64_t nu = knotsU - s->degreeU + 1, nv = knotsV - s->degreeV + 1;
+    if (nu < s->degreeU + 1 || nv < s->degreeV + 1 || nu * nv != cvs)
+        fail(line, column, "nurbsSurface: " + std::to_string(knotsU) + " × " + std::to_string(knotsV) +
+                               " knots of degree " + std::to_string(s->degreeU) + " × " + std::to_string(s->degreeV) +
+                               " need " + std::to_string(std::max<int64_t>(nu, 0)) + " × " +
+                               std::to_string(std::max<int64_t>(nv, 0)) + " CVs, the data has " + std::to_string(cvs));
+    s->cvCountU = int(nu);
+    s->cvCountV = int(nv);
+    readExactNumbers(s->cvs, cvs * (s->rational ? 4 : 3), UnitKind::None, 1.0, "nurbsSurface: CVs");
+    if (!atCommandEnd()) {
+        if (!s->trimmed) failAt(m_tok, "nurbsSurface: unexpected value " + describe(m_tok) + " after the CVs");
+        warn(m_tok.line, m_tok.column, "nurbsSurface: trim data is not read; the surface is kept untrimmed");
+        while (!atCommandEnd()) advance();
+    }
+    return std::shared_ptr<const NurbsSurfaceData>(std::move(s));
+}
+
+Value Parser::readRawData(const std::string& type) {
+    RawData raw;
+    raw.type = type;
+    while (!atCommandEnd()) {
+        if (m_tok.kind == MaTokenKind::Word || m_tok.kind == MaTokenKind::String) raw.tokens.push_back(m_tok.text);
+        // The raw token stream keeps `{ , }` and parentheses of nested data out of the value.
+        rawNext(m_tok);
+    }
+    return raw;
+}
+
+void Parser::cmdSetAttr() {
+    int64_t sizeHint = -1;
+    int keyable = -1, locked = -1;
+    std::string type;
+    bool hasType = false;
+    bool afterPlug = false;
+    MaToken& plug = m_plug;  // a member, so that its text keeps its capacity between commands
+
+    // Flags may come before and after the plug; values start at the first token that is neither.
+    auto flag = [&]() -> bool {
+        if (!m_tok.isFlag()) return false;
+        const std::string f = m_tok.text;
+        const uint32_t flagLine = m_tok.line, flagColumn = m_tok.column;
+        auto boolArg = [&](int& out) {
+            advance();
+            bool b = true;
+            if (m_tok.kind == MaTokenKind::Word && detail::parseMaBool(m_tok.text, b)) advance();
+            out = b ? 1 : 0;
+        };
+        int ignored = 0;
+        if (f == "-s" || f == "-size") {
+            advance();
+            sizeHint = readInteger("setAttr -s", 0, kMaxIndex);
+        } else if (f == "-ch" || f == "-capacityHint") {
+            advance();
+            readInteger("setAttr -ch", 0, kMaxIndex);
+        } else if (f == "-type" || f == "-typ") {
+            advance();
+            if (m_tok.kind != MaTokenKind::String && m_tok.kind != MaTokenKind::Word)
+                failAt(m_tok, "setAttr -type: expected a type name, found " + describe(m_tok));
+            type = m_tok.text;
+            hasType = true;
+            advance();
+        } else if (f == "-k" || f == "-keyable") {
+            boolArg(keyable);
+        } else if (f == "-l" || f == "-lock") {
+            boolArg(locked);
+        } else if (f == "-cb" || f == "-channelBox" || f == "-ca" || f == "-caching") {
+            boolArg(ignored);
+        } else if (f == "-av" || f == "-alteredValue" || f == "-c" || f == "-clamp") {
+            advance();
+        } else {
+            if (afterPlug) return false;  // after the plug an unknown `-word` is a value (and fails as one)
+            fail(flagLine, flagColumn, "setAttr: unknown flag " + f);
+        }
+        return true;
+    };
+
+    advance();
+    while (flag()) {}
+    if (atCommandEnd()) failAt(m_tok, "setAttr: no attribute given");
+    std::swap(plug, m_tok);
+    afterPlug = true;
+    advance();
+    while (flag()) {}
+
+    ResolvedPlug target;
+    if (!resolvePlug(plug, true, target)) {
+        while (!atCommandEnd()) rawNext(m_tok);
+        return;
+    }
+    std::vector<PlugSegment>& segs = target.segments;
+    const PlugSegment& last = segs.back();
+    const int64_t elements = last.indexed() ? last.last - last.first + 1 : 0;
+    Node& node = m_g.node(target.node);
+    const AttrSpec* spec = node.findAttr(last.name);
+    const UnitKind unit = spec ? spec->unit : UnitKind::None;
+    const double factor = (unit == UnitKind::Distance || unit == UnitKind::Angle) ? toInternal(unit, m_units) : 1.0;
+    const int schemaWidth = spec ? componentCount(spec->type) : 0;
+    const uint32_t valueLine = m_tok.line, valueColumn = m_tok.column;
+
+    if (sizeHint >= 0 || keyable >= 0 || locked >= 0) {
+        std::vector<PlugSegment> keySegs = segs;
+        keySegs.back().first = keySegs.back().last = -1;
+        AttrData& data = m_g.attrData(target.node, m_g.canonicalPath(target.node, keySegs));
+        if (sizeHint >= 0) data.sizeHint = sizeHint;
+        if (keyable >= 0) data.keyable = keyable == 1;
+        if (locked >= 0) data.locked = locked == 1;
+    }
+    if (m_tok.kind == MaTokenKind::Semicolon && !hasType) return;  // flags only
+
+    auto countMismatch = [&](size_t got, int64_t expected, const std::string& what) {
+        fail(valueLine, valueColumn, "setAttr \"" + plug.text + "\": " + what + " needs " + std::to_string(expected) +
+                                         " values, found " + std::to_string(got));
+    };
+    const int64_t elementCount = std::max<int64_t>(elements, 1);
+
+    Value value;
+    if (!hasType) {
+        if (m_tok.kind == MaTokenKind::String) {
+            std::string s = readStringValue("setAttr");
+            if (!atCommandEnd()) failAt(m_tok, "setAttr: unexpected value " + describe(m_tok) + " after a string");
+            value = StringValue{std::move(s)};
+        } else {
+            Numbers nums;
+            const int64_t expected = schemaWidth > 0 ? elementCount * schemaWidth : 0;
+            nums.values.reserve(plausibleCount(expected > 0 ? expected : elementCount));
+            readNumbersUntilEnd(nums.values, unit, factor);
+            const size_t got = nums.values.size();
+            if (got == 0) countMismatch(got, std::max<int64_t>(expected, 1), "the attribute");
+            if (expected > 0 && int64_t(got) != expected)
+                countMismatch(got, expected,
+                              elements > 0 ? "a range of " + std::to_string(elements) + " × " + std::to_string(schemaWidth)
+                                           : "the attribute");
+            if (elements > 0 && (got % size_t(elements) != 0))
+                fail(valueLine, valueColumn, "setAttr \"" + plug.text + "\": " + std::to_string(got) +
+                                                 " values do not divide into the range's " + std::to_string(elements) +
+                                                 " elements");
+            value = std::move(nums);
+        }
+    } else if (const int w = tupleWidth(type); w > 0) {
+        Numbers nums;
+        nums.kind = Numbers::Kind::Tuple;
+        nums.tupleSize = w;
+        nums.values.reserve(plausibleCount(elementCount * w));
+        readNumbersUntilEnd(nums.values, unit, factor);
+        if (int64_t(nums.values.size()) != elementCount * w) countMismatch(nums.values.size(), elementCount * w, type);
+        value = std::move(nums);
+    } else if (type == "matrix") {
+        if (m_tok.kind == MaTokenKind::String) {
+            value = readRawData(type);  // the "xform" form: a transformation's components
+        } else {
+            Numbers nums;
+            nums.kind = Numbers::Kind::Matrix;
+            nums.tupleSize = 16;
+            readNumbersUntilEnd(nums.values, UnitKind::None, 1.0);
+            if (int64_t(nums.values.size()) != elementCount * 16) countMismatch(nums.values.size(), elementCount * 16, type);
+            value = std::move(nums);
+        }
+    } else if (type == "string") {
+        std::vector<std::string> strings;
+        while (!atCommandEnd()) strings.push_back(readStringValue("setAttr -type string"));
+        if (int64_t(strings.size()) != elementCount) countMismatch(strings.size(), elementCount, "string");
+        if (elements > 1) {
+            // A range of strings: one element each.
+            for (int64_t i = 0; i < elements; ++i) {
+                std::vector<PlugSegment> one = segs;
+                one.back().first = one.back().last = last.first + i;
+                m_g.setValue(target.node, one, StringValue{std::move(strings[size_t(i)])});
+            }
+            return;
+        }
+        value = StringValue{std::move(strings.front())};
+    } else if (type == "stringArray" || type == "componentList") {
+        const int64_t n = readCount(("setAttr -type " + type + " count").c_str());
+        std::vector<std::string> items;
+        items.reserve(plausibleCount(n) / 2);
+        while (!atCommandEnd()) items.push_back(readStringValue(("setAttr -type " + type).c_str()));
+        if (int64_t(items.size()) != n) countMismatch(items.size(), n, type);
+        if (type == "stringArray") value = StringArray{std::move(items)};
+        else value = ComponentList{std::move(items)};
+    } else if (type == "Int32Array" || type == "doubleArray" || type == "floatArray" || type == "pointArray" ||
+               type == "vectorArray") {
+        Numbers nums;
+        int width = 1;
+        nums.kind = Numbers::Kind::DoubleArray;
+        if (type == "Int32Array") nums.kind = Numbers::Kind::Int32Array;
+        if (type == "pointArray") nums.kind = Numbers::Kind::PointArray, width = 4;
+        if (type == "vectorArray") nums.kind = Numbers::Kind::VectorArray, width = 3;
+        nums.tupleSize = width;
+        const int64_t n = readCount(("setAttr -type " + type + " count").c_str());
+        nums.values.reserve(plausibleCount(n * width));
+        readNumbersUntilEnd(nums.values, UnitKind::None, 1.0);
+        if (int64_t(nums.values.size()) != n * width) countMismatch(nums.values.size(), n * width, type);
+        if (type == "Int32Array")
+            for (double v : nums.values)
+                if (v != double(int32_t(v)) || v < INT32_MIN || v > INT32_MAX)
+                    fail(valueLine, valueColumn, "setAttr -type Int32Array: value " + std::to_string(v) + " is not a 32-bit integer");
+        value = std::move(nums);
+    } else if (type == "polyFaces") {
+        value = readPolyFaces(elements);
+    } else if (type == "nurbsCurve") {
+        value = readNurbsCurve();
+    } else if (type == "nurbsSurface") {
+        value = readNurbsSurface();
+    } else if (isRawDataType(type) || m_ctx.knownDataTypes.count(type)) {
+        value = readRawData(type);
+    } else {
+        fail(plug.line, plug.column, "setAttr: unknown data type \"" + type + "\"");
+    }
+    m_g.setValue(target.node, segs, std::move(value));
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ entry points
+
+namespace {
+
+Graph readWith(MaLexer& lex, const std::string& name, const ReadOptions& options, uint64_t totalBytes) {
+    Graph g;
+    g.sourceFile = name;
+    ReadContext ctx{g, options, {}, {}, false};
+    std::filesystem::path dir = std::filesystem::path(name).parent_path();
+    Parser parser(ctx, lex, name, dir, std::string(), 0, totalBytes);
+    parser.run();
+    return g;
+}
+
+}  // namespace
+
+Graph MaReader::readFile(const std::filesystem::path& path, const ReadOptions& options) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw IoError(path, "cannot open", errno);
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    MaLexer lex(in);
+    return readWith(lex, path.string(), options, ec ? 0 : size);
+}
+
+Graph MaReader::readString(std::string_view text, const std::string& name, const ReadOptions& options) {
+    MaLexer lex(text);
+    return readWith(lex, name, options, text.size());
+}
+
+Graph MaReader::readStream(std::istream& in, const std::string& name, const ReadOptions& options) {
+    uint64_t size = 0;
+    const auto pos = in.tellg();
+    if (pos != std::streampos(-1) && in.seekg(0, std::ios::end)) {
+        const auto end = in.tellg();
+        if (end != std::streampos(-1) && end >= pos) size = uint64_t(end - pos);
+        in.seekg(pos);
+    }
+    in.clear();
+    MaLexer lex(in);
+    return readWith(lex, name, options, size);
+}
+
+}  // namespace pushpin::scene

@@ -1,0 +1,141 @@
+// Malformed .ma input: every case must throw scene::ParseError naming the file, line, column and
+// node, with a message that says what is wrong.
+#include "core/scene/ma_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <sstream>
+#include <string>
+
+namespace pushpin::scene {
+namespace {
+
+struct BadInput {
+    const char* name;
+    std::string text;
+    uint32_t line;
+    uint32_t column;
+    const char* message;  // substring of the error message
+    const char* node;     // expected ParseError::node()
+};
+
+std::ostream& operator<<(std::ostream& os, const BadInput& b) { return os << b.name; }
+
+std::optional<ParseError> parseError(const std::string& text) {
+    try {
+        MaReader::readString(text, "bad.ma");
+    } catch (const ParseError& e) {
+        return e;
+    }
+    return std::nullopt;
+}
+
+const std::string kTransform = "createNode transform -n \"a\";\n";
+const std::string kMesh = "createNode mesh -n \"m\";\n";
+
+class MaReaderMalformed : public testing::TestWithParam<BadInput> {};
+
+TEST_P(MaReaderMalformed, ThrowsParseErrorWithPosition) {
+    const BadInput& bad = GetParam();
+    std::optional<ParseError> e = parseError(bad.text);
+    ASSERT_TRUE(e.has_value()) << "no ParseError for " << bad.name;
+    EXPECT_EQ(e->file(), "bad.ma");
+    EXPECT_EQ(e->line(), bad.line) << e->what();
+    EXPECT_EQ(e->column(), bad.column) << e->what();
+    EXPECT_NE(std::string(e->what()).find(bad.message), std::string::npos) << e->what();
+    EXPECT_EQ(e->node(), bad.node) << e->what();
+    const std::string prefix = "bad.ma:" + std::to_string(bad.line) + ":" + std::to_string(bad.column) + ": ";
+    EXPECT_EQ(std::string(e->what()).rfind(prefix, 0), 0u) << e->what();
+}
+
+// Columns count bytes from 1; a tab is one column.
+const BadInput kBadInputs[] = {
+    {"TruncatedInsideString", kTransform + "\tsetAttr \".t\" -type \"string\" \"abc", 2, 30,
+     "unterminated string (end of file", "a"},
+    {"StringBrokenByNewline", kTransform + "\tsetAttr \".n\" -type \"string\" \"abc\n\tdef\";\n", 2, 30,
+     "unterminated string (end of line", "a"},
+    {"UnknownDataType", kTransform + "\tsetAttr \".x\" -type \"bogus\" 1;\n", 2, 10, "unknown data type \"bogus\"", "a"},
+    {"TupleTooShort", kTransform + "\tsetAttr \".t\" -type \"double3\" 1 2;\n", 2, 31, "double3 needs 3 values, found 2",
+     "a"},
+    {"RangeTooFewNumbers", kMesh + "\tsetAttr -s 8 \".vt[0:7]\" 0 0 0 1 1 1;\n", 2, 26,
+     "range of 8 × 3 needs 24 values, found 6", "m"},
+    {"RangeNotDivisible", "createNode unknownThing -n \"u\";\n\tsetAttr \".q[0:3]\" 1 2 3 4 5;\n", 2, 20,
+     "5 values do not divide into the range's 4 elements", "u"},
+    {"NonNumericValue", kTransform + "\tsetAttr \".tx\" abc;\n", 2, 16, "expected a number, found 'abc'", "a"},
+    {"NaNValue", kTransform + "\tsetAttr \".tx\" nan;\n", 2, 16, "'nan' is not finite", "a"},
+    {"InfValue", kTransform + "\tsetAttr \".t\" -type \"double3\" 0 -inf 0;\n", 2, 33, "'-inf' is not finite", "a"},
+    {"HugeValue", kTransform + "\tsetAttr \".tx\" 1e999;\n", 2, 16, "'1e999' is out of range", "a"},
+    {"MissingParent", "createNode mesh -n \"s\" -p \"ghost\";\n", 1, 27, "no node named 'ghost'", "ghost"},
+    {"ConnectMissingNode", kTransform + "connectAttr \"a.t\" \"ghost.t\";\n", 2, 19, "no node named 'ghost'", "ghost"},
+    {"SetAttrMissingNode", kTransform + "setAttr \"ghost.tx\" 1;\n", 2, 9, "no node named 'ghost'", "ghost"},
+    {"NulBytes", kTransform + std::string("\0\0junk", 6), 2, 1, "invalid character 0x00", "a"},
+    {"ControlCharacterInString", kTransform + "\tsetAttr \".n\" -type \"string\" \"a\x01z\";\n", 2, 32,
+     "invalid character 0x01", "a"},
+    {"MissingSemicolonAtEnd", kTransform + "\tsetAttr \".tx\" 1", 2, 17, "has no ';'", "a"},
+    {"CreateNodeWithoutType", "createNode -n \"a\";\n", 1, 18, "no node type given", ""},
+    {"ReversedRange", kMesh + "\tsetAttr \".vt[3:1]\" 0 0 0;\n", 2, 10, "malformed plug \".vt[3:1]\"", "m"},
+    {"UnclosedBracket", kTransform + "\tsetAttr \".a[\" 1;\n", 2, 10, "malformed plug \".a[\"", "a"},
+    {"IndexBeyondRange", kMesh + "\tsetAttr \".vt[0:3000000000]\" 0 0 0;\n", 2, 10, "index out of range", "m"},
+    {"PolyFacesUnknownKeyword", kMesh + "\tsetAttr \".fc[0]\" -type \"polyFaces\"\n\t\tf 3 0 1 2\n\t\tzz 3 0 1 2;\n", 4,
+     3, "unknown keyword 'zz'", "m"},
+    {"PolyFacesFaceCount", kMesh + "\tsetAttr \".fc[0:1]\" -type \"polyFaces\" f 3 0 1 2 ;\n", 2, 49,
+     "the range holds 2 faces but 1 are given", "m"},
+    {"PolyFacesUvCount", kMesh + "\tsetAttr \".fc[0]\" -type \"polyFaces\" f 3 0 1 2 mu 0 4 0 1 2 3;\n", 2, 47,
+     "'mu' has 4 values for a loop of 3 edges", "m"},
+    {"PolyFacesHoleFirst", kMesh + "\tsetAttr \".fc[0]\" -type \"polyFaces\" h 3 0 1 2;\n", 2, 37,
+     "hole 'h' before any face", "m"},
+    {"PolyFacesTruncatedFace", kMesh + "\tsetAttr \".fc[0]\" -type \"polyFaces\" f 4 0 1;\n", 2, 44,
+     "expected 4 values, found 2", "m"},
+    {"NurbsSurfaceKnotsVersusCvs",
+     "createNode nurbsSurface -n \"s\";\n\tsetAttr \".cc\" -type \"nurbsSurface\"\n\t\t3 3 0 0 no\n\t\t6 0 0 0 1 1 1\n"
+     "\t\t6 0 0 0 1 1 1\n\n\t\t15\n\t\t0 0 0;\n",
+     3, 3, "need 4 × 4 CVs, the data has 15", "s"},
+    {"NurbsCurveKnotsVersusCvs",
+     "createNode nurbsCurve -n \"c\";\n\tsetAttr \".cc\" -type \"nurbsCurve\" 3 1 0 no 3 6 0 0 0 1 1 1 5 0 0 0;\n", 2, 35,
+     "6 knots do not fit 5 CVs of degree 3", "c"},
+    {"HugeArrayCount", "createNode unknownThing -n \"u\";\n\tsetAttr \".ia\" -type \"Int32Array\" 999999999999 1 2;\n",
+     2, 35, "999999999999 is outside [0, 2147483647]", "u"},
+    {"ArrayCountBeyondData", "createNode unknownThing -n \"u\";\n\tsetAttr \".ia\" -type \"Int32Array\" 100000 1 2;\n",
+     2, 35, "Int32Array needs 100000 values, found 2", "u"},
+    {"HugeSizeHint", kMesh + "\tsetAttr -s 999999999999 \".vt\";\n", 2, 13, "999999999999 is outside", "m"},
+    {"UnknownSetAttrFlag", kTransform + "\tsetAttr -zz \".tx\" 1;\n", 2, 10, "unknown flag -zz", "a"},
+    {"SetAttrWithoutNode", "setAttr \".tx\" 1;\n", 1, 9, "no node is selected", ""},
+    {"NumberWhereCommandExpected", kTransform + "0.5 0.5 0.5;\n", 2, 1, "expected a command, found '0.5'", "a"},
+    {"ParentCycle", kTransform + "createNode transform -n \"b\" -p \"a\";\nparent \"a\" \"b\";\n", 3, 8,
+     "would make a cycle", "a"},
+    {"UnknownAttributeType", kTransform + "\taddAttr -ln \"x\" -at \"quaternion\";\n", 2, 22,
+     "unknown attribute type", "a"},
+    {"UnclosedParenthesis", kTransform + "\tsetAttr \".n\" -type \"string\" (\"a\" + \"b\";\n", 2, 40, "expected ')'",
+     "a"},
+    {"PlusWithoutString", kTransform + "\tsetAttr \".n\" -type \"string\" \"a\" + 5;\n", 2, 36,
+     "expected a string after '+'", "a"},
+    {"StringWhereNumberExpected", kTransform + "\tsetAttr \".t\" -type \"double3\" 1 \"2\" 3;\n", 2, 33,
+     "expected a number, found string \"2\"", "a"},
+    {"UnknownLinearUnit", "currentUnit -l furlong;\n", 1, 16, "unknown linear unit 'furlong'", ""},
+    {"UnitSuffixNotAUnit", kTransform + "\tsetAttr \".tx\" 5parsec;\n", 2, 16, "expected a number, found '5parsec'", "a"},
+};
+
+INSTANTIATE_TEST_SUITE_P(Inputs, MaReaderMalformed, testing::ValuesIn(kBadInputs),
+                         [](const testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });
+
+TEST(MaReaderMalformedStream, ErrorsCarryTheFileNameOfAFile) {
+    std::istringstream in("createNode transform -n \"a\";\n\tsetAttr \".tx\" oops;\n");
+    try {
+        MaReader::readStream(in, "/scenes/shot.ma");
+        FAIL() << "no error";
+    } catch (const ParseError& e) {
+        EXPECT_EQ(e.file(), "/scenes/shot.ma");
+        EXPECT_EQ(e.line(), 2u);
+        EXPECT_EQ(e.column(), 16u);
+        EXPECT_EQ(e.node(), "a");
+        EXPECT_STREQ(e.what(), "/scenes/shot.ma:2:16: setAttr: expected a number, found 'oops' (node 'a')");
+    }
+}
+
+TEST(MaReaderMalformedStream, ParseErrorIsAPushpinError) {
+    EXPECT_THROW(MaReader::readString("createNode;"), Error);
+}
+
+}  // namespace
+}  // namespace pushpin::scene
