@@ -1,0 +1,332 @@
+#include "core/scene/evaluator.h"
+
+#include "core/scene/anim_curve.h"
+#include "core/scene/transform.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pushpin::scene {
+
+namespace {
+
+bool isNumericCompound(const AttrSpec& spec) { return spec.component < 0 && componentCount(spec.type) > 1; }
+
+// The numeric children (translateX, translateY …) of a compound attribute, by component index.
+std::vector<const AttrSpec*> componentChildren(const Node& node, const AttrSpec& compound) {
+    std::vector<const AttrSpec*> out;
+    auto consider = [&](const AttrSpec& s) {
+        if (s.component >= 0 && s.parent == compound.longName) {
+            if (out.size() <= size_t(s.component)) out.resize(size_t(s.component) + 1, nullptr);
+            if (!out[size_t(s.component)]) out[size_t(s.component)] = &s;
+        }
+    };
+    for (const NodeSchema* schema = node.schema; schema; schema = schema->base())
+        for (const AttrSpec& s : schema->ownAttributes()) consider(s);
+    for (const AttrSpec& s : node.dynamicAttrs) consider(s);
+    return out;
+}
+
+bool startsWith(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
+
+bool isA(const Node& node, std::string_view type) {
+    return node.type == type || (node.schema && node.schema->isA(type));
+}
+
+}  // namespace
+
+Evaluator::Evaluator(const Graph& graph, double frame) : m_graph(graph), m_frame(frame) {}
+
+bool Evaluator::numbers(NodeId node, std::string_view plugPath, std::vector<double>& out) {
+    out.clear();
+    if (node >= m_graph.size()) return false;
+    auto segs = parsePlugPath(plugPath);
+    if (!segs) return false;
+    return evaluatePlug(node, m_graph.canonicalPath(node, *segs), out);
+}
+
+bool Evaluator::evaluatePlug(NodeId node, const std::string& path, std::vector<double>& out) {
+    out.clear();
+    std::string key = std::to_string(node);
+    key += '#';
+    key += path;
+    if (auto it = m_cache.find(key); it != m_cache.end()) {
+        out = it->second;
+        return true;
+    }
+    if (std::find(m_evaluating.begin(), m_evaluating.end(), key) != m_evaluating.end()) {
+        // A connection cycle: break it here with the plug's static value, and say so once.
+        const Node& n = m_graph.node(node);
+        const std::string message = "connection cycle through '" + n.name + "." + path + "'; using its static value";
+        const bool known = std::any_of(m_diagnostics.begin(), m_diagnostics.end(),
+                                       [&](const Diagnostic& d) { return d.message == message; });
+        if (!known) m_diagnostics.push_back(Diagnostic{m_graph.sourceFile, n.line, 0, n.name, message});
+        return m_graph.numbers(node, path, out);
+    }
+
+    m_evaluating.push_back(key);
+    bool ok = false;
+    const Node& n = m_graph.node(node);
+    if (auto src = m_graph.source(node, path)) {
+        ok = evaluateSource(*src, out);
+    } else if (computeOutput(node, path, out)) {
+        ok = true;  // animCurve.output, unitConversion.output, time.outTime
+    } else {
+        auto segs = parsePlugPath(path);
+        const AttrSpec* spec = segs ? n.findAttr(segs->back().name) : nullptr;
+        const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
+        if (parentSpec && isNumericCompound(*parentSpec)) {
+            // translateX with `translate` connected as a whole: take the component of the source.
+            std::vector<PlugSegment> parentSegs(segs->begin(), segs->end() - 1);
+            if (parentSegs.empty() || n.findAttr(parentSegs.back().name) != parentSpec)
+                parentSegs.push_back(PlugSegment{parentSpec->longName});
+            if (auto parentSrc = m_graph.source(node, formatPlugPath(parentSegs))) {
+                std::vector<double> whole;
+                if (evaluateSource(*parentSrc, whole) && size_t(spec->component) < whole.size()) {
+                    out.assign(1, whole[size_t(spec->component)]);
+                    ok = true;
+                }
+            }
+        }
+        if (!ok) ok = m_graph.numbers(node, path, out);
+        if (ok && spec && isNumericCompound(*spec)) {
+            // translate with translateX/Y/Z connected one by one (the usual animCurve wiring).
+            const auto children = componentChildren(n, *spec);
+            for (size_t k = 0; k < children.size() && k < out.size(); ++k) {
+                if (!children[k]) continue;
+                std::string childPath;
+                if (segs->back().indexed()) childPath = path + "." + children[k]->longName;
+                else {
+                    std::vector<PlugSegment> childSegs = *segs;
+                    childSegs.back().name = children[k]->longName;
+                    childPath = formatPlugPath(childSegs);
+                }
+                if (auto childSrc = m_graph.source(node, childPath)) {
+                    std::vector<double> v;
+                    if (evaluateSource(*childSrc, v) && !v.empty()) out[k] = v[0];
+                }
+            }
+        }
+    }
+    m_evaluating.pop_back();
+    if (ok) m_cache.emplace(std::move(key), out);
+    return ok;
+}
+
+bool Evaluator::evaluateSource(const Plug& source, std::vector<double>& out) {
+    out.clear();
+    if (source.node >= m_graph.size()) return false;
+    return evaluatePlug(source.node, source.path, out);
+}
+
+bool Evaluator::computeOutput(NodeId node, const std::string& path, std::vector<double>& out) {
+    const Node& n = m_graph.node(node);
+    if (path != "output" && path != "outTime") return false;
+    if (isA(n, "animCurve") || startsWith(n.type, "animCurve")) {
+        if (path != "output") return false;
+        out.assign(1, evaluateAnimCurve(node));
+        return true;
+    }
+    if (isA(n, "unitConversion")) {
+        if (path != "output") return false;
+        std::vector<double> in;
+        if (!evaluatePlug(node, "input", in)) return false;
+        const double factor = getDouble(node, "conversionFactor", 1.0);
+        for (double& v : in) v *= factor;
+        out = std::move(in);
+        return true;
+    }
+    if (isA(n, "time") && path == "outTime") {
+        out.assign(1, m_frame);
+        return true;
+    }
+    return false;
+}
+
+double Evaluator::evaluateAnimCurve(NodeId curve) {
+    const Node& n = m_graph.node(curve);
+    // animCurveT* are driven by time, animCurveU* by their `input` plug (set driven keys).
+    const bool timeInput = startsWith(n.type, "animCurveT") || !startsWith(n.type, "animCurveU");
+    const char outKind = n.type.size() == std::string_view("animCurveTL").size() ? n.type.back() : 'U';
+
+    // Key values are stored in the file's units; explicit tangent y (kiy/koy) is in Maya's internal
+    // units (centimetres, radians) and tangent x in seconds for time-driven curves (checked against
+    // spline tangents Maya wrote into files with degrees and 30 fps).
+    double valueScale = 1.0;
+    if (outKind == 'L') valueScale = m_graph.units.cmPerLinearUnit;
+    else if (outKind == 'A') valueScale = m_graph.units.radiansPerAngleUnit;
+    const double xScale = timeInput ? m_graph.units.framesPerSecond : 1.0;
+
+    double x = m_frame;
+    const bool inputConnected = m_graph.source(curve, "input").has_value();
+    if (!timeInput || inputConnected) {
+        std::vector<double> in;
+        x = evaluatePlug(curve, "input", in) && !in.empty() ? in[0] : (timeInput ? m_frame : 0.0);
+    }
+
+    AnimCurveData data;
+    data.tangentType = tangentTypeFromInt(m_graph.getInt(curve, "tangentType", int(TangentType::Auto)));
+    data.weightedTangents = m_graph.getBool(curve, "weightedTangents", true);
+    data.preInfinity = infinityTypeFromInt(m_graph.getInt(curve, "preInfinity", 0));
+    data.postInfinity = infinityTypeFromInt(m_graph.getInt(curve, "postInfinity", 0));
+
+    auto multiOf = [&](const char* name) -> const MultiStore* {
+        const AttrData* a = m_graph.findAttr(curve, m_graph.canonicalPath(curve, {PlugSegment{name}}));
+        return a ? &a->multi : nullptr;
+    };
+    auto element = [](const MultiStore* m, uint32_t i, double& v) {
+        if (!m) return false;
+        const double* p = m->numbers(i);
+        if (!p || !std::isfinite(*p)) return false;
+        v = *p;
+        return true;
+    };
+    const MultiStore* ktv = multiOf("keyTimeValue");
+    if (!ktv) return 0.0;
+    const MultiStore* kit = multiOf("keyTanInType");
+    const MultiStore* kot = multiOf("keyTanOutType");
+    const MultiStore* kix = multiOf("keyTanInX");
+    const MultiStore* kiy = multiOf("keyTanInY");
+    const MultiStore* kox = multiOf("keyTanOutX");
+    const MultiStore* koy = multiOf("keyTanOutY");
+    const MultiStore* kbd = multiOf("keyBreakdown");
+    for (uint32_t i : ktv->indices()) {
+        int width = 0;
+        const double* tv = ktv->numbers(i, &width);
+        if (!tv || width < 2 || !std::isfinite(tv[0]) || !std::isfinite(tv[1])) continue;
+        AnimKey k;
+        k.time = tv[0];
+        k.value = tv[1] * valueScale;
+        double v = 0.0;
+        if (element(kit, i, v)) k.inType = tangentTypeFromInt(int(v));
+        if (element(kot, i, v)) k.outType = tangentTypeFromInt(int(v));
+        double tx = 1.0, ty = 0.0;
+        bool hasX = element(kix, i, tx), hasY = element(kiy, i, ty);
+        if (hasX || hasY) {
+            k.hasInTangent = true;
+            k.inX = (hasX ? tx : 1.0) * xScale;
+            k.inY = hasY ? ty : 0.0;
+        }
+        tx = 1.0;
+        ty = 0.0;
+        hasX = element(kox, i, tx);
+        hasY = element(koy, i, ty);
+        if (hasX || hasY) {
+            k.hasOutTangent = true;
+            k.outX = (hasX ? tx : 1.0) * xScale;
+            k.outY = hasY ? ty : 0.0;
+        }
+        if (element(kbd, i, v)) k.breakdown = v != 0.0;
+        data.keys.push_back(k);
+    }
+    return AnimCurve(std::move(data)).evaluate(x);
+}
+
+double Evaluator::getDouble(NodeId node, std::string_view plugPath, double fallback) {
+    std::vector<double> v;
+    return numbers(node, plugPath, v) && !v.empty() ? v[0] : fallback;
+}
+
+bool Evaluator::getBool(NodeId node, std::string_view plugPath, bool fallback) {
+    std::vector<double> v;
+    return numbers(node, plugPath, v) && !v.empty() ? v[0] != 0.0 : fallback;
+}
+
+int Evaluator::getInt(NodeId node, std::string_view plugPath, int fallback) {
+    std::vector<double> v;
+    return numbers(node, plugPath, v) && !v.empty() ? int(std::lround(v[0])) : fallback;
+}
+
+glm::dvec3 Evaluator::getDouble3(NodeId node, std::string_view plugPath, glm::dvec3 fallback) {
+    std::vector<double> v;
+    if (!numbers(node, plugPath, v) || v.size() < 3) return fallback;
+    return {v[0], v[1], v[2]};
+}
+
+glm::dmat4 Evaluator::localMatrix(NodeId transform) {
+    const Node& n = m_graph.node(transform);
+    return localMatrixUnder(transform, n.parents.empty() ? kNoNode : n.parents.front());
+}
+
+glm::dmat4 Evaluator::localMatrixUnder(NodeId id, NodeId dagParent) {
+    const Node& n = m_graph.node(id);
+    if (!isA(n, "transform")) return glm::dmat4(1.0);  // shapes live in their parent's space
+    glm::dmat4 local(1.0);
+    if (isA(n, "joint")) {
+        JointAttrs j;
+        j.translate = getDouble3(id, "translate", j.translate);
+        j.rotate = getDouble3(id, "rotate", j.rotate);
+        j.scale = getDouble3(id, "scale", j.scale);
+        j.rotateOrder = getInt(id, "rotateOrder", 0);
+        j.rotateAxis = getDouble3(id, "rotateAxis", j.rotateAxis);
+        j.jointOrient = getDouble3(id, "jointOrient", j.jointOrient);
+        j.segmentScaleCompensate = getBool(id, "segmentScaleCompensate", true);
+        // Maya connects parentJoint.scale → joint.inverseScale when joints are parented. Without that
+        // connection (or a stored value) the parent joint's scale is compensated directly.
+        bool explicitInverse = false;
+        for (const char* p : {"inverseScale", "inverseScaleX", "inverseScaleY", "inverseScaleZ"})
+            explicitInverse = explicitInverse || m_graph.source(id, p).has_value() || m_graph.value(id, p) != nullptr;
+        if (explicitInverse) j.inverseScale = getDouble3(id, "inverseScale", j.inverseScale);
+        else if (dagParent != kNoNode && isA(m_graph.node(dagParent), "joint"))
+            j.inverseScale = getDouble3(dagParent, "scale", glm::dvec3(1.0));
+        local = jointMatrix(j);
+    } else {
+        TransformAttrs t;
+        t.translate = getDouble3(id, "translate", t.translate);
+        t.rotate = getDouble3(id, "rotate", t.rotate);
+        t.scale = getDouble3(id, "scale", t.scale);
+        t.shear = getDouble3(id, "shear", t.shear);
+        t.rotateOrder = getInt(id, "rotateOrder", 0);
+        t.rotateAxis = getDouble3(id, "rotateAxis", t.rotateAxis);
+        t.rotatePivot = getDouble3(id, "rotatePivot", t.rotatePivot);
+        t.rotatePivotTranslate = getDouble3(id, "rotatePivotTranslate", t.rotatePivotTranslate);
+        t.scalePivot = getDouble3(id, "scalePivot", t.scalePivot);
+        t.scalePivotTranslate = getDouble3(id, "scalePivotTranslate", t.scalePivotTranslate);
+        local = transformMatrix(t);
+    }
+    // Maya 2020+ offsetParentMatrix (row-major, row vectors) sits between the local and the parent:
+    // world = local · offsetParentMatrix · parentWorld.
+    for (const char* name : {"offsetParentMatrix", "opm"}) {
+        if (const Value* v = m_graph.value(id, name))
+            if (auto* nums = std::get_if<Numbers>(v); nums && nums->values.size() == 16) {
+                // Reading Maya's row-major numbers column by column transposes them into column form.
+                const glm::dmat4 offset = glm::make_mat4(nums->values.data());
+                local = offset * local;
+                break;
+            }
+    }
+    return local;
+}
+
+glm::dmat4 Evaluator::worldMatrix(const std::vector<NodeId>& dagPath) {
+    glm::dmat4 world(1.0);
+    for (size_t k = 0; k < dagPath.size(); ++k) {
+        const NodeId id = dagPath[k];
+        if (id >= m_graph.size()) return glm::dmat4(1.0);
+        const glm::dmat4 local = localMatrixUnder(id, k > 0 ? dagPath[k - 1] : kNoNode);
+        if (isA(m_graph.node(id), "transform") && !getBool(id, "inheritsTransform", true)) world = local;
+        else world = world * local;
+    }
+    return world;
+}
+
+bool Evaluator::visible(const std::vector<NodeId>& dagPath) {
+    for (NodeId id : dagPath) {
+        if (id >= m_graph.size()) return false;
+        if (!getBool(id, "visibility", true) || !getBool(id, "lodVisibility", true) ||
+            getBool(id, "intermediateObject", false))
+            return false;
+        // Drawing overrides: a display layer drives the node's drawOverride through its drawInfo;
+        // otherwise the node's own overrideEnabled/overrideVisibility apply.
+        if (auto layer = m_graph.source(id, "drawOverride"); layer && isA(m_graph.node(layer->node), "displayLayer")) {
+            if (getBool(layer->node, "enabled", true) && !getBool(layer->node, "visibility", true)) return false;
+        } else if (getBool(id, "overrideEnabled", false) && !getBool(id, "overrideVisibility", true)) {
+            return false;
+        }
+    }
+    return !dagPath.empty();
+}
+
+}  // namespace pushpin::scene
