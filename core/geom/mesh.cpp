@@ -1,0 +1,401 @@
+// core/geom/mesh.cpp: queries and edits on geom::Mesh.
+#include "core/geom/mesh.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+namespace pushpin::geom {
+
+namespace {
+
+uint64_t edgeKey(uint32_t a, uint32_t b) {
+    if (a > b) std::swap(a, b);
+    return (uint64_t(a) << 32) | b;
+}
+
+glm::dvec3 toD(const glm::vec3& v) { return glm::dvec3(v); }
+
+// Newell's method over one loop: twice the signed area vector of the polygon.
+glm::dvec3 newell(const Mesh& mesh, std::span<const uint32_t> loop) {
+    glm::dvec3 n(0.0);
+    const size_t count = loop.size();
+    if (count < 3) return n;
+    // Relative to the first point, which keeps precision for meshes far from the origin.
+    const glm::dvec3 origin = toD(mesh.points[loop[0]]);
+    for (size_t i = 0; i < count; ++i) {
+        const glm::dvec3 a = toD(mesh.points[loop[i]]) - origin;
+        const glm::dvec3 b = toD(mesh.points[loop[(i + 1) % count]]) - origin;
+        n.x += (a.y - b.y) * (a.z + b.z);
+        n.y += (a.z - b.z) * (a.x + b.x);
+        n.z += (a.x - b.x) * (a.y + b.y);
+    }
+    return n;
+}
+
+}  // namespace
+
+uint32_t Mesh::addFace(std::span<const uint32_t> loopPoints) {
+    if (loopStarts.empty()) loopStarts.push_back(0);
+    if (faceLoopStarts.empty()) faceLoopStarts.push_back(0);
+    faceVertices.insert(faceVertices.end(), loopPoints.begin(), loopPoints.end());
+    loopStarts.push_back(static_cast<uint32_t>(faceVertices.size()));
+    faceLoopStarts.push_back(static_cast<uint32_t>(loopCount()));
+    const size_t fvCount = faceVertices.size();
+    if (!normals.empty()) normals.resize(fvCount, glm::vec3(0.0f));
+    for (UvSet& set : uvSets)
+        if (!set.faceVertexUvs.empty()) set.faceVertexUvs.resize(fvCount, -1);
+    for (ColorSet& set : colorSets)
+        if (!set.faceVertexColors.empty()) set.faceVertexColors.resize(fvCount, -1);
+    return static_cast<uint32_t>(faceCount() - 1);
+}
+
+void Mesh::addHole(std::span<const uint32_t> loopPoints) {
+    faceVertices.insert(faceVertices.end(), loopPoints.begin(), loopPoints.end());
+    loopStarts.push_back(static_cast<uint32_t>(faceVertices.size()));
+    faceLoopStarts.back() = static_cast<uint32_t>(loopCount());
+    const size_t fvCount = faceVertices.size();
+    if (!normals.empty()) normals.resize(fvCount, glm::vec3(0.0f));
+    for (UvSet& set : uvSets)
+        if (!set.faceVertexUvs.empty()) set.faceVertexUvs.resize(fvCount, -1);
+    for (ColorSet& set : colorSets)
+        if (!set.faceVertexColors.empty()) set.faceVertexColors.resize(fvCount, -1);
+}
+
+Bounds3 Mesh::bounds() const {
+    Bounds3 b;
+    for (const glm::vec3& p : points) b.extend(toD(p));
+    return b;
+}
+
+glm::dvec3 Mesh::faceAreaVector(size_t f) const {
+    glm::dvec3 sum(0.0);
+    for (uint32_t l = faceLoopStarts[f]; l < faceLoopStarts[f + 1]; ++l) sum += newell(*this, loop(l));
+    return sum * 0.5;
+}
+
+glm::dvec3 Mesh::faceNormal(size_t f) const {
+    const glm::dvec3 a = faceAreaVector(f);
+    const double len = glm::length(a);
+    if (!(len > 0.0) || !std::isfinite(len)) return glm::dvec3(0.0);
+    return a / len;
+}
+
+std::vector<glm::vec3> Mesh::faceNormals() const {
+    std::vector<glm::vec3> out(faceCount());
+    for (size_t f = 0; f < out.size(); ++f) out[f] = glm::vec3(faceNormal(f));
+    return out;
+}
+
+double Mesh::signedVolume() const {
+    // Sum of the signed tetrahedra (reference point, triangle) over a fan triangulation of every
+    // loop; the reference is the bounds centre to limit cancellation.
+    const glm::dvec3 ref = points.empty() ? glm::dvec3(0.0) : bounds().center();
+    double sixVolume = 0.0;
+    for (size_t l = 0; l < loopCount(); ++l) {
+        const std::span<const uint32_t> lp = loop(l);
+        if (lp.size() < 3) continue;
+        const glm::dvec3 p0 = toD(points[lp[0]]) - ref;
+        for (size_t i = 1; i + 1 < lp.size(); ++i) {
+            const glm::dvec3 p1 = toD(points[lp[i]]) - ref;
+            const glm::dvec3 p2 = toD(points[lp[i + 1]]) - ref;
+            sixVolume += glm::dot(p0, glm::cross(p1, p2));
+        }
+    }
+    return sixVolume / 6.0;
+}
+
+MeshValidation Mesh::validate() const {
+    MeshValidation v;
+    auto error = [&](std::string message) {
+        // A corrupt mesh can produce one message per element; a handful is enough to diagnose it.
+        if (v.errors.size() < 32) v.errors.push_back(std::move(message));
+    };
+    if (loopStarts.empty() || loopStarts.front() != 0) error("loopStarts must start with 0");
+    if (faceLoopStarts.empty() || faceLoopStarts.front() != 0) error("faceLoopStarts must start with 0");
+    if (!v.errors.empty()) return v;
+    if (loopStarts.back() != faceVertices.size())
+        error("loopStarts ends at " + std::to_string(loopStarts.back()) + " but there are " +
+              std::to_string(faceVertices.size()) + " face-vertices");
+    for (size_t i = 1; i < loopStarts.size(); ++i)
+        if (loopStarts[i] < loopStarts[i - 1]) error("loopStarts decreases at loop " + std::to_string(i - 1));
+    if (faceLoopStarts.back() != loopCount())
+        error("faceLoopStarts ends at " + std::to_string(faceLoopStarts.back()) + " but there are " +
+              std::to_string(loopCount()) + " loops");
+    for (size_t i = 1; i < faceLoopStarts.size(); ++i)
+        if (faceLoopStarts[i] <= faceLoopStarts[i - 1]) error("face " + std::to_string(i - 1) + " has no loop");
+    if (!v.errors.empty()) return v;
+
+    const size_t nPoints = points.size();
+    for (size_t i = 0; i < nPoints; ++i) {
+        const glm::vec3& p = points[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            error("point " + std::to_string(i) + " is not finite");
+    }
+    for (size_t i = 0; i < faceVertices.size(); ++i)
+        if (faceVertices[i] >= nPoints)
+            error("face-vertex " + std::to_string(i) + " uses point " + std::to_string(faceVertices[i]) +
+                  " of " + std::to_string(nPoints));
+    const size_t fvCount = faceVertices.size();
+    if (!normals.empty() && normals.size() != fvCount)
+        error(std::to_string(normals.size()) + " normals for " + std::to_string(fvCount) + " face-vertices");
+    for (size_t s = 0; s < uvSets.size(); ++s) {
+        const UvSet& set = uvSets[s];
+        if (!set.faceVertexUvs.empty() && set.faceVertexUvs.size() != fvCount) {
+            error("uv set '" + set.name + "' has " + std::to_string(set.faceVertexUvs.size()) + " ids for " +
+                  std::to_string(fvCount) + " face-vertices");
+            continue;
+        }
+        for (size_t i = 0; i < set.faceVertexUvs.size(); ++i) {
+            const int32_t id = set.faceVertexUvs[i];
+            if (id < -1 || (id >= 0 && size_t(id) >= set.uvs.size()))
+                error("uv set '" + set.name + "' face-vertex " + std::to_string(i) + " uses uv " +
+                      std::to_string(id) + " of " + std::to_string(set.uvs.size()));
+        }
+    }
+    if (!uvSets.empty() && (currentUvSet < 0 || size_t(currentUvSet) >= uvSets.size()))
+        error("current uv set " + std::to_string(currentUvSet) + " of " + std::to_string(uvSets.size()));
+    for (const ColorSet& set : colorSets) {
+        if (!set.faceVertexColors.empty() && set.faceVertexColors.size() != fvCount) {
+            error("colour set '" + set.name + "' has " + std::to_string(set.faceVertexColors.size()) +
+                  " ids for " + std::to_string(fvCount) + " face-vertices");
+            continue;
+        }
+        for (size_t i = 0; i < set.faceVertexColors.size(); ++i) {
+            const int32_t id = set.faceVertexColors[i];
+            if (id < -1 || (id >= 0 && size_t(id) >= set.colors.size()))
+                error("colour set '" + set.name + "' face-vertex " + std::to_string(i) + " uses colour " +
+                      std::to_string(id) + " of " + std::to_string(set.colors.size()));
+        }
+    }
+    for (size_t e = 0; e < edges.size(); ++e)
+        if (edges[e].v0 >= nPoints || edges[e].v1 >= nPoints)
+            error("edge " + std::to_string(e) + " uses a point out of range");
+    if (!v.errors.empty()) return v;
+
+    // Degenerate faces: a loop with fewer than three distinct points, or (nearly) zero area
+    // relative to the face's longest edge.
+    for (size_t f = 0; f < faceCount(); ++f) {
+        bool degenerate = false;
+        for (uint32_t l = faceLoopStarts[f]; l < faceLoopStarts[f + 1] && !degenerate; ++l) {
+            std::vector<uint32_t> distinct(loop(l).begin(), loop(l).end());
+            std::sort(distinct.begin(), distinct.end());
+            distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+            if (distinct.size() < 3) degenerate = true;
+        }
+        if (!degenerate) {
+            const std::span<const uint32_t> outer = faceOuterLoop(f);
+            double longest2 = 0.0;
+            for (size_t i = 0; i < outer.size(); ++i) {
+                const glm::dvec3 d = toD(points[outer[(i + 1) % outer.size()]]) - toD(points[outer[i]]);
+                longest2 = std::max(longest2, glm::dot(d, d));
+            }
+            const double area = glm::length(faceAreaVector(f));
+            if (!(area > 1e-10 * longest2)) degenerate = true;
+        }
+        if (degenerate) v.degenerateFaces.push_back(static_cast<uint32_t>(f));
+    }
+    return v;
+}
+
+std::vector<glm::vec3> Mesh::shadingNormals() const {
+    const size_t fvCount = faceVertices.size();
+    std::vector<uint32_t> cornerFace(fvCount);
+    std::vector<glm::dvec3> faceArea(faceCount());
+    for (size_t f = 0; f < faceCount(); ++f) {
+        faceArea[f] = faceAreaVector(f);
+        for (uint32_t i = faceVertexBegin(f); i < faceVertexEnd(f); ++i) cornerFace[i] = static_cast<uint32_t>(f);
+    }
+
+    std::unordered_map<uint64_t, bool> smoothByEdge;
+    smoothByEdge.reserve(edges.size());
+    for (const MeshEdge& e : edges) smoothByEdge[edgeKey(e.v0, e.v1)] = e.smooth;
+
+    // Union-find over face-vertices: corners at the same point of two faces sharing a soft edge
+    // belong to one smoothing group.
+    std::vector<uint32_t> parent(fvCount);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto findRoot = [&](uint32_t x) {
+        while (parent[x] != x) {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        return x;
+    };
+    auto unite = [&](uint32_t a, uint32_t b) {
+        a = findRoot(a);
+        b = findRoot(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    };
+    struct HalfEdge {
+        uint64_t key;
+        uint32_t startCorner, endCorner;
+    };
+    std::vector<HalfEdge> halfEdges;
+    halfEdges.reserve(fvCount);
+    for (size_t l = 0; l < loopCount(); ++l) {
+        const uint32_t begin = loopStarts[l], end = loopStarts[l + 1];
+        for (uint32_t i = begin; i < end; ++i) {
+            const uint32_t j = (i + 1 < end) ? i + 1 : begin;
+            if (faceVertices[i] == faceVertices[j]) continue;
+            halfEdges.push_back({edgeKey(faceVertices[i], faceVertices[j]), i, j});
+        }
+    }
+    std::sort(halfEdges.begin(), halfEdges.end(),
+              [](const HalfEdge& a, const HalfEdge& b) { return a.key < b.key; });
+    for (size_t i = 0; i < halfEdges.size();) {
+        size_t j = i + 1;
+        while (j < halfEdges.size() && halfEdges[j].key == halfEdges[i].key) ++j;
+        const auto it = smoothByEdge.find(halfEdges[i].key);
+        const bool smooth = it == smoothByEdge.end() || it->second;
+        if (smooth) {
+            const HalfEdge& first = halfEdges[i];
+            for (size_t k = i + 1; k < j; ++k) {
+                const HalfEdge& other = halfEdges[k];
+                for (uint32_t c : {other.startCorner, other.endCorner}) {
+                    if (faceVertices[c] == faceVertices[first.startCorner]) unite(c, first.startCorner);
+                    if (faceVertices[c] == faceVertices[first.endCorner]) unite(c, first.endCorner);
+                }
+            }
+        }
+        i = j;
+    }
+
+    std::vector<glm::dvec3> groupSum(fvCount, glm::dvec3(0.0));
+    for (uint32_t c = 0; c < fvCount; ++c) groupSum[findRoot(c)] += faceArea[cornerFace[c]];
+    std::vector<glm::vec3> out(fvCount);
+    for (uint32_t c = 0; c < fvCount; ++c) {
+        if (!normals.empty()) {
+            const glm::vec3& n = normals[c];
+            if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
+                out[c] = n;
+                continue;
+            }
+        }
+        glm::dvec3 s = groupSum[findRoot(c)];
+        double len = glm::length(s);
+        if (!(len > 0.0)) {
+            s = faceArea[cornerFace[c]];
+            len = glm::length(s);
+        }
+        out[c] = len > 0.0 ? glm::vec3(s / len) : glm::vec3(0.0f);
+    }
+    return out;
+}
+
+std::vector<MeshEdge> deriveEdges(const Mesh& mesh, bool smooth) {
+    std::vector<MeshEdge> out;
+    std::unordered_map<uint64_t, uint32_t> seen;
+    seen.reserve(mesh.faceVertices.size());
+    for (size_t l = 0; l < mesh.loopCount(); ++l) {
+        const std::span<const uint32_t> lp = mesh.loop(l);
+        for (size_t i = 0; i < lp.size(); ++i) {
+            const uint32_t a = lp[i], b = lp[(i + 1) % lp.size()];
+            if (a == b) continue;
+            if (seen.emplace(edgeKey(a, b), static_cast<uint32_t>(out.size())).second)
+                out.push_back({a, b, smooth});
+        }
+    }
+    return out;
+}
+
+void completeEdges(Mesh& mesh, bool smoothForNew) {
+    std::unordered_map<uint64_t, uint32_t> seen;
+    for (size_t e = 0; e < mesh.edges.size(); ++e) seen.emplace(edgeKey(mesh.edges[e].v0, mesh.edges[e].v1), e);
+    for (const MeshEdge& e : deriveEdges(mesh, smoothForNew))
+        if (seen.emplace(edgeKey(e.v0, e.v1), static_cast<uint32_t>(mesh.edges.size())).second)
+            mesh.edges.push_back(e);
+}
+
+int64_t findEdge(const Mesh& mesh, uint32_t a, uint32_t b) {
+    const uint64_t key = edgeKey(a, b);
+    for (size_t e = 0; e < mesh.edges.size(); ++e)
+        if (edgeKey(mesh.edges[e].v0, mesh.edges[e].v1) == key) return static_cast<int64_t>(e);
+    return -1;
+}
+
+void transformMesh(Mesh& mesh, const glm::dmat4& m) {
+    for (glm::vec3& p : mesh.points) p = glm::vec3(glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0)));
+    if (!mesh.normals.empty()) {
+        const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(m)));
+        for (glm::vec3& n : mesh.normals) {
+            if (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f) continue;  // "compute" stays "compute"
+            const glm::dvec3 t = normalMatrix * glm::dvec3(n);
+            const double len = glm::length(t);
+            n = len > 0.0 && std::isfinite(len) ? glm::vec3(t / len) : glm::vec3(0.0f);
+        }
+    }
+}
+
+void deleteFaces(Mesh& mesh, const std::vector<bool>& removeFace) {
+    Mesh out;
+    out.points = std::move(mesh.points);
+    out.currentUvSet = mesh.currentUvSet;
+    const bool hasNormals = !mesh.normals.empty();
+    for (const UvSet& set : mesh.uvSets) out.uvSets.push_back({set.name, set.uvs, {}});
+    for (const ColorSet& set : mesh.colorSets) out.colorSets.push_back({set.name, set.colors, {}});
+    out.faceVertices.reserve(mesh.faceVertices.size());
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        if (f < removeFace.size() && removeFace[f]) continue;
+        for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
+            const uint32_t begin = mesh.loopStarts[l], end = mesh.loopStarts[l + 1];
+            out.faceVertices.insert(out.faceVertices.end(), mesh.faceVertices.begin() + begin,
+                                    mesh.faceVertices.begin() + end);
+            out.loopStarts.push_back(static_cast<uint32_t>(out.faceVertices.size()));
+            if (hasNormals) out.normals.insert(out.normals.end(), mesh.normals.begin() + begin, mesh.normals.begin() + end);
+            for (size_t s = 0; s < mesh.uvSets.size(); ++s) {
+                const std::vector<int32_t>& ids = mesh.uvSets[s].faceVertexUvs;
+                if (!ids.empty())
+                    out.uvSets[s].faceVertexUvs.insert(out.uvSets[s].faceVertexUvs.end(), ids.begin() + begin,
+                                                       ids.begin() + end);
+            }
+            for (size_t s = 0; s < mesh.colorSets.size(); ++s) {
+                const std::vector<int32_t>& ids = mesh.colorSets[s].faceVertexColors;
+                if (!ids.empty())
+                    out.colorSets[s].faceVertexColors.insert(out.colorSets[s].faceVertexColors.end(),
+                                                             ids.begin() + begin, ids.begin() + end);
+            }
+        }
+        out.faceLoopStarts.push_back(static_cast<uint32_t>(out.loopCount()));
+    }
+    // Keep the edges some remaining loop still uses, with their flags and in their order.
+    std::unordered_map<uint64_t, bool> used;
+    for (const MeshEdge& e : deriveEdges(out, true)) used.emplace(edgeKey(e.v0, e.v1), true);
+    for (const MeshEdge& e : mesh.edges)
+        if (used.count(edgeKey(e.v0, e.v1))) out.edges.push_back(e);
+    // A set that mapped faces but lost all of them keeps an empty (consistent) id array.
+    mesh = std::move(out);
+    removeUnusedPoints(mesh);
+}
+
+size_t removeUnusedPoints(Mesh& mesh) {
+    constexpr uint32_t kUnused = ~uint32_t(0);
+    std::vector<uint32_t> remap(mesh.points.size(), kUnused);
+    for (uint32_t v : mesh.faceVertices)
+        if (v < remap.size()) remap[v] = 0;
+    uint32_t next = 0;
+    for (size_t i = 0; i < remap.size(); ++i) {
+        if (remap[i] == kUnused) continue;
+        remap[i] = next;
+        mesh.points[next++] = mesh.points[i];
+    }
+    const size_t dropped = mesh.points.size() - next;
+    mesh.points.resize(next);
+    for (uint32_t& v : mesh.faceVertices)
+        if (v < remap.size()) v = remap[v];
+    std::vector<MeshEdge> edges;
+    edges.reserve(mesh.edges.size());
+    for (const MeshEdge& e : mesh.edges) {
+        if (e.v0 >= remap.size() || e.v1 >= remap.size() || remap[e.v0] == kUnused || remap[e.v1] == kUnused) continue;
+        edges.push_back({remap[e.v0], remap[e.v1], e.smooth});
+    }
+    mesh.edges = std::move(edges);
+    return dropped;
+}
+
+}  // namespace pushpin::geom

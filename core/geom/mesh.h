@@ -1,0 +1,142 @@
+// core/geom/mesh.h: polygon meshes as Maya models them: points, faces made of one outer loop and
+// any number of hole loops, per-face-vertex UVs for several UV sets, optional per-face-vertex
+// normals, hard/soft edges and colour sets. Plain data with free-standing queries and edits.
+// Thread safety: a Mesh is a value; concurrent const use is safe, edits need exclusive access.
+// Memory: owned by the caller (scene evaluation charges finished meshes to the MemoryBudget).
+//
+// Points are single-precision (glm::vec3): Maya itself keeps mesh points as floats and writes
+// them with float precision, so doubles would double the memory of the largest arrays without
+// adding information; Embree consumes float vertices too. Derived quantities (bounds, normals,
+// areas, volume, transforms) are computed in double.
+//
+// Layout (compressed rows): loops are stored back to back in `faceVertices`; loop l covers
+// faceVertices[loopStarts[l], loopStarts[l+1]); face f owns loops [faceLoopStarts[f],
+// faceLoopStarts[f+1]), the first being its outer boundary and the rest holes. A "face-vertex"
+// is a position in faceVertices; every per-face-vertex array (normals, UV ids, colour ids) is
+// parallel to it. Outer loops wind counter-clockwise seen from outside; holes wind the other way.
+#pragma once
+
+#include "core/geom/bounds.h"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pushpin::geom {
+
+// One UV set (`uvSet[k]` of a Maya mesh): its name, its UV values and, per face-vertex, an index
+// into `uvs` (-1 where the face-vertex has no UV). An empty `faceVertexUvs` maps no face.
+struct UvSet {
+    std::string name;
+    std::vector<glm::vec2> uvs;
+    std::vector<int32_t> faceVertexUvs;
+};
+
+// One colour set: RGBA values and per-face-vertex indices into them (-1 = none).
+struct ColorSet {
+    std::string name;
+    std::vector<glm::vec4> colors;
+    std::vector<int32_t> faceVertexColors;
+};
+
+// An edge between two points; `smooth` is Maya's soft-edge flag (false = hard edge).
+struct MeshEdge {
+    uint32_t v0 = 0;
+    uint32_t v1 = 0;
+    bool smooth = true;
+};
+
+// What validate() found. `errors` are structural (an index out of range, inconsistent offsets,
+// a non-finite point): such a mesh must not be rendered. Degenerate faces (fewer than three
+// distinct vertices, zero area) are listed but the mesh stays usable; renderers skip them.
+struct MeshValidation {
+    std::vector<std::string> errors;
+    std::vector<uint32_t> degenerateFaces;
+    bool ok() const { return errors.empty(); }
+};
+
+struct Mesh {
+    std::vector<glm::vec3> points;
+    std::vector<uint32_t> faceVertices;       // point index per face-vertex
+    std::vector<uint32_t> loopStarts{0};      // loopCount() + 1 offsets into faceVertices
+    std::vector<uint32_t> faceLoopStarts{0};  // faceCount() + 1 offsets into the loops
+    // Per face-vertex normals, or empty. A zero vector means "not set, compute" (Maya's 1e20).
+    std::vector<glm::vec3> normals;
+    // Edges with their hard/soft flags. May be empty: every edge is then soft. When present,
+    // edge indices are the ones component strings ("e[3]") refer to.
+    std::vector<MeshEdge> edges;
+    std::vector<UvSet> uvSets;
+    int currentUvSet = 0;  // index into uvSets (Maya's `currentUVSet`)
+    std::vector<ColorSet> colorSets;
+
+    size_t faceCount() const { return faceLoopStarts.empty() ? 0 : faceLoopStarts.size() - 1; }
+    size_t loopCount() const { return loopStarts.empty() ? 0 : loopStarts.size() - 1; }
+    size_t faceVertexCount() const { return faceVertices.size(); }
+    bool empty() const { return faceCount() == 0; }
+
+    // Point indices of loop `l` (l < loopCount()).
+    std::span<const uint32_t> loop(size_t l) const {
+        return {faceVertices.data() + loopStarts[l], loopStarts[l + 1] - loopStarts[l]};
+    }
+    // Point indices of the outer loop of face `f` (f < faceCount()).
+    std::span<const uint32_t> faceOuterLoop(size_t f) const { return loop(faceLoopStarts[f]); }
+    // Number of hole loops of face `f`.
+    size_t holeCount(size_t f) const { return faceLoopStarts[f + 1] - faceLoopStarts[f] - 1; }
+    // First face-vertex of face `f` and one past its last (holes included).
+    uint32_t faceVertexBegin(size_t f) const { return loopStarts[faceLoopStarts[f]]; }
+    uint32_t faceVertexEnd(size_t f) const { return loopStarts[faceLoopStarts[f + 1]]; }
+
+    // Appends a face whose outer loop is `loop`; returns its index. Per-face-vertex arrays that
+    // are in use are extended (normals with zero, UV/colour ids with -1).
+    uint32_t addFace(std::span<const uint32_t> loop);
+    uint32_t addFace(std::initializer_list<uint32_t> loop) { return addFace(std::span(loop.begin(), loop.size())); }
+    // Appends a hole loop to the last face. Precondition: faceCount() > 0.
+    void addHole(std::span<const uint32_t> loop);
+
+    // Axis-aligned bounds of every point (used or not); empty for a mesh without points.
+    Bounds3 bounds() const;
+    // Newell area vector of face `f` (outer loop plus holes): direction = face normal, length =
+    // area for a planar face. Indices must be valid (see validate()).
+    glm::dvec3 faceAreaVector(size_t f) const;
+    // Unit normal of face `f` by Newell's method; (0,0,0) for a degenerate face.
+    glm::dvec3 faceNormal(size_t f) const;
+    std::vector<glm::vec3> faceNormals() const;
+    // Signed enclosed volume (divergence theorem over the fan-triangulated loops). Positive for a
+    // closed mesh whose faces point outward; meaningless for open meshes.
+    double signedVolume() const;
+    // Checks every index and offset; never throws.
+    MeshValidation validate() const;
+    // Per face-vertex shading normals: the stored normal where set, otherwise the area-weighted
+    // average of the normals of the faces around the point that are joined to this face through
+    // soft edges (hard edges split the average). Requires a valid mesh.
+    std::vector<glm::vec3> shadingNormals() const;
+};
+
+// Unique edges of the mesh's loops in first-use order, every edge with the given smoothness.
+std::vector<MeshEdge> deriveEdges(const Mesh& mesh, bool smooth);
+// Makes `mesh.edges` cover every loop edge: keeps the existing entries (and their flags) and
+// appends the missing ones with `smoothForNew`.
+void completeEdges(Mesh& mesh, bool smoothForNew);
+// Index of the edge joining a and b in `mesh.edges` (either direction), or -1.
+int64_t findEdge(const Mesh& mesh, uint32_t a, uint32_t b);
+
+// Applies an affine transform (column-vector convention) to the points; stored normals are
+// transformed by the inverse transpose and renormalised. Loop winding is kept, as Maya's
+// transformGeometry keeps it: a mirroring transform turns the faces inside out.
+void transformMesh(Mesh& mesh, const glm::dmat4& m);
+
+// Removes the faces whose entry in `removeFace` is true (the mask has faceCount() entries; a
+// shorter mask leaves the rest in place), then drops points no remaining face uses and renumbers
+// the rest. Edges are kept when both points survive and some remaining loop still uses them.
+// UV and colour values are kept; only their per-face-vertex ids are filtered.
+void deleteFaces(Mesh& mesh, const std::vector<bool>& removeFace);
+
+// Drops points no face uses and renumbers the loops and edges. Returns how many were dropped.
+size_t removeUnusedPoints(Mesh& mesh);
+
+}  // namespace pushpin::geom

@@ -1,0 +1,718 @@
+// core/scene/mesh_eval.cpp: mesh shapes and their construction history → geom::Mesh.
+#include "core/scene/mesh_eval.h"
+
+#include "core/geom/poly_primitives.h"
+#include "core/scene/components.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <map>
+#include <unordered_map>
+
+namespace pushpin::scene {
+
+namespace {
+
+// Elements beyond this index are refused: a hostile `.vt[2000000000]` must not allocate 24 GB.
+constexpr uint64_t kMaxElements = uint64_t(1) << 27;
+constexpr int kMaxHistoryDepth = 256;
+// Maya writes this for per-face-vertex normals that are "not set, compute".
+constexpr double kUnsetNormal = 1e19;
+
+std::string nodeLabel(const Node& n) { return n.type + " (" + n.name + ")"; }
+
+// The AttrData of a top-level attribute given by short or long name, as the Graph keys it.
+const AttrData* attrOf(const Graph& g, NodeId n, std::string_view name) {
+    std::optional<std::vector<PlugSegment>> segs = parsePlugPath(name);
+    if (!segs) return nullptr;
+    return g.findAttr(n, g.canonicalPath(n, *segs));
+}
+
+// Calls fn(index, values, width) for every numeric element of a multi attribute, in index order.
+template <class F>
+void forEachNumeric(const AttrData& a, F&& fn) {
+    for (const auto& [first, run] : a.multi.runs()) {
+        const Numbers* nums = std::get_if<Numbers>(&run.value);
+        if (!nums || run.width <= 0) continue;
+        const size_t width = size_t(run.width);
+        for (uint32_t k = 0; k < run.count; ++k) {
+            if ((size_t(k) + 1) * width > nums->values.size()) break;
+            fn(uint64_t(first) + k, nums->values.data() + size_t(k) * width, run.width);
+        }
+    }
+}
+
+// Incoming connection into any of `names` (long names as canonical paths, or as written for
+// node types outside the schema). The connection's last index is ignored (`inputGeometry[0]`).
+std::optional<Plug> inputPlug(const Graph& g, NodeId n, std::initializer_list<std::string_view> names) {
+    for (const Connection* c : g.inputs(n)) {
+        std::string_view path = c->dst.path;
+        if (const size_t bracket = path.find('['); bracket != std::string_view::npos && path.back() == ']' &&
+                                                   path.find('.') == std::string_view::npos)
+            path = path.substr(0, bracket);
+        for (std::string_view want : names) {
+            if (path == want) return c->src;
+            std::optional<std::vector<PlugSegment>> segs = parsePlugPath(want);
+            if (segs && path == g.canonicalPath(n, *segs)) return c->src;
+        }
+    }
+    return std::nullopt;
+}
+
+// Per-element 3-vectors (or 2-vectors) of a multi attribute such as polyTweak.tweak or mesh.pnts:
+// stored values, with elements driven by a connection evaluated through the Evaluator.
+std::map<uint32_t, glm::dvec3> vectorElements(Evaluator& ev, NodeId n, std::string_view name, int width) {
+    const Graph& g = ev.graph();
+    std::map<uint32_t, glm::dvec3> out;
+    if (const AttrData* a = attrOf(g, n, name))
+        forEachNumeric(*a, [&](uint64_t index, const double* v, int w) {
+            if (index >= kMaxElements) return;
+            glm::dvec3 value(0.0);
+            for (int k = 0; k < std::min(w, width); ++k) value[k] = v[k];
+            out[uint32_t(index)] = value;
+        });
+    std::optional<std::vector<PlugSegment>> segs = parsePlugPath(name);
+    if (!segs) return out;
+    const std::string prefix = g.canonicalPath(n, *segs) + "[";
+    for (const Connection* c : g.inputs(n)) {
+        if (c->dst.path.rfind(prefix, 0) != 0) continue;
+        std::optional<std::vector<PlugSegment>> dst = parsePlugPath(c->dst.path);
+        if (!dst || dst->empty() || !dst->front().indexed() || dst->front().first >= int64_t(kMaxElements)) continue;
+        // Evaluate the whole element (a connection into one component updates that component).
+        const std::string elementPath = formatPlugPath({dst->front()});
+        std::vector<double> v;
+        if (ev.numbers(n, elementPath, v) && v.size() >= size_t(width)) {
+            glm::dvec3 value(0.0);
+            for (int k = 0; k < width; ++k) value[k] = v[size_t(k)];
+            out[uint32_t(dst->front().first)] = value;
+        }
+    }
+    return out;
+}
+
+const ComponentList* componentListOf(const Graph& g, NodeId n, std::string_view name) {
+    const Value* v = g.value(n, name);
+    return v ? std::get_if<ComponentList>(v) : nullptr;
+}
+
+// Index inside "uvSet[3].uvSetName" style keys.
+std::optional<uint32_t> leadingIndex(const std::string& key, std::string_view prefix) {
+    if (key.rfind(prefix, 0) != 0) return std::nullopt;
+    const size_t close = key.find(']', prefix.size());
+    if (close == std::string::npos || close == prefix.size() || close - prefix.size() > 9) return std::nullopt;
+    uint32_t v = 0;
+    for (size_t i = prefix.size(); i < close; ++i) {
+        if (key[i] < '0' || key[i] > '9') return std::nullopt;
+        v = v * 10 + uint32_t(key[i] - '0');
+    }
+    return v;
+}
+
+struct Context {
+    Evaluator& ev;
+    const Graph& g;
+    MeshEvaluation& out;
+    std::vector<NodeId> visiting;
+};
+
+std::optional<geom::Mesh> evaluateShape(Context& c, NodeId shape, std::string& reason);
+
+// ------------------------------------------------------------------------------ creator nodes
+std::optional<geom::Mesh> evaluateCreator(Context& c, NodeId n, std::string& reason) {
+    Evaluator& ev = c.ev;
+    const Node& node = c.g.node(n);
+    const std::string& type = node.type;
+    geom::PrimitiveAxis common;
+    common.axis = ev.getDouble3(n, "ax", glm::dvec3(0.0, 1.0, 0.0));
+    common.createUVs = ev.getInt(n, "cuv", 1) != 0;
+    std::string error;
+    std::optional<geom::Mesh> mesh;
+    if (type == "polyCube") {
+        geom::PolyCubeParams p;
+        static_cast<geom::PrimitiveAxis&>(p) = common;
+        p.width = ev.getDouble(n, "w", 1.0);
+        p.height = ev.getDouble(n, "h", 1.0);
+        p.depth = ev.getDouble(n, "d", 1.0);
+        p.subdivisionsWidth = ev.getInt(n, "sw", 1);
+        p.subdivisionsHeight = ev.getInt(n, "sh", 1);
+        p.subdivisionsDepth = ev.getInt(n, "sd", 1);
+        mesh = geom::makePolyCube(p, &error);
+    } else if (type == "polySphere") {
+        geom::PolySphereParams p;
+        static_cast<geom::PrimitiveAxis&>(p) = common;
+        p.radius = ev.getDouble(n, "r", 1.0);
+        p.subdivisionsAxis = ev.getInt(n, "sa", 20);
+        p.subdivisionsHeight = ev.getInt(n, "sh", 20);
+        mesh = geom::makePolySphere(p, &error);
+    } else if (type == "polyPlane") {
+        geom::PolyPlaneParams p;
+        static_cast<geom::PrimitiveAxis&>(p) = common;
+        p.width = ev.getDouble(n, "w", 1.0);
+        p.height = ev.getDouble(n, "h", 1.0);
+        p.subdivisionsWidth = ev.getInt(n, "sw", 10);
+        p.subdivisionsHeight = ev.getInt(n, "sh", 10);
+        mesh = geom::makePolyPlane(p, &error);
+    } else if (type == "polyCylinder") {
+        geom::PolyCylinderParams p;
+        static_cast<geom::PrimitiveAxis&>(p) = common;
+        p.radius = ev.getDouble(n, "r", 1.0);
+        p.height = ev.getDouble(n, "h", 2.0);
+        p.subdivisionsAxis = ev.getInt(n, "sa", 20);
+        p.subdivisionsHeight = ev.getInt(n, "sh", 1);
+        p.subdivisionsCaps = ev.getInt(n, "sc", 1);
+        p.roundCap = ev.getBool(n, "rcp", false);
+        if (p.roundCap) c.out.notes.push_back(nodeLabel(node) + ": roundCap is not modelled; caps are flat");
+        mesh = geom::makePolyCylinder(p, &error);
+    } else if (type == "polyCone") {
+        geom::PolyConeParams p;
+        static_cast<geom::PrimitiveAxis&>(p) = common;
+        p.radius = ev.getDouble(n, "r", 1.0);
+        p.height = ev.getDouble(n, "h", 2.0);
+        p.subdivisionsAxis = ev.getInt(n, "sa", 20);
+        p.subdivisionsHeight = ev.getInt(n, "sh", 1);
+        p.subdivisionsCap = ev.getInt(n, "sc", 0);
+        mesh = geom::makePolyCone(p, &error);
+    } else if (type == "polyTorus") {
+        geom::PolyTorusParams p;
+        static_cast<geom::PrimitiveAxis&>(p) = common;
+        p.radius = ev.getDouble(n, "r", 1.0);
+        p.sectionRadius = ev.getDouble(n, "sr", 0.5);
+        p.twistRadians = ev.getDouble(n, "tw", 0.0);
+        p.subdivisionsAxis = ev.getInt(n, "sa", 20);
+        p.subdivisionsHeight = ev.getInt(n, "sh", 20);
+        mesh = geom::makePolyTorus(p, &error);
+    } else if (type == "polyPlatonicSolid") {
+        geom::PolyPlatonicParams p;
+        static_cast<geom::PrimitiveAxis&>(p) = common;
+        p.radius = ev.getDouble(n, "r", 1.0);
+        p.solidType = ev.getInt(n, "st", 0);
+        mesh = geom::makePolyPlatonicSolid(p, &error);
+    } else {
+        reason = "history node " + nodeLabel(node) + " is not evaluated";
+        return std::nullopt;
+    }
+    if (!mesh) reason = error + " (" + node.name + ")";
+    return mesh;
+}
+
+// ------------------------------------------------------------------------------ history nodes
+std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string& reason);
+
+std::optional<geom::Mesh> evaluateInput(Context& c, NodeId n, std::initializer_list<std::string_view> names,
+                                        std::string& reason) {
+    std::optional<Plug> in = inputPlug(c.g, n, names);
+    if (!in) {
+        reason = nodeLabel(c.g.node(n)) + " has no input geometry";
+        return std::nullopt;
+    }
+    return evaluatePlug(c, *in, reason);
+}
+
+void applyPointTweaks(const std::map<uint32_t, glm::dvec3>& tweaks, geom::Mesh& mesh, const Node& node,
+                      std::vector<std::string>& notes) {
+    size_t ignored = 0;
+    for (const auto& [index, t] : tweaks) {
+        if (index >= mesh.points.size()) {
+            ++ignored;
+            continue;
+        }
+        if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z)) {
+            ++ignored;
+            continue;
+        }
+        mesh.points[index] = glm::vec3(glm::dvec3(mesh.points[index]) + t);
+    }
+    if (ignored)
+        notes.push_back(nodeLabel(node) + ": " + std::to_string(ignored) +
+                        " tweaks ignored (non-finite or past the last of " + std::to_string(mesh.points.size()) +
+                        " points)");
+}
+
+// Per-face mask of faces that use a selected vertex, edge or face.
+std::vector<bool> facesToDelete(const geom::Mesh& mesh, const ComponentList& list, std::vector<std::string>& notes,
+                                const Node& node) {
+    const ParsedComponents parsed = parseComponents(list);
+    for (const std::string& e : parsed.errors) notes.push_back(nodeLabel(node) + ": " + e);
+    std::string clip;
+    std::vector<bool> remove = componentMask(parsed.ranges, ComponentKind::Face, mesh.faceCount(), &clip);
+    if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
+    const std::vector<bool> vertices = componentMask(parsed.ranges, ComponentKind::Vertex, mesh.points.size(), &clip);
+    if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
+    std::vector<geom::MeshEdge> edgeList = mesh.edges.empty() ? geom::deriveEdges(mesh, true) : mesh.edges;
+    const std::vector<bool> edges = componentMask(parsed.ranges, ComponentKind::Edge, edgeList.size(), &clip);
+    if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
+    std::unordered_map<uint64_t, bool> deletedEdge;
+    for (size_t e = 0; e < edges.size(); ++e)
+        if (edges[e]) {
+            uint32_t a = edgeList[e].v0, b = edgeList[e].v1;
+            if (a > b) std::swap(a, b);
+            deletedEdge[(uint64_t(a) << 32) | b] = true;
+        }
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        if (remove[f]) continue;
+        for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1] && !remove[f]; ++l) {
+            const std::span<const uint32_t> lp = mesh.loop(l);
+            for (size_t i = 0; i < lp.size(); ++i) {
+                if (lp[i] < vertices.size() && vertices[lp[i]]) {
+                    remove[f] = true;
+                    break;
+                }
+                if (!deletedEdge.empty()) {
+                    uint32_t a = lp[i], b = lp[(i + 1) % lp.size()];
+                    if (a > b) std::swap(a, b);
+                    if (deletedEdge.count((uint64_t(a) << 32) | b)) {
+                        remove[f] = true;
+                        break;
+                    }
+                }
+            }
+        }
+    }
+    return remove;
+}
+
+// polySoftEdge: selected edges (all when none are listed) become soft where the faces meeting
+// there are within `angleRadians` of each other, hard elsewhere.
+void softenEdges(geom::Mesh& mesh, const ComponentList* list, double angleRadians) {
+    geom::completeEdges(mesh, true);
+    std::vector<bool> selected(mesh.edges.size(), true);
+    if (list && !list->items.empty())
+        selected = componentMask(parseComponents(*list).ranges, ComponentKind::Edge, mesh.edges.size());
+    std::unordered_map<uint64_t, size_t> edgeIndex;
+    for (size_t e = 0; e < mesh.edges.size(); ++e) {
+        uint32_t a = mesh.edges[e].v0, b = mesh.edges[e].v1;
+        if (a > b) std::swap(a, b);
+        edgeIndex[(uint64_t(a) << 32) | b] = e;
+    }
+    std::vector<glm::dvec3> firstNormal(mesh.edges.size(), glm::dvec3(0.0));
+    std::vector<double> maxAngle(mesh.edges.size(), 0.0);
+    std::vector<int> faceCount(mesh.edges.size(), 0);
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        const glm::dvec3 n = mesh.faceNormal(f);
+        for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
+            const std::span<const uint32_t> lp = mesh.loop(l);
+            for (size_t i = 0; i < lp.size(); ++i) {
+                uint32_t a = lp[i], b = lp[(i + 1) % lp.size()];
+                if (a > b) std::swap(a, b);
+                const auto it = edgeIndex.find((uint64_t(a) << 32) | b);
+                if (it == edgeIndex.end()) continue;
+                const size_t e = it->second;
+                if (faceCount[e]++ == 0) firstNormal[e] = n;
+                else maxAngle[e] = std::max(maxAngle[e], std::acos(std::clamp(glm::dot(firstNormal[e], n), -1.0, 1.0)));
+            }
+        }
+    }
+    for (size_t e = 0; e < mesh.edges.size(); ++e)
+        if (e < selected.size() && selected[e]) mesh.edges[e].smooth = maxAngle[e] <= angleRadians + 1e-9;
+}
+
+std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string& reason) {
+    const Graph& g = c.g;
+    if (src.node >= g.size()) {
+        reason = "connection from a node that does not exist";
+        return std::nullopt;
+    }
+    const Node& node = g.node(src.node);
+    if (std::find(c.visiting.begin(), c.visiting.end(), src.node) != c.visiting.end()) {
+        reason = "construction history cycle through " + nodeLabel(node);
+        return std::nullopt;
+    }
+    if (int(c.visiting.size()) >= kMaxHistoryDepth) {
+        reason = "construction history deeper than " + std::to_string(kMaxHistoryDepth) + " nodes";
+        return std::nullopt;
+    }
+    c.visiting.push_back(src.node);
+    struct Pop {
+        std::vector<NodeId>& v;
+        ~Pop() { v.pop_back(); }
+    } pop{c.visiting};
+    c.out.history.push_back(node.type + " " + node.name);
+    const std::string& type = node.type;
+    Evaluator& ev = c.ev;
+
+    if (type == "mesh") {
+        std::optional<geom::Mesh> m = evaluateShape(c, src.node, reason);
+        // worldMesh carries the shape in world space (of its first instance).
+        if (m && src.path.rfind("worldMesh", 0) == 0) {
+            const std::vector<std::vector<NodeId>> paths = g.dagPaths(src.node);
+            if (!paths.empty()) geom::transformMesh(*m, ev.worldMatrix(paths.front()));
+        }
+        return m;
+    }
+    if (type == "polyCube" || type == "polySphere" || type == "polyPlane" || type == "polyCylinder" ||
+        type == "polyCone" || type == "polyTorus" || type == "polyPlatonicSolid")
+        return evaluateCreator(c, src.node, reason);
+
+    if (type == "polyTweak") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
+        if (m) applyPointTweaks(vectorElements(ev, src.node, "tweak", 3), *m, node, c.out.notes);
+        return m;
+    }
+    if (type == "polyTweakUV") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
+        if (!m) return m;
+        const std::string setName = g.getString(src.node, "uvs");
+        int set = m->currentUvSet;
+        for (size_t s = 0; s < m->uvSets.size(); ++s)
+            if (!setName.empty() && m->uvSets[s].name == setName) set = int(s);
+        if (set < 0 || size_t(set) >= m->uvSets.size()) {
+            c.out.notes.push_back(nodeLabel(node) + ": the mesh has no uv set to tweak");
+            return m;
+        }
+        std::vector<glm::vec2>& uvs = m->uvSets[size_t(set)].uvs;
+        for (const auto& [index, t] : vectorElements(ev, src.node, "uvTweak", 2))
+            if (index < uvs.size() && std::isfinite(t.x) && std::isfinite(t.y))
+                uvs[index] += glm::vec2(float(t.x), float(t.y));
+        return m;
+    }
+    if (type == "groupParts") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputGeometry", "ig"}, reason);
+        if (m) {
+            MeshComponentGroup group;
+            group.groupParts = node.name;
+            group.groupId = ev.getInt(src.node, "gi", -1);
+            if (const ComponentList* list = componentListOf(g, src.node, "ic")) group.components = *list;
+            c.out.groups.push_back(std::move(group));
+        }
+        return m;
+    }
+    if (type == "transformGeometry") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputGeometry", "ig"}, reason);
+        if (!m) return m;
+        std::vector<double> v;
+        if (!ev.numbers(src.node, "txf", v) || v.size() != 16) return m;  // identity by default
+        // Maya's matrix is row-major for row vectors; read column-major it is the column-vector matrix.
+        glm::dmat4 mat = glm::make_mat4(v.data());
+        if (ev.getBool(src.node, "itf", false)) mat = glm::inverse(mat);
+        for (int col = 0; col < 4; ++col)
+            for (int row = 0; row < 4; ++row)
+                if (!std::isfinite(mat[col][row])) {
+                    reason = nodeLabel(node) + ": the transform is not finite";
+                    return std::nullopt;
+                }
+        geom::transformMesh(*m, mat);
+        return m;
+    }
+    if (type == "deleteComponent") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputGeometry", "ig"}, reason);
+        if (!m) return m;
+        if (const ComponentList* list = componentListOf(g, src.node, "dc"))
+            geom::deleteFaces(*m, facesToDelete(*m, *list, c.out.notes, node));
+        return m;
+    }
+    if (type == "polySoftEdge") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
+        if (!m) return m;
+        // Outside the schema the angle is still in the file's angle unit.
+        const AttrSpec* spec = node.findAttr("a");
+        const double scale = spec && spec->unit == UnitKind::Angle ? 1.0 : g.units.radiansPerAngleUnit;
+        const double angle = ev.getDouble(src.node, "a", 30.0) * scale;
+        softenEdges(*m, componentListOf(g, src.node, "ics"), std::isfinite(angle) ? angle : 0.0);
+        return m;
+    }
+    if (type == "createColorSet") {
+        // Adds an (empty) colour set; the geometry passes through.
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputGeometry", "ig"}, reason);
+        if (m) m->colorSets.push_back({g.getString(src.node, "colos"), {}, {}});
+        return m;
+    }
+    if (type == "polyNormal") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
+        if (m) c.out.notes.push_back(nodeLabel(node) + " is passed through: its normal edits are not applied");
+        return m;
+    }
+    reason = "history node " + nodeLabel(node) + " is not evaluated";
+    return std::nullopt;
+}
+
+// --------------------------------------------------------------------------------- the shape
+std::optional<geom::Mesh> evaluateShape(Context& c, NodeId shape, std::string& reason) {
+    const Graph& g = c.g;
+    const Node& node = g.node(shape);
+    std::optional<geom::Mesh> mesh;
+    const bool stored = hasStoredMesh(g, shape);
+    if (std::optional<Plug> in = inputPlug(g, shape, {"inMesh", "i"})) {
+        std::string historyReason;
+        mesh = evaluatePlug(c, *in, historyReason);
+        if (!mesh) {
+            if (!stored) {
+                reason = historyReason;
+                return std::nullopt;
+            }
+            c.out.notes.push_back("used the geometry cached on " + node.name + ": " + historyReason);
+            c.out.usedCachedData = true;
+        }
+    }
+    if (!mesh) {
+        if (!stored) {
+            reason = "mesh " + node.name + " stores no geometry and has no construction history";
+            return std::nullopt;
+        }
+        std::string error;
+        mesh = decodeStoredMesh(g, shape, &error, &c.out.notes);
+        if (!mesh) {
+            reason = error;
+            return std::nullopt;
+        }
+    }
+    applyPointTweaks(vectorElements(c.ev, shape, "pnts", 3), *mesh, node, c.out.notes);
+    return mesh;
+}
+
+}  // namespace
+
+bool hasStoredMesh(const Graph& graph, NodeId meshShape) {
+    if (meshShape >= graph.size()) return false;
+    const AttrData* vt = attrOf(graph, meshShape, "vrts");
+    const AttrData* fc = attrOf(graph, meshShape, "face");
+    return vt && !vt->multi.empty() && fc && (!fc->multi.empty() || fc->hasValue);
+}
+
+std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::string* error,
+                                           std::vector<std::string>* notes) {
+    auto fail = [&](std::string message) -> std::optional<geom::Mesh> {
+        if (error) *error = std::move(message);
+        return std::nullopt;
+    };
+    if (shape >= g.size()) return fail("no such node");
+    const Node& node = g.node(shape);
+    const std::string who = "mesh " + node.name + ": ";
+    auto note = [&](std::string message) {
+        if (notes) notes->push_back(who + message);
+    };
+    geom::Mesh mesh;
+
+    // Points.
+    const AttrData* vt = attrOf(g, shape, "vrts");
+    if (!vt || vt->multi.empty()) return fail(who + "no vertices (.vt)");
+    if (vt->multi.endIndex() > kMaxElements) return fail(who + "vertex index " + std::to_string(vt->multi.endIndex() - 1) + " is too large");
+    mesh.points.assign(vt->multi.endIndex(), glm::vec3(0.0f));
+    forEachNumeric(*vt, [&](uint64_t i, const double* v, int w) {
+        if (w >= 3) mesh.points[i] = glm::vec3(float(v[0]), float(v[1]), float(v[2]));
+    });
+
+    // Edges.
+    std::vector<geom::MeshEdge> edges;
+    if (const AttrData* ed = attrOf(g, shape, "edge")) {
+        if (ed->multi.endIndex() > kMaxElements) return fail(who + "edge index too large");
+        edges.assign(ed->multi.endIndex(), geom::MeshEdge{});
+        bool bad = false;
+        forEachNumeric(*ed, [&](uint64_t i, const double* v, int w) {
+            if (w < 2 || !(v[0] >= 0) || !(v[1] >= 0) || v[0] >= double(mesh.points.size()) ||
+                v[1] >= double(mesh.points.size()))
+                bad = true;
+            else edges[i] = {uint32_t(v[0]), uint32_t(v[1]), w >= 3 ? v[2] != 0.0 : true};
+        });
+        if (bad) return fail(who + "an edge (.ed) uses a vertex that does not exist");
+    }
+    mesh.edges = edges;
+
+    // UV sets: uvSet[k].uvSetName / uvSetPoints, or the older uvpt.
+    std::map<uint32_t, size_t> uvSetByIndex;  // multi index → position in mesh.uvSets
+    for (const auto& [key, data] : node.attrs) {
+        std::optional<uint32_t> k = leadingIndex(key, "uvSet[");
+        if (!k || uvSetByIndex.count(*k)) continue;
+        uvSetByIndex[*k] = 0;
+    }
+    size_t position = 0;
+    for (auto& [k, pos] : uvSetByIndex) {
+        pos = position++;
+        geom::UvSet set;
+        const std::string base = "uvSet[" + std::to_string(k) + "].";
+        if (const AttrData* name = g.findAttr(shape, base + "uvSetName"); name && name->hasValue)
+            if (const StringValue* s = std::get_if<StringValue>(&name->value)) set.name = s->text;
+        if (const AttrData* pts = g.findAttr(shape, base + "uvSetPoints")) {
+            if (pts->multi.endIndex() > kMaxElements) return fail(who + "uv index too large");
+            set.uvs.assign(pts->multi.endIndex(), glm::vec2(0.0f));
+            forEachNumeric(*pts, [&](uint64_t i, const double* v, int w) {
+                if (w >= 2) set.uvs[i] = glm::vec2(float(v[0]), float(v[1]));
+            });
+        }
+        mesh.uvSets.push_back(std::move(set));
+    }
+    if (const AttrData* old = attrOf(g, shape, "uvpt"); old && !old->multi.empty()) {
+        if (uvSetByIndex.empty()) {
+            uvSetByIndex[0] = 0;
+            mesh.uvSets.push_back({"map1", {}, {}});
+        }
+        geom::UvSet& set = mesh.uvSets[uvSetByIndex.begin()->second];
+        if (set.uvs.empty() && old->multi.endIndex() <= kMaxElements) {
+            set.uvs.assign(old->multi.endIndex(), glm::vec2(0.0f));
+            forEachNumeric(*old, [&](uint64_t i, const double* v, int w) {
+                if (w >= 2) set.uvs[i] = glm::vec2(float(v[0]), float(v[1]));
+            });
+        }
+    }
+    for (size_t s = 0; s < mesh.uvSets.size(); ++s)
+        if (mesh.uvSets[s].name.empty()) mesh.uvSets[s].name = s == 0 ? "map1" : "uvSet" + std::to_string(s);
+    const std::string current = g.getString(shape, "currentUVSet");
+    for (size_t s = 0; s < mesh.uvSets.size(); ++s)
+        if (mesh.uvSets[s].name == current) mesh.currentUvSet = int(s);
+
+    // Colour sets: colorSet[k].colorName / colorSetPoints; polyFaces `fc` ids index the first.
+    for (const auto& [key, data] : node.attrs) {
+        std::optional<uint32_t> k = leadingIndex(key, "colorSet[");
+        if (!k || key != "colorSet[" + std::to_string(*k) + "].colorSetPoints") continue;
+        if (data.multi.endIndex() > kMaxElements) continue;
+        geom::ColorSet set;
+        set.name = g.getString(shape, "colorSet[" + std::to_string(*k) + "].colorName");
+        set.colors.assign(data.multi.endIndex(), glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+        forEachNumeric(data, [&](uint64_t i, const double* v, int w) {
+            for (int c = 0; c < std::min(w, 4); ++c) set.colors[i][c] = float(v[c]);
+        });
+        mesh.colorSets.push_back(std::move(set));
+    }
+
+    // Faces: polyFaces runs in index order.
+    const AttrData* fc = attrOf(g, shape, "face");
+    if (!fc) return fail(who + "no faces (.fc)");
+    std::vector<const PolyFace*> faces;
+    auto addRun = [&](uint64_t first, const Value& value) {
+        const auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(&value);
+        if (!pf || !*pf) return;
+        if (first + (*pf)->faces.size() > kMaxElements) return;
+        if (faces.size() < first + (*pf)->faces.size()) faces.resize(first + (*pf)->faces.size(), nullptr);
+        for (size_t k = 0; k < (*pf)->faces.size(); ++k) faces[first + k] = &(*pf)->faces[k];
+    };
+    if (fc->hasValue) addRun(0, fc->value);
+    for (const auto& [first, run] : fc->multi.runs()) addRun(first, run.value);
+    const size_t missing = size_t(std::count(faces.begin(), faces.end(), nullptr));
+    if (missing) note(std::to_string(missing) + " face indices have no polyFaces record");
+
+    std::vector<std::vector<int32_t>> setIds(mesh.uvSets.size());
+    std::vector<int32_t> colorIds;
+    bool anyColor = false;
+    size_t brokenLoops = 0, badUvIds = 0, unknownUvSets = 0;
+    auto appendLoop = [&](const PolyFaceLoop& loop, bool hole) -> bool {
+        std::vector<uint32_t> verts;
+        verts.reserve(loop.edges.size());
+        uint32_t previousEnd = 0;
+        bool meets = true;
+        for (size_t i = 0; i < loop.edges.size(); ++i) {
+            const int32_t e = loop.edges[i];
+            const uint32_t idx = e >= 0 ? uint32_t(e) : uint32_t(~e);
+            if (idx >= edges.size()) return false;
+            const uint32_t start = e >= 0 ? edges[idx].v0 : edges[idx].v1;
+            const uint32_t end = e >= 0 ? edges[idx].v1 : edges[idx].v0;
+            if (i > 0 && start != previousEnd) meets = false;
+            previousEnd = end;
+            verts.push_back(start);
+        }
+        if (!verts.empty() && previousEnd != verts.front()) meets = false;
+        if (!meets) ++brokenLoops;
+        const size_t base = mesh.faceVertices.size();
+        if (hole) mesh.addHole(verts);
+        else mesh.addFace(verts);
+        for (std::vector<int32_t>& ids : setIds) ids.resize(mesh.faceVertices.size(), -1);
+        for (const auto& [set, ids] : loop.uvs) {
+            const auto it = uvSetByIndex.find(uint32_t(set));
+            if (it == uvSetByIndex.end()) {
+                ++unknownUvSets;
+                continue;
+            }
+            const size_t s = it->second;
+            for (size_t i = 0; i < ids.size() && i < verts.size(); ++i) {
+                const int32_t id = ids[i];
+                if (id < 0 || size_t(id) >= mesh.uvSets[s].uvs.size()) {
+                    ++badUvIds;
+                    continue;
+                }
+                setIds[s][base + i] = id;
+            }
+        }
+        colorIds.resize(mesh.faceVertices.size(), -1);
+        for (size_t i = 0; i < loop.colors.size() && i < verts.size(); ++i) {
+            const int32_t id = loop.colors[i];
+            if (!mesh.colorSets.empty() && id >= 0 && size_t(id) < mesh.colorSets[0].colors.size()) {
+                colorIds[base + i] = id;
+                anyColor = true;
+            }
+        }
+        return true;
+    };
+    for (size_t f = 0; f < faces.size(); ++f) {
+        if (!faces[f]) continue;
+        if (!appendLoop(faces[f]->outer, false))
+            return fail(who + "face " + std::to_string(f) + " uses an edge that does not exist (of " +
+                        std::to_string(edges.size()) + ")");
+        for (const PolyFaceLoop& hole : faces[f]->holes)
+            if (!appendLoop(hole, true))
+                return fail(who + "a hole of face " + std::to_string(f) + " uses an edge that does not exist");
+    }
+    if (brokenLoops) note(std::to_string(brokenLoops) + " face loops whose edges do not meet");
+    if (badUvIds) note(std::to_string(badUvIds) + " uv ids out of range were dropped");
+    if (unknownUvSets) note(std::to_string(unknownUvSets) + " uv records name a uv set that does not exist");
+    for (size_t s = 0; s < mesh.uvSets.size(); ++s) {
+        const bool used = std::any_of(setIds[s].begin(), setIds[s].end(), [](int32_t id) { return id >= 0; });
+        mesh.uvSets[s].faceVertexUvs = used ? std::move(setIds[s]) : std::vector<int32_t>{};
+    }
+    if (anyColor) mesh.colorSets[0].faceVertexColors = std::move(colorIds);
+
+    // Per face-vertex normals, in face order.
+    if (const AttrData* n = attrOf(g, shape, "normals"); n && !n->multi.empty()) {
+        if (n->multi.endIndex() == mesh.faceVertices.size()) {
+            mesh.normals.assign(mesh.faceVertices.size(), glm::vec3(0.0f));
+            forEachNumeric(*n, [&](uint64_t i, const double* v, int w) {
+                if (w < 3) return;
+                const glm::dvec3 d(v[0], v[1], v[2]);
+                const double len = glm::length(d);
+                if (std::abs(d.x) >= kUnsetNormal || std::abs(d.y) >= kUnsetNormal || std::abs(d.z) >= kUnsetNormal ||
+                    !(len > 0.0) || !std::isfinite(len))
+                    return;  // "not set, compute"
+                mesh.normals[i] = glm::vec3(d / len);
+            });
+        } else {
+            note(std::to_string(n->multi.endIndex()) + " normals for " + std::to_string(mesh.faceVertices.size()) +
+                 " face-vertices were ignored");
+        }
+    }
+
+    const geom::MeshValidation v = mesh.validate();
+    if (!v.ok()) return fail(who + v.errors.front());
+    return mesh;
+}
+
+MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape) {
+    MeshEvaluation out;
+    const Graph& g = ev.graph();
+    if (meshShape >= g.size()) {
+        out.skipReason = "no such node";
+        return out;
+    }
+    const Node& node = g.node(meshShape);
+    if (node.type != "mesh") {
+        out.skipReason = node.name + " is a " + node.type + ", not a mesh";
+        return out;
+    }
+    Context c{ev, g, out, {meshShape}};
+    std::string reason;
+    try {
+        out.mesh = evaluateShape(c, meshShape, reason);
+    } catch (const std::exception& e) {
+        // Scene content must never abort a render; anything unexpected becomes a skip.
+        out.mesh.reset();
+        reason = std::string("evaluation failed: ") + e.what();
+    }
+    if (out.mesh) {
+        const geom::MeshValidation v = out.mesh->validate();
+        if (!v.ok()) {
+            out.mesh.reset();
+            reason = "mesh " + node.name + ": " + v.errors.front();
+        }
+    }
+    if (!out.mesh) out.skipReason = reason.empty() ? "mesh " + node.name + " could not be evaluated" : reason;
+    return out;
+}
+
+std::optional<geom::Mesh> evaluateMesh(Evaluator& ev, NodeId meshShape, std::string* skipReason) {
+    MeshEvaluation e = evaluateMeshShape(ev, meshShape);
+    if (!e.mesh && skipReason) *skipReason = e.skipReason;
+    return std::move(e.mesh);
+}
+
+}  // namespace pushpin::scene

@@ -1,0 +1,241 @@
+// Tests for core/geom/mesh.h.
+#include "core/geom/mesh.h"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace pushpin::geom {
+namespace {
+
+// Unit cube in Maya's polyCube layout (reference/ma-format.md).
+Mesh unitCube() {
+    Mesh m;
+    m.points = {{-0.5f, -0.5f, 0.5f}, {0.5f, -0.5f, 0.5f},  {-0.5f, 0.5f, 0.5f},  {0.5f, 0.5f, 0.5f},
+                {-0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, -0.5f},  {-0.5f, -0.5f, -0.5f}, {0.5f, -0.5f, -0.5f}};
+    m.addFace({0, 1, 3, 2});
+    m.addFace({2, 3, 5, 4});
+    m.addFace({4, 5, 7, 6});
+    m.addFace({6, 7, 1, 0});
+    m.addFace({1, 7, 5, 3});
+    m.addFace({6, 0, 2, 4});
+    return m;
+}
+
+// A 2×2 square in the XY plane with a 1×1 square hole, facing +Z.
+Mesh squareWithHole() {
+    Mesh m;
+    m.points = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0},
+                {-0.5f, -0.5f, 0}, {0.5f, -0.5f, 0}, {0.5f, 0.5f, 0}, {-0.5f, 0.5f, 0}};
+    m.addFace({0, 1, 2, 3});
+    const uint32_t hole[] = {4, 7, 6, 5};  // clockwise seen from +Z
+    m.addHole(hole);
+    return m;
+}
+
+TEST(Mesh, EmptyMeshIsValidAndHasEmptyBounds) {
+    Mesh m;
+    EXPECT_TRUE(m.empty());
+    EXPECT_EQ(m.faceCount(), 0u);
+    EXPECT_EQ(m.loopCount(), 0u);
+    EXPECT_TRUE(m.bounds().empty());
+    EXPECT_TRUE(m.validate().ok());
+    EXPECT_DOUBLE_EQ(m.signedVolume(), 0.0);
+    EXPECT_TRUE(m.shadingNormals().empty());
+}
+
+TEST(Mesh, CubeNormalsPointOutwardAndVolumeIsOne) {
+    const Mesh m = unitCube();
+    ASSERT_TRUE(m.validate().ok());
+    EXPECT_TRUE(m.validate().degenerateFaces.empty());
+    const glm::dvec3 expected[] = {{0, 0, 1}, {0, 1, 0}, {0, 0, -1}, {0, -1, 0}, {1, 0, 0}, {-1, 0, 0}};
+    for (size_t f = 0; f < 6; ++f) {
+        const glm::dvec3 n = m.faceNormal(f);
+        EXPECT_NEAR(glm::length(n - expected[f]), 0.0, 1e-12) << "face " << f;
+        EXPECT_NEAR(glm::length(m.faceAreaVector(f)), 1.0, 1e-12);
+    }
+    EXPECT_NEAR(m.signedVolume(), 1.0, 1e-12);
+    const Bounds3 b = m.bounds();
+    EXPECT_EQ(b.lo, glm::dvec3(-0.5));
+    EXPECT_EQ(b.hi, glm::dvec3(0.5));
+}
+
+TEST(Mesh, HoleSubtractsAreaAndKeepsNormal) {
+    const Mesh m = squareWithHole();
+    ASSERT_TRUE(m.validate().ok());
+    EXPECT_EQ(m.faceCount(), 1u);
+    EXPECT_EQ(m.loopCount(), 2u);
+    EXPECT_EQ(m.holeCount(0), 1u);
+    EXPECT_EQ(m.faceVertexBegin(0), 0u);
+    EXPECT_EQ(m.faceVertexEnd(0), 8u);
+    EXPECT_NEAR(m.faceAreaVector(0).z, 3.0, 1e-9);
+    EXPECT_NEAR(glm::length(m.faceNormal(0) - glm::dvec3(0, 0, 1)), 0.0, 1e-12);
+}
+
+TEST(Mesh, AddFaceExtendsPerFaceVertexArrays) {
+    Mesh m;
+    m.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+    m.addFace({0, 1, 2});
+    m.normals.assign(3, glm::vec3(0, 0, 1));
+    m.uvSets.push_back({"map1", {{0, 0}, {1, 0}, {0, 1}}, {0, 1, 2}});
+    m.addFace({1, 3, 2});
+    EXPECT_EQ(m.normals.size(), 6u);
+    EXPECT_EQ(m.normals[4], glm::vec3(0.0f));
+    ASSERT_EQ(m.uvSets[0].faceVertexUvs.size(), 6u);
+    EXPECT_EQ(m.uvSets[0].faceVertexUvs[5], -1);
+    EXPECT_TRUE(m.validate().ok());
+}
+
+TEST(Mesh, ValidationReportsBadIndicesWithoutThrowing) {
+    Mesh m = unitCube();
+    m.faceVertices[5] = 99;
+    MeshValidation v = m.validate();
+    ASSERT_FALSE(v.ok());
+    EXPECT_NE(v.errors[0].find("point 99"), std::string::npos) << v.errors[0];
+
+    Mesh offsets = unitCube();
+    offsets.loopStarts.back() = 3;
+    EXPECT_FALSE(offsets.validate().ok());
+
+    Mesh uv = unitCube();
+    uv.uvSets.push_back({"map1", {{0, 0}}, std::vector<int32_t>(24, 0)});
+    uv.uvSets[0].faceVertexUvs[7] = 4;
+    v = uv.validate();
+    ASSERT_FALSE(v.ok());
+    EXPECT_NE(v.errors[0].find("uv 4"), std::string::npos) << v.errors[0];
+
+    Mesh shortNormals = unitCube();
+    shortNormals.normals.resize(5);
+    EXPECT_FALSE(shortNormals.validate().ok());
+
+    Mesh nan = unitCube();
+    nan.points[3].x = std::numeric_limits<float>::quiet_NaN();
+    v = nan.validate();
+    ASSERT_FALSE(v.ok());
+    EXPECT_NE(v.errors[0].find("not finite"), std::string::npos);
+
+    Mesh emptyFace = unitCube();
+    emptyFace.faceLoopStarts.push_back(emptyFace.faceLoopStarts.back());
+    EXPECT_FALSE(emptyFace.validate().ok());
+}
+
+TEST(Mesh, DegenerateFacesAreListedNotFatal) {
+    Mesh m;
+    m.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}};
+    m.addFace({0, 1, 2});     // collinear
+    m.addFace({0, 1, 1});     // repeated point
+    m.addFace({0, 1});        // two points
+    m.addFace({0, 1, 3});     // fine
+    const MeshValidation v = m.validate();
+    EXPECT_TRUE(v.ok());
+    EXPECT_EQ(v.degenerateFaces, (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(m.faceNormal(0), glm::dvec3(0.0));
+    EXPECT_EQ(m.faceNormal(2), glm::dvec3(0.0));
+    // Shading normals of degenerate faces stay finite.
+    for (const glm::vec3& n : m.shadingNormals()) EXPECT_TRUE(std::isfinite(n.x) && std::isfinite(n.y));
+}
+
+TEST(Mesh, DeriveEdgesFindsTwelveCubeEdges) {
+    Mesh m = unitCube();
+    const std::vector<MeshEdge> edges = deriveEdges(m, false);
+    EXPECT_EQ(edges.size(), 12u);
+    for (const MeshEdge& e : edges) EXPECT_FALSE(e.smooth);
+    m.edges = {{0, 1, true}};
+    completeEdges(m, false);
+    EXPECT_EQ(m.edges.size(), 12u);
+    EXPECT_TRUE(m.edges[0].smooth);
+    EXPECT_EQ(findEdge(m, 1, 0), 0);
+    EXPECT_EQ(findEdge(m, 0, 5), -1);
+}
+
+TEST(Mesh, ShadingNormalsFollowHardAndSoftEdges) {
+    Mesh hard = unitCube();
+    hard.edges = deriveEdges(hard, false);
+    const std::vector<glm::vec3> flat = hard.shadingNormals();
+    ASSERT_EQ(flat.size(), 24u);
+    for (size_t f = 0; f < 6; ++f)
+        for (uint32_t c = hard.faceVertexBegin(f); c < hard.faceVertexEnd(f); ++c)
+            EXPECT_NEAR(glm::length(glm::dvec3(flat[c]) - hard.faceNormal(f)), 0.0, 1e-6);
+
+    Mesh soft = unitCube();  // no edge list: every edge soft, normals point along the corners
+    const std::vector<glm::vec3> smooth = soft.shadingNormals();
+    for (size_t c = 0; c < smooth.size(); ++c) {
+        const glm::dvec3 corner = glm::normalize(glm::dvec3(soft.points[soft.faceVertices[c]]));
+        EXPECT_NEAR(glm::length(glm::dvec3(smooth[c]) - corner), 0.0, 1e-6);
+    }
+
+    soft.normals.assign(24, glm::vec3(0.0f));
+    soft.normals[3] = glm::vec3(0, 0, 1);  // a stored normal wins
+    EXPECT_EQ(soft.shadingNormals()[3], glm::vec3(0, 0, 1));
+}
+
+TEST(Mesh, TransformMovesPointsAndNormals) {
+    Mesh m = unitCube();
+    m.normals.assign(24, glm::vec3(0.0f));
+    m.normals[0] = glm::vec3(0, 0, 1);
+    const glm::dmat4 t = glm::translate(glm::dmat4(1.0), glm::dvec3(10, 0, 0)) *
+                         glm::scale(glm::dmat4(1.0), glm::dvec3(2, 1, 4));
+    transformMesh(m, t);
+    const Bounds3 b = m.bounds();
+    EXPECT_NEAR(b.lo.x, 9.0, 1e-6);
+    EXPECT_NEAR(b.hi.x, 11.0, 1e-6);
+    EXPECT_NEAR(b.hi.z, 2.0, 1e-6);
+    EXPECT_NEAR(m.signedVolume(), 8.0, 1e-5);
+    EXPECT_NEAR(glm::length(glm::dvec3(m.normals[0]) - glm::dvec3(0, 0, 1)), 0.0, 1e-6);
+    EXPECT_EQ(m.normals[1], glm::vec3(0.0f));
+}
+
+TEST(Mesh, DeleteFacesCompactsPointsAndKeepsAttributes) {
+    Mesh m = unitCube();
+    m.edges = deriveEdges(m, false);
+    m.edges[0].smooth = true;  // edge 0-1, used by faces 0 and 3
+    m.uvSets.push_back({"map1", {{0, 0}}, std::vector<int32_t>(24, 0)});
+    m.normals.assign(24, glm::vec3(0.0f));
+    m.normals[4] = glm::vec3(0, 1, 0);  // first face-vertex of face 1
+    std::vector<bool> remove(6, false);
+    remove[0] = true;
+    deleteFaces(m, remove);
+    EXPECT_EQ(m.faceCount(), 5u);
+    EXPECT_EQ(m.points.size(), 8u);
+    EXPECT_EQ(m.normals.size(), 20u);
+    EXPECT_EQ(m.normals[0], glm::vec3(0, 1, 0));
+    EXPECT_EQ(m.uvSets[0].faceVertexUvs.size(), 20u);
+    EXPECT_EQ(m.edges.size(), 12u);
+    EXPECT_TRUE(m.validate().ok());
+
+    // Removing every face touching point 0 leaves 7 points, renumbered.
+    Mesh c = unitCube();
+    std::vector<bool> touching(6, false);
+    for (size_t f = 0; f < 6; ++f)
+        for (uint32_t v : c.faceOuterLoop(f))
+            if (v == 0) touching[f] = true;
+    deleteFaces(c, touching);
+    EXPECT_EQ(c.faceCount(), 3u);
+    EXPECT_EQ(c.points.size(), 7u);
+    EXPECT_TRUE(c.validate().ok());
+    for (const glm::vec3& p : c.points) EXPECT_NE(p, glm::vec3(-0.5f, -0.5f, 0.5f));
+
+    Mesh all = unitCube();
+    deleteFaces(all, std::vector<bool>(6, true));
+    EXPECT_TRUE(all.empty());
+    EXPECT_TRUE(all.points.empty());
+    EXPECT_TRUE(all.validate().ok());
+}
+
+TEST(Mesh, RemoveUnusedPointsRenumbers) {
+    Mesh m;
+    m.points = {{9, 9, 9}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.addFace({1, 2, 3});
+    m.edges = {{0, 1, true}, {1, 2, false}};
+    EXPECT_EQ(removeUnusedPoints(m), 1u);
+    EXPECT_EQ(m.faceVertices, (std::vector<uint32_t>{0, 1, 2}));
+    ASSERT_EQ(m.edges.size(), 1u);
+    EXPECT_EQ(m.edges[0].v0, 0u);
+    EXPECT_FALSE(m.edges[0].smooth);
+}
+
+}  // namespace
+}  // namespace pushpin::geom

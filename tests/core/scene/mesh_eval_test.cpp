@@ -1,0 +1,594 @@
+// Tests for core/scene/mesh_eval.h: stored mesh data, construction history and skips.
+#include "core/scene/mesh_eval.h"
+
+#include "core/geom/poly_primitives.h"
+#include "core/scene/components.h"
+#include "core/scene/ma_reader.h"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <numbers>
+
+namespace pushpin::scene {
+namespace {
+
+// ------------------------------------------------------------------ graph-building helpers
+void set(Graph& g, NodeId n, std::string_view attr, std::vector<double> values,
+         Numbers::Kind kind = Numbers::Kind::Plain) {
+    Numbers nums;
+    nums.kind = kind;
+    nums.tupleSize = kind == Numbers::Kind::Tuple ? int(values.size()) : 1;
+    nums.values = std::move(values);
+    g.setValue(n, *parsePlugPath(attr), nums);
+}
+
+void connect(Graph& g, NodeId src, std::string_view srcAttr, NodeId dst, std::string_view dstAttr) {
+    g.connect(Plug{src, std::string(srcAttr)}, Plug{dst, std::string(dstAttr)});
+}
+
+struct ShapeUnderTransform {
+    NodeId transform;
+    NodeId shape;
+};
+ShapeUnderTransform addMesh(Graph& g, const std::string& name) {
+    const NodeId t = g.createNode("transform", name);
+    return {t, g.createNode("mesh", name + "Shape", t)};
+}
+
+MeshEvaluation evaluate(const Graph& g, NodeId shape, double frame = 1.0) {
+    Evaluator ev(g, frame);
+    return evaluateMeshShape(ev, shape);
+}
+
+// The polyFaces worked example of reference/ma-format.md.
+const char* kWorkedCube = R"(//Maya ASCII 2018 scene
+requires maya "2018";
+currentUnit -l centimeter -a degree -t film;
+createNode transform -n "pCube1";
+createNode mesh -n "pCubeShape1" -p "pCube1";
+	setAttr -k off ".v";
+	setAttr ".uvst[0].uvsn" -type "string" "map1";
+	setAttr -s 14 ".uvst[0].uvsp[0:13]" -type "float2" 0.375 0 0.625 0 0.375 0.25
+		 0.625 0.25 0.375 0.5 0.625 0.5 0.375 0.75 0.625 0.75 0.375 1 0.625 1
+		 0.875 0 0.875 0.25 0.125 0 0.125 0.25;
+	setAttr ".cuvs" -type "string" "map1";
+	setAttr -s 8 ".vt[0:7]"  -0.5 -0.5 0.5 0.5 -0.5 0.5 -0.5 0.5 0.5 0.5 0.5 0.5
+		 -0.5 0.5 -0.5 0.5 0.5 -0.5 -0.5 -0.5 -0.5 0.5 -0.5 -0.5;
+	setAttr -s 12 ".ed[0:11]"  0 1 0 2 3 0 4 5 0 6 7 0 0 2 0 1 3 0
+		 2 4 0 3 5 0 4 6 0 5 7 0 6 0 0 7 1 0;
+	setAttr -s 6 -ch 24 ".fc[0:5]" -type "polyFaces"
+		f 4 0 5 -2 -5      mu 0 4 0 1 3 2
+		f 4 1 7 -3 -7      mu 0 4 2 3 5 4
+		f 4 2 9 -4 -9      mu 0 4 4 5 7 6
+		f 4 3 11 -1 -11    mu 0 4 6 7 9 8
+		f 4 -12 -10 -8 -6  mu 0 4 1 10 11 3
+		f 4 10 4 6 8       mu 0 4 12 0 2 13;
+)";
+
+TEST(MeshEval, DecodesThePolyFacesWorkedExample) {
+    const Graph g = MaReader::readString(kWorkedCube, "worked.ma");
+    const NodeId shape = g.find("pCubeShape1");
+    ASSERT_NE(shape, kNoNode);
+    EXPECT_TRUE(hasStoredMesh(g, shape));
+    const MeshEvaluation e = evaluate(g, shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    const geom::Mesh& m = *e.mesh;
+    ASSERT_EQ(m.faceCount(), 6u);
+    EXPECT_EQ(m.faceVertices,
+              (std::vector<uint32_t>{0, 1, 3, 2, 2, 3, 5, 4, 4, 5, 7, 6, 6, 7, 1, 0, 1, 7, 5, 3, 6, 0, 2, 4}));
+    const glm::dvec3 normals[] = {{0, 0, 1}, {0, 1, 0}, {0, 0, -1}, {0, -1, 0}, {1, 0, 0}, {-1, 0, 0}};
+    for (size_t f = 0; f < 6; ++f)
+        EXPECT_NEAR(glm::length(m.faceNormal(f) - normals[f]), 0.0, 1e-9) << "face " << f;
+    EXPECT_NEAR(m.signedVolume(), 1.0, 1e-9);
+    ASSERT_EQ(m.uvSets.size(), 1u);
+    EXPECT_EQ(m.uvSets[0].name, "map1");
+    EXPECT_EQ(m.uvSets[0].uvs.size(), 14u);
+    EXPECT_EQ(m.uvSets[0].faceVertexUvs,
+              (std::vector<int32_t>{0, 1, 3, 2, 2, 3, 5, 4, 4, 5, 7, 6, 6, 7, 9, 8, 1, 10, 11, 3, 12, 0, 2, 13}));
+    ASSERT_EQ(m.edges.size(), 12u);
+    for (const geom::MeshEdge& edge : m.edges) EXPECT_FALSE(edge.smooth);
+    EXPECT_TRUE(e.history.empty());
+    EXPECT_TRUE(e.notes.empty()) << e.notes.front();
+
+    // The generator reproduces the same cube.
+    const std::optional<geom::Mesh> generated = geom::makePolyCube({});
+    ASSERT_TRUE(generated);
+    EXPECT_EQ(generated->points, m.points);
+    EXPECT_EQ(generated->faceVertices, m.faceVertices);
+    EXPECT_EQ(generated->uvSets[0].faceVertexUvs, m.uvSets[0].faceVertexUvs);
+}
+
+TEST(MeshEval, DecodesHolesAndSoftEdges) {
+    // A 2×2 square with a 1×1 square hole; the hole walks its edges backwards.
+    const char* text = R"(createNode transform -n "frame";
+createNode mesh -n "frameShape" -p "frame";
+	setAttr -s 8 ".vt[0:7]" -1 0 1  1 0 1  1 0 -1  -1 0 -1
+		-0.5 0 0.5  0.5 0 0.5  0.5 0 -0.5  -0.5 0 -0.5;
+	setAttr -s 8 ".ed[0:7]" 0 1 1  1 2 1  2 3 1  3 0 0  4 5 1  5 6 1  6 7 1  7 4 1;
+	setAttr ".fc[0]" -type "polyFaces" f 4 0 1 2 3 h 4 -8 -7 -6 -5;
+)";
+    const Graph g = MaReader::readString(text);
+    const MeshEvaluation e = evaluate(g, g.find("frameShape"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    const geom::Mesh& m = *e.mesh;
+    EXPECT_EQ(m.faceCount(), 1u);
+    EXPECT_EQ(m.holeCount(0), 1u);
+    EXPECT_EQ(std::vector<uint32_t>(m.loop(1).begin(), m.loop(1).end()), (std::vector<uint32_t>{4, 7, 6, 5}));
+    EXPECT_NEAR(glm::length(m.faceAreaVector(0)), 3.0, 1e-6);
+    EXPECT_GT(m.faceNormal(0).y, 0.99);
+    EXPECT_TRUE(m.edges[0].smooth);
+    EXPECT_FALSE(m.edges[3].smooth);
+    EXPECT_TRUE(m.uvSets.empty());
+}
+
+TEST(MeshEval, StoredTweaksNormalsAndUvSets) {
+    // cgkit's objects.ma layout: .pt tweaks added to .vt; plus .n with "not set" entries.
+    const char* text = R"(createNode transform -n "mesh";
+createNode mesh -n "meshShape" -p "mesh";
+	setAttr ".uvst[0].uvsn" -type "string" "map1";
+	setAttr ".uvst[1].uvsn" -type "string" "extra";
+	setAttr -s 3 ".uvst[1].uvsp[0:2]" -type "float2" 0 0 1 0 0 1;
+	setAttr ".cuvs" -type "string" "extra";
+	setAttr ".pt[0]" -type "float3" 0.25 0 -0.25 ;
+	setAttr ".pt[9]" -type "float3" 1 1 1 ;
+	setAttr -s 3 ".vt[0:2]" 0 0 0  1 0 0  0 1 0;
+	setAttr -s 3 ".ed[0:2]" 0 1 0  1 2 0  2 0 0;
+	setAttr -s 3 ".n[0:2]" -type "float3" 1e+20 1e+20 1e+20  0 0 2  1e+20 1e+20 1e+20;
+	setAttr ".fc[0]" -type "polyFaces" f 3 0 1 2 mu 1 3 0 1 2;
+)";
+    const Graph g = MaReader::readString(text);
+    const MeshEvaluation e = evaluate(g, g.find("meshShape"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    const geom::Mesh& m = *e.mesh;
+    EXPECT_EQ(m.points[0], glm::vec3(0.25f, 0.0f, -0.25f));
+    EXPECT_EQ(m.points[1], glm::vec3(1.0f, 0.0f, 0.0f));
+    ASSERT_EQ(m.normals.size(), 3u);
+    EXPECT_EQ(m.normals[0], glm::vec3(0.0f));
+    EXPECT_EQ(m.normals[1], glm::vec3(0, 0, 1));
+    ASSERT_EQ(m.uvSets.size(), 2u);
+    EXPECT_EQ(m.currentUvSet, 1);
+    EXPECT_TRUE(m.uvSets[0].faceVertexUvs.empty());  // map1 maps no face
+    EXPECT_EQ(m.uvSets[1].faceVertexUvs, (std::vector<int32_t>{0, 1, 2}));
+    // The tweak of point 9 (there are 3) is reported, not applied.
+    ASSERT_EQ(e.notes.size(), 1u);
+    EXPECT_NE(e.notes[0].find("1 tweaks ignored"), std::string::npos) << e.notes[0];
+}
+
+TEST(MeshEval, CorruptStoredDataIsSkippedWithAReason) {
+    const char* badEdge = R"(createNode mesh -n "bad";
+	setAttr -s 3 ".vt[0:2]" 0 0 0  1 0 0  0 1 0;
+	setAttr -s 3 ".ed[0:2]" 0 1 0  1 2 0  2 0 0;
+	setAttr ".fc[0]" -type "polyFaces" f 3 0 1 7;
+)";
+    Graph g = MaReader::readString(badEdge);
+    MeshEvaluation e = evaluate(g, g.find("bad"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("edge that does not exist"), std::string::npos) << e.skipReason;
+
+    const char* badVertex = R"(createNode mesh -n "bad";
+	setAttr -s 3 ".vt[0:2]" 0 0 0  1 0 0  0 1 0;
+	setAttr -s 3 ".ed[0:2]" 0 1 0  1 5 0  5 0 0;
+	setAttr ".fc[0]" -type "polyFaces" f 3 0 1 2;
+)";
+    g = MaReader::readString(badVertex);
+    e = evaluate(g, g.find("bad"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("vertex that does not exist"), std::string::npos) << e.skipReason;
+
+    // Edges that do not join up still give a mesh, with a note.
+    const char* broken = R"(createNode mesh -n "odd";
+	setAttr -s 4 ".vt[0:3]" 0 0 0  1 0 0  0 1 0  1 1 0;
+	setAttr -s 3 ".ed[0:2]" 0 1 0  2 3 0  2 0 0;
+	setAttr ".fc[0]" -type "polyFaces" f 3 0 1 2;
+)";
+    g = MaReader::readString(broken);
+    e = evaluate(g, g.find("odd"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    ASSERT_FALSE(e.notes.empty());
+    EXPECT_NE(e.notes[0].find("do not meet"), std::string::npos);
+}
+
+TEST(MeshEval, EmptyMeshAndNonMeshNodesAreSkipped) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "empty");
+    MeshEvaluation e = evaluate(g, s.shape);
+    EXPECT_FALSE(e.mesh);
+    EXPECT_EQ(e.skipReason, "mesh emptyShape stores no geometry and has no construction history");
+    e = evaluate(g, s.transform);
+    EXPECT_FALSE(e.mesh);
+    EXPECT_EQ(e.skipReason, "empty is a transform, not a mesh");
+    e = evaluate(g, NodeId(g.size() + 5));
+    EXPECT_FALSE(e.mesh);
+    std::string reason;
+    Evaluator ev(g, 1.0);
+    EXPECT_FALSE(evaluateMesh(ev, s.shape, &reason));
+    EXPECT_NE(reason.find("stores no geometry"), std::string::npos);
+}
+
+// ------------------------------------------------------------------ history via the Graph API
+TEST(MeshEval, PolyCubeHistoryThroughTheGraphApi) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    set(g, cube, "w", {2.0});
+    set(g, cube, "sw", {2.0});
+    connect(g, cube, "out", s.shape, "i");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->points.size(), 12u);
+    EXPECT_EQ(e.mesh->faceCount(), 10u);
+    EXPECT_NEAR(e.mesh->bounds().hi.x, 1.0, 1e-6);
+    EXPECT_NEAR(e.mesh->bounds().hi.y, 0.5, 1e-6);
+    EXPECT_EQ(e.history, (std::vector<std::string>{"polyCube polyCube1"}));
+    EXPECT_FALSE(e.usedCachedData);
+}
+
+TEST(MeshEval, EveryCreatorEvaluatesWithDefaults) {
+    struct Case { const char* type; size_t points, faces; };
+    for (const Case c : {Case{"polyCube", 8, 6}, Case{"polySphere", 382, 400}, Case{"polyPlane", 121, 100},
+                         Case{"polyCylinder", 42, 60}, Case{"polyCone", 21, 21}, Case{"polyTorus", 400, 400},
+                         Case{"polyPlatonicSolid", 20, 12}}) {
+        Graph g;
+        const ShapeUnderTransform s = addMesh(g, "obj");
+        const NodeId creator = g.createNode(c.type, std::string(c.type) + "1");
+        connect(g, creator, "output", s.shape, "inMesh");
+        const MeshEvaluation e = evaluate(g, s.shape);
+        ASSERT_TRUE(e.mesh) << c.type << ": " << e.skipReason;
+        EXPECT_EQ(e.mesh->points.size(), c.points) << c.type;
+        EXPECT_EQ(e.mesh->faceCount(), c.faces) << c.type;
+        EXPECT_TRUE(e.mesh->validate().ok());
+    }
+}
+
+TEST(MeshEval, CreatorAttributeEdgeCases) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pSphere1");
+    const NodeId sphere = g.createNode("polySphere", "polySphere1");
+    connect(g, sphere, "output", s.shape, "inMesh");
+    set(g, sphere, "sa", {0.0});
+    set(g, sphere, "sh", {1.0});
+    MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->points.size(), 5u);  // clamped to 3 around, 2 high
+
+    set(g, sphere, "r", {std::numeric_limits<double>::quiet_NaN()});
+    e = evaluate(g, s.shape);
+    EXPECT_FALSE(e.mesh);
+    EXPECT_EQ(e.skipReason, "polySphere: radius is not a finite number (polySphere1)");
+
+    set(g, sphere, "r", {2.0});
+    set(g, sphere, "ax", {1.0, 0.0, 0.0}, Numbers::Kind::Tuple);
+    set(g, sphere, "cuv", {0.0});
+    e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_TRUE(e.mesh->uvSets.empty());
+    EXPECT_NEAR(e.mesh->bounds().hi.x, 2.0, 1e-5);
+}
+
+TEST(MeshEval, PolyTweakTransformGeometryAndShapeTweaks) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId tweak = g.createNode("polyTweak", "polyTweak1");
+    const NodeId xform = g.createNode("transformGeometry", "transformGeometry1");
+    set(g, tweak, "tk[0]", {0.0, -1.0, 0.0}, Numbers::Kind::Tuple);
+    set(g, tweak, "tk[50]", {5.0, 5.0, 5.0}, Numbers::Kind::Tuple);  // past the end: reported
+    // Row-major, translation in the 4th row: move by (0, 0, 10).
+    Numbers m;
+    m.kind = Numbers::Kind::Matrix;
+    m.values = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 10, 1};
+    g.setValue(xform, *parsePlugPath("txf"), m);
+    set(g, s.shape, "pt[1]", {1.0, 0.0, 0.0}, Numbers::Kind::Tuple);
+    connect(g, cube, "output", tweak, "inputPolymesh");
+    connect(g, tweak, "output", xform, "inputGeometry");
+    connect(g, xform, "outputGeometry", s.shape, "inMesh");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    const geom::Mesh& mesh = *e.mesh;
+    EXPECT_EQ(mesh.points[0], glm::vec3(-0.5f, -1.5f, 10.5f));
+    EXPECT_EQ(mesh.points[1], glm::vec3(1.5f, -0.5f, 10.5f));  // the shape's tweak comes last
+    EXPECT_EQ(mesh.points[2], glm::vec3(-0.5f, 0.5f, 10.5f));
+    EXPECT_EQ(e.history, (std::vector<std::string>{"transformGeometry transformGeometry1", "polyTweak polyTweak1",
+                                                   "polyCube polyCube1"}));
+    ASSERT_EQ(e.notes.size(), 1u);
+    EXPECT_NE(e.notes[0].find("polyTweak1"), std::string::npos);
+
+    Graph inverted;
+    const ShapeUnderTransform si = addMesh(inverted, "p");
+    const NodeId c2 = inverted.createNode("polyCube", "polyCube1");
+    const NodeId x2 = inverted.createNode("transformGeometry", "transformGeometry1");
+    inverted.setValue(x2, *parsePlugPath("txf"), m);
+    set(inverted, x2, "itf", {1.0});
+    connect(inverted, c2, "output", x2, "inputGeometry");
+    connect(inverted, x2, "outputGeometry", si.shape, "inMesh");
+    const MeshEvaluation ei = evaluate(inverted, si.shape);
+    ASSERT_TRUE(ei.mesh) << ei.skipReason;
+    EXPECT_NEAR(ei.mesh->bounds().center().z, -10.0, 1e-5);
+}
+
+TEST(MeshEval, DeleteComponentRemovesFacesAndCompacts) {
+    struct Case { const char* component; size_t faces, points; };
+    for (const Case c : {Case{"f[0:1]", 4, 8}, Case{"vtx[0]", 3, 7}, Case{"f[*]", 0, 0}, Case{"f[2]", 5, 8}}) {
+        Graph g;
+        const ShapeUnderTransform s = addMesh(g, "pCube1");
+        const NodeId cube = g.createNode("polyCube", "polyCube1");
+        const NodeId del = g.createNode("deleteComponent", "deleteComponent1");
+        g.setValue(del, *parsePlugPath("dc"), ComponentList{{c.component}});
+        connect(g, cube, "output", del, "inputGeometry");
+        connect(g, del, "outputGeometry", s.shape, "inMesh");
+        const MeshEvaluation e = evaluate(g, s.shape);
+        ASSERT_TRUE(e.mesh) << e.skipReason;
+        EXPECT_EQ(e.mesh->faceCount(), c.faces) << c.component;
+        EXPECT_EQ(e.mesh->points.size(), c.points) << c.component;
+        EXPECT_TRUE(e.mesh->validate().ok());
+    }
+    // An edge deletes both faces using it.
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId del = g.createNode("deleteComponent", "deleteComponent1");
+    g.setValue(del, *parsePlugPath("dc"), ComponentList{{"e[0]", "f[99]", "junk"}});
+    connect(g, cube, "output", del, "inputGeometry");
+    connect(g, del, "outputGeometry", s.shape, "inMesh");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 4u);
+    EXPECT_EQ(e.notes.size(), 2u);  // the bad item and the face past the end
+}
+
+TEST(MeshEval, GroupPartsRecordsComponentGroups) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId parts = g.createNode("groupParts", "groupParts1");
+    const NodeId id = g.createNode("groupId", "groupId1");
+    set(g, id, "id", {3.0});
+    g.setValue(parts, *parsePlugPath("ic"), ComponentList{{"f[0:3]"}});
+    connect(g, id, "id", parts, "gi");
+    connect(g, cube, "output", parts, "ig");
+    connect(g, parts, "og", s.shape, "i");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 6u);
+    ASSERT_EQ(e.groups.size(), 1u);
+    EXPECT_EQ(e.groups[0].groupParts, "groupParts1");
+    EXPECT_EQ(e.groups[0].groupId, 3);
+    EXPECT_EQ(faceMask(e.groups[0].components, e.mesh->faceCount()),
+              (std::vector<bool>{true, true, true, true, false, false}));
+}
+
+TEST(MeshEval, CreateColorSetPassesGeometryThrough) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId colors = g.createNode("createColorSet", "createColorSet1");
+    g.setValue(colors, *parsePlugPath("colos"), StringValue{"paint"});
+    connect(g, cube, "output", colors, "ig");
+    connect(g, colors, "og", s.shape, "i");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 6u);
+    ASSERT_EQ(e.mesh->colorSets.size(), 1u);
+    EXPECT_EQ(e.mesh->colorSets[0].name, "paint");
+}
+
+TEST(MeshEval, UnknownHistoryIsSkippedUnlessTheShapeCachesGeometry) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId split = g.createNode("polySplit", "polySplit1");
+    connect(g, cube, "output", split, "inputPolymesh");
+    connect(g, split, "output", s.shape, "inMesh");
+    MeshEvaluation e = evaluate(g, s.shape);
+    EXPECT_FALSE(e.mesh);
+    EXPECT_EQ(e.skipReason, "history node polySplit (polySplit1) is not evaluated");
+
+    // With the final mesh cached on the shape, that is used instead.
+    Graph cached = MaReader::readString(kWorkedCube);
+    const NodeId shape = cached.find("pCubeShape1");
+    const NodeId smooth = cached.createNode("polySmoothFace", "polySmoothFace1");
+    connect(cached, smooth, "output", shape, "inMesh");
+    e = evaluate(cached, shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_TRUE(e.usedCachedData);
+    EXPECT_EQ(e.mesh->faceCount(), 6u);
+    ASSERT_FALSE(e.notes.empty());
+    EXPECT_NE(e.notes[0].find("polySmoothFace (polySmoothFace1) is not evaluated"), std::string::npos);
+}
+
+TEST(MeshEval, OrigShapeFeedingDeformers) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId orig = g.createNode("mesh", "pCubeShape1Orig", s.transform);
+    set(g, orig, "io", {1.0});
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    connect(g, cube, "output", orig, "inMesh");
+    // Orig → shape directly: evaluates through the other shape.
+    connect(g, orig, "outMesh", s.shape, "inMesh");
+    MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 6u);
+    EXPECT_EQ(e.history.front(), "mesh pCubeShape1Orig");
+
+    // Orig → tweak → skinCluster → shape: the deformers are not evaluated.
+    const NodeId tweak = g.createNode("tweak", "tweak1");
+    const NodeId skin = g.createNode("skinCluster", "skinCluster1");
+    connect(g, orig, "worldMesh[0]", tweak, "input[0].inputGeometry");
+    connect(g, tweak, "outputGeometry[0]", skin, "input[0].inputGeometry");
+    connect(g, skin, "outputGeometry[0]", s.shape, "inMesh");
+    e = evaluate(g, s.shape);
+    EXPECT_FALSE(e.mesh);
+    EXPECT_EQ(e.skipReason, "history node skinCluster (skinCluster1) is not evaluated");
+}
+
+TEST(MeshEval, HistoryCycleIsReportedNotFollowedForever) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "loop");
+    const NodeId tweak = g.createNode("polyTweak", "polyTweak1");
+    connect(g, s.shape, "outMesh", tweak, "inputPolymesh");
+    connect(g, tweak, "output", s.shape, "inMesh");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("cycle"), std::string::npos) << e.skipReason;
+}
+
+TEST(MeshEval, PolySoftEdgeSetsEdgeSmoothingByAngle) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId soft = g.createNode("polySoftEdge", "polySoftEdge1");
+    set(g, soft, "a", {180.0});  // degrees, in the file's angle unit
+    g.setValue(soft, *parsePlugPath("ics"), ComponentList{{"e[*]"}});
+    connect(g, cube, "output", soft, "ip");
+    connect(g, soft, "out", s.shape, "i");
+    MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    for (const geom::MeshEdge& edge : e.mesh->edges) EXPECT_TRUE(edge.smooth);
+    set(g, soft, "a", {30.0});
+    e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    for (const geom::MeshEdge& edge : e.mesh->edges) EXPECT_FALSE(edge.smooth);
+}
+
+// ------------------------------------------------------------------ .ma snippets with history
+TEST(MeshEval, ReadsHistoryChainsFromMaText) {
+    // cgkit's objects.ma: polyCube with ax = (1 0 0), h = 2, d = 3 feeding pCubeShape1.
+    const char* text = R"(//Maya ASCII 7.0 scene
+requires maya "7.0";
+currentUnit -l centimeter -a degree -t film;
+createNode transform -n "pCube1";
+	setAttr ".t" -type "double3" -2.1707668811066378 0 0 ;
+createNode mesh -n "pCubeShape1" -p "pCube1";
+	setAttr ".uvst[0].uvsn" -type "string" "map1";
+	setAttr ".cuvs" -type "string" "map1";
+createNode polyCube -n "polyCube1";
+	setAttr ".ax" -type "double3" 1 0 0 ;
+	setAttr ".h" 2;
+	setAttr ".d" 3;
+connectAttr "polyCube1.out" "pCubeShape1.i";
+)";
+    const Graph g = MaReader::readString(text, "objects.ma");
+    const MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    const geom::Bounds3 b = e.mesh->bounds();
+    EXPECT_NEAR(b.hi.x, 1.0, 1e-6);
+    EXPECT_NEAR(b.hi.y, 0.5, 1e-6);
+    EXPECT_NEAR(b.hi.z, 1.5, 1e-6);
+    EXPECT_NEAR(e.mesh->signedVolume(), 6.0, 1e-5);
+}
+
+TEST(MeshEval, AnimatedCreatorAttributesAndUnits) {
+    // Radius keyed 1 → 3 between frames 1 and 10, in a file written in metres.
+    const char* text = R"(currentUnit -l meter -a degree -t film;
+createNode transform -n "pSphere1";
+createNode mesh -n "pSphereShape1" -p "pSphere1";
+createNode polySphere -n "polySphere1";
+	setAttr ".sa" 8;
+	setAttr ".sh" 6;
+createNode animCurveTL -n "polySphere1_radius";
+	setAttr ".tan" 18;
+	setAttr -s 2 ".ktv[0:1]"  1 1 10 3;
+connectAttr "polySphere1_radius.o" "polySphere1.r";
+connectAttr "polySphere1.out" "pSphereShape1.i";
+)";
+    const Graph g = MaReader::readString(text, "anim.ma");
+    const NodeId shape = g.find("pSphereShape1");
+    MeshEvaluation e = evaluate(g, shape, 1.0);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->points.size(), 8u * 5u + 2u);
+    EXPECT_NEAR(e.mesh->bounds().hi.y, 100.0, 1e-3);  // 1 m in centimetres
+    e = evaluate(g, shape, 10.0);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_NEAR(e.mesh->bounds().hi.y, 300.0, 1e-3);
+}
+
+TEST(MeshEval, PerFaceShadingAssignmentFromMaText) {
+    const char* text = R"(createNode transform -n "pCube1";
+createNode mesh -n "pCubeShape1" -p "pCube1";
+	setAttr -s 2 ".iog[0].og";
+	setAttr ".iog[0].og[0].gcl" -type "componentList" 1 "f[0:3]";
+	setAttr ".iog[0].og[1].gcl" -type "componentList" 2 "f[4]" "f[5]";
+createNode polyCube -n "polyCube1";
+createNode groupId -n "groupId1";
+createNode groupParts -n "groupParts1";
+	setAttr ".ic" -type "componentList" 1 "f[0:3]";
+connectAttr "polyCube1.out" "groupParts1.ig";
+connectAttr "groupId1.id" "groupParts1.gi";
+connectAttr "groupParts1.og" "pCubeShape1.i";
+)";
+    const Graph g = MaReader::readString(text);
+    const NodeId shape = g.find("pCubeShape1");
+    const MeshEvaluation e = evaluate(g, shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    ASSERT_EQ(e.groups.size(), 1u);
+    const Value* first = g.value(shape, "iog[0].og[0].gcl");
+    const Value* second = g.value(shape, "iog[0].og[1].gcl");
+    ASSERT_TRUE(first && std::holds_alternative<ComponentList>(*first));
+    ASSERT_TRUE(second && std::holds_alternative<ComponentList>(*second));
+    std::string error;
+    EXPECT_EQ(faceMask(std::get<ComponentList>(*first), e.mesh->faceCount(), &error),
+              (std::vector<bool>{true, true, true, true, false, false}));
+    EXPECT_EQ(faceMask(std::get<ComponentList>(*second), e.mesh->faceCount(), &error),
+              (std::vector<bool>{false, false, false, false, true, true}));
+    EXPECT_TRUE(error.empty()) << error;
+}
+
+// ------------------------------------------------------------------ public corpus
+TEST(MeshEval, PublicCorpusEvaluatesOrSkipsEveryShape) {
+    const std::filesystem::path corpus = PUSHPIN_MA_CORPUS;
+    if (!std::filesystem::is_directory(corpus)) GTEST_SKIP() << "no .ma corpus at " << corpus;
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(corpus))
+        if (entry.path().extension() == ".ma") files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    size_t totalShapes = 0, totalEvaluated = 0, totalCached = 0;
+    for (const std::filesystem::path& file : files) {
+        Graph g;
+        try {
+            g = MaReader::readFile(file);
+        } catch (const Error& err) {
+            std::cout << "[corpus] " << file.filename().string() << ": not read: " << err.what() << "\n";
+            continue;
+        }
+        Evaluator ev(g, 1.0);
+        size_t shapes = 0, evaluated = 0, cached = 0, notes = 0;
+        std::map<std::string, int> reasons;
+        for (NodeId shape : g.nodesOfType("mesh")) {
+            ++shapes;
+            MeshEvaluation e;
+            EXPECT_NO_THROW(e = evaluateMeshShape(ev, shape)) << file << " " << g.node(shape).name;
+            notes += e.notes.size();
+            if (e.mesh) {
+                ++evaluated;
+                cached += e.usedCachedData;
+                EXPECT_TRUE(e.mesh->validate().ok()) << file << " " << g.node(shape).name;
+            } else {
+                EXPECT_FALSE(e.skipReason.empty());
+                // Group reasons by their kind, without node names.
+                std::string kind = e.skipReason;
+                if (const size_t paren = kind.find(" ("); paren != std::string::npos) kind = kind.substr(0, paren);
+                if (kind.rfind("mesh ", 0) == 0) kind = "mesh: " + kind.substr(kind.find(' ', 5) + 1);
+                ++reasons[kind];
+            }
+        }
+        std::cout << "[corpus] " << file.filename().string() << ": " << shapes << " meshes, " << evaluated
+                  << " evaluated (" << cached << " from cached data), " << shapes - evaluated << " skipped, "
+                  << notes << " notes";
+        for (const auto& [why, count] : reasons) std::cout << "; " << count << "x " << why;
+        std::cout << "\n";
+        totalShapes += shapes;
+        totalEvaluated += evaluated;
+        totalCached += cached;
+    }
+    std::cout << "[corpus] total: " << totalShapes << " meshes, " << totalEvaluated << " evaluated (" << totalCached
+              << " from cached data)\n";
+    EXPECT_GT(totalEvaluated, 0u);
+}
+
+}  // namespace
+}  // namespace pushpin::scene
