@@ -1,0 +1,116 @@
+// Reads every public .ma scene and checks what the --info report says about them. The expected
+// counts were established by reading the files (createNode lines, parenting, connections).
+#include "core/scene/ma_reader.h"
+#include "core/scene/render_setup.h"
+#include "core/scene/scene_info.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+namespace pushpin::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path corpusDir() { return fs::path(PUSHPIN_MA_CORPUS); }
+
+std::vector<fs::path> corpusFiles() {
+    std::vector<fs::path> files;
+    std::error_code ec;
+    if (!fs::is_directory(corpusDir(), ec)) return files;
+    for (const auto& e : fs::directory_iterator(corpusDir()))
+        if (e.path().extension() == ".ma") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+#define REQUIRE_CORPUS()                                                                            \
+    if (corpusFiles().empty()) GTEST_SKIP() << "no .ma corpus at " << corpusDir() << " (PUSHPIN_MA_CORPUS)"
+
+TEST(Corpus, EveryFileLoadsAndReports) {
+    REQUIRE_CORPUS();
+    for (const fs::path& file : corpusFiles()) {
+        SCOPED_TRACE(file.filename().string());
+        Graph g;
+        ASSERT_NO_THROW(g = MaReader::readFile(file));
+        std::string json;
+        ASSERT_NO_THROW(json = sceneInfoJson(g, sceneCurrentFrame(g)));
+        EXPECT_FALSE(json.empty());
+        SceneReport report = describeScene(g, sceneCurrentFrame(g));
+        for (const ShapeReport& s : report.shapes) {
+            if (s.renderable) {
+                EXPECT_FALSE(s.worldBounds.empty()) << s.path;
+                EXPECT_FALSE(s.shadingGroups.empty()) << s.path;
+            } else {
+                EXPECT_FALSE(s.reason.empty()) << s.path;
+            }
+        }
+    }
+}
+
+struct Expected {
+    const char* file;
+    size_t shapes, lights, cameras, shadingGroups;  // shading groups include Maya's two defaults
+};
+
+// initialShadingGroup and initialParticleSE exist in every scene.
+constexpr size_t kDefaultShadingGroups = 2;
+
+TEST(Corpus, CountsMatchWhatTheFilesSay) {
+    REQUIRE_CORPUS();
+    const Expected expected[] = {
+        {"yamins81__cgkit__objects.ma", 2, 0, 0, 0},
+        {"haggi__OpenMaya__mayaSpotSoftShadows.ma", 2, 1, 4, 0},
+        {"appleseedhq__appleseed-maya__face_materials.ma", 1, 1, 4, 3},
+        {"Autodesk__maya-usd__ProxyShapeDrawLightingTest.ma", 2, 8, 5, 2},
+        {"tws0002__pop2-project__Terrain.ma", 1, 3, 1, 2},
+        {"tws0002__pop2-project__LavaLamp.ma", 10, 3, 5, 7},
+        {"sebastienblor__arnold-usd__test_0068_test.ma", 3, 2, 5, 13},
+        {"amju-games__music-theory__door2.ma", 17, 0, 5, 12},
+        {"tws0002__pop2-project__CarrotTop.ma", 6, 0, 4, 4},
+    };
+    for (const Expected& e : expected) {
+        SCOPED_TRACE(e.file);
+        fs::path file = corpusDir() / e.file;
+        ASSERT_TRUE(fs::exists(file));
+        Graph g = MaReader::readFile(file);
+        SceneReport report = describeScene(g, sceneCurrentFrame(g));
+        RenderSetup setup = extractRenderSetup(g);
+        EXPECT_EQ(report.shapes.size(), e.shapes);
+        EXPECT_EQ(setup.lights.size(), e.lights);
+        EXPECT_EQ(setup.cameras.size(), e.cameras);
+        EXPECT_EQ(setup.shadingGroups.size(), e.shadingGroups + kDefaultShadingGroups);
+    }
+}
+
+TEST(Corpus, PerFaceMaterialsAreComponentMembers) {
+    REQUIRE_CORPUS();
+    Graph g = MaReader::readFile(corpusDir() / "appleseedhq__appleseed-maya__face_materials.ma");
+    RenderSetup setup = extractRenderSetup(g);
+    size_t componentMembers = 0;
+    for (const ShadingGroupInfo& sg : setup.shadingGroups)
+        for (const SetMember& m : sg.members)
+            if (m.objectGroup >= 0) {
+                ++componentMembers;
+                EXPECT_FALSE(m.components.empty()) << sg.name;
+            }
+    EXPECT_GE(componentMembers, 2u);
+    SceneReport report = describeScene(g, 1.0);
+    ASSERT_EQ(report.shapes.size(), 1u);
+    EXPECT_GE(report.shapes[0].shadingGroups.size(), 2u);
+}
+
+TEST(Corpus, LightLinksAreKept) {
+    REQUIRE_CORPUS();
+    Graph g = MaReader::readFile(corpusDir() / "Autodesk__maya-usd__ProxyShapeDrawLightingTest.ma");
+    RenderSetup setup = extractRenderSetup(g);
+    EXPECT_FALSE(setup.lightLinks.empty());
+    bool sawLink = false;
+    for (const LightLink& l : setup.lightLinks) sawLink |= l.kind == "link";
+    EXPECT_TRUE(sawLink);
+}
+
+}  // namespace
+}  // namespace pushpin::scene

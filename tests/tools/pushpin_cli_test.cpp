@@ -1,0 +1,227 @@
+// Runs the built `pushpin` program the way users do and checks exit codes, stdout and stderr.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int exitCode = -1;
+    std::string out, err;
+};
+
+fs::path tempDir() {
+    fs::path dir = fs::temp_directory_path() / ("pushpin_cli_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+CliRun runPushpin(const std::string& args) {
+    fs::path errFile = tempDir() / "stderr.txt";
+    std::string cmd = std::string(PUSHPIN_BINARY_DIR) + "/pushpin " + args + " 2> '" + errFile.string() + "'";
+    CliRun r;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 65536> buf{};
+    size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
+    int status = ::pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(errFile);
+    r.err.assign(std::istreambuf_iterator<char>(in), {});
+    return r;
+}
+
+fs::path writeFile(const std::string& name, const std::string& text) {
+    fs::path p = tempDir() / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+}
+
+// A strict JSON syntax check (RFC 8259), enough to prove the report is machine-readable.
+class JsonChecker {
+public:
+    explicit JsonChecker(const std::string& s) : m_s(s) {}
+    bool valid() {
+        ws();
+        if (!value()) return false;
+        ws();
+        return m_i == m_s.size();
+    }
+
+private:
+    bool value() {
+        if (m_i >= m_s.size()) return false;
+        char c = m_s[m_i];
+        if (c == '{') return object();
+        if (c == '[') return array();
+        if (c == '"') return string();
+        if (c == '-' || (c >= '0' && c <= '9')) return number();
+        return literal("true") || literal("false") || literal("null");
+    }
+    bool object() {
+        ++m_i;
+        ws();
+        if (peek('}')) return ++m_i, true;
+        for (;;) {
+            ws();
+            if (!string()) return false;
+            ws();
+            if (!peek(':')) return false;
+            ++m_i;
+            ws();
+            if (!value()) return false;
+            ws();
+            if (peek('}')) return ++m_i, true;
+            if (!peek(',')) return false;
+            ++m_i;
+        }
+    }
+    bool array() {
+        ++m_i;
+        ws();
+        if (peek(']')) return ++m_i, true;
+        for (;;) {
+            ws();
+            if (!value()) return false;
+            ws();
+            if (peek(']')) return ++m_i, true;
+            if (!peek(',')) return false;
+            ++m_i;
+        }
+    }
+    bool string() {
+        if (!peek('"')) return false;
+        for (++m_i; m_i < m_s.size(); ++m_i) {
+            unsigned char c = static_cast<unsigned char>(m_s[m_i]);
+            if (c == '"') return ++m_i, true;
+            if (c < 0x20) return false;
+            if (c == '\\') {
+                if (++m_i >= m_s.size()) return false;
+                if (std::string("\"\\/bfnrtu").find(m_s[m_i]) == std::string::npos) return false;
+            }
+        }
+        return false;
+    }
+    bool number() {
+        size_t start = m_i;
+        if (peek('-')) ++m_i;
+        while (m_i < m_s.size() && (isdigit(m_s[m_i]) || std::string(".eE+-").find(m_s[m_i]) != std::string::npos)) ++m_i;
+        return m_i > start;
+    }
+    bool literal(const char* word) {
+        std::string w(word);
+        if (m_s.compare(m_i, w.size(), w) != 0) return false;
+        m_i += w.size();
+        return true;
+    }
+    bool peek(char c) const { return m_i < m_s.size() && m_s[m_i] == c; }
+    void ws() {
+        while (m_i < m_s.size() && std::string(" \t\r\n").find(m_s[m_i]) != std::string::npos) ++m_i;
+    }
+    const std::string& m_s;
+    size_t m_i = 0;
+};
+
+size_t count(const std::string& hay, const std::string& needle) {
+    size_t n = 0;
+    for (size_t p = hay.find(needle); p != std::string::npos; p = hay.find(needle, p + 1)) ++n;
+    return n;
+}
+
+TEST(PushpinCli, DemoInfoIsValidJsonWithEveryKey) {
+    CliRun r = runPushpin("--demo --info");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(JsonChecker(r.out).valid()) << r.out.substr(0, 2000);
+    for (const char* key : {"\"nodeTypes\"", "\"shapes\"", "\"cameras\"", "\"lights\"", "\"shadingGroups\"",
+                            "\"renderGlobals\"", "\"unsupported\"", "\"warnings\"", "\"bounds\""})
+        EXPECT_NE(r.out.find(key), std::string::npos) << key;
+    // The demo: a floor and seven primitives, all renderable; a spotlight and an ambient fill.
+    EXPECT_NE(r.out.find("\"type\": \"spotLight\""), std::string::npos);
+    EXPECT_NE(r.out.find("\"type\": \"ambientLight\""), std::string::npos);
+    EXPECT_NE(r.out.find("\"renderable\": 8"), std::string::npos) << r.out.substr(0, 4000);
+    EXPECT_NE(r.out.find("\"skipped\": 0"), std::string::npos);
+    EXPECT_NE(r.out.find("\"surfaceShader\": \"blinn\""), std::string::npos);
+    EXPECT_NE(r.out.find("\"edgeAntiAliasing\": 0"), std::string::npos);
+    EXPECT_NE(r.out.find("\"width\": 640"), std::string::npos);
+    EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+TEST(PushpinCli, PrintedDemoReadsBackTheSame) {
+    CliRun demo = runPushpin("--print-demo");
+    ASSERT_EQ(demo.exitCode, 0);
+    fs::path file = writeFile("softSpotlight.ma", demo.out);
+    CliRun fromFile = runPushpin("--info '" + file.string() + "'");
+    CliRun builtIn = runPushpin("--demo --info");
+    ASSERT_EQ(fromFile.exitCode, 0) << fromFile.err;
+    // Everything but the file name agrees.
+    auto strip = [](std::string s) { return s.substr(s.find('\n', s.find("\"file\""))); };
+    EXPECT_EQ(strip(fromFile.out), strip(builtIn.out));
+}
+
+TEST(PushpinCli, MissingFileExitsTwoNamingThePath) {
+    CliRun r = runPushpin("--info /nonexistent/dir/scene.ma");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("/nonexistent/dir/scene.ma"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty());
+}
+
+TEST(PushpinCli, MalformedFileGivesOneLineWithFileLineAndColumn) {
+    fs::path file = writeFile("bad.ma", "//Maya ASCII 2018 scene\ncreateNode transform -n \"a\";\n\tsetAttr \".t\" -type \"double3\" 1 2;\n");
+    CliRun r = runPushpin("--info '" + file.string() + "'");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err.rfind(file.string() + ":3:", 0), 0u) << r.err;
+    EXPECT_EQ(count(r.err, "\n"), 1u) << r.err;
+    EXPECT_TRUE(r.out.empty());
+}
+
+TEST(PushpinCli, BadOptionsAreNamed) {
+    CliRun unknown = runPushpin("--demo --info --bogus");
+    EXPECT_EQ(unknown.exitCode, 2);
+    EXPECT_NE(unknown.err.find("--bogus"), std::string::npos);
+    CliRun frame = runPushpin("--demo --info --frame abc");
+    EXPECT_EQ(frame.exitCode, 2);
+    EXPECT_NE(frame.err.find("--frame"), std::string::npos);
+    CliRun nan = runPushpin("--demo --info --frame nan");
+    EXPECT_EQ(nan.exitCode, 2);
+    CliRun missing = runPushpin("--demo --info --frame");
+    EXPECT_EQ(missing.exitCode, 2);
+    CliRun none = runPushpin("");
+    EXPECT_EQ(none.exitCode, 2);
+    EXPECT_NE(none.err.find("usage"), std::string::npos);
+}
+
+TEST(PushpinCli, FrameOptionEvaluatesAnimation) {
+    fs::path file = writeFile("anim.ma",
+                              "//Maya ASCII 2018 scene\n"
+                              "currentUnit -l centimeter -a degree -t film;\n"
+                              "createNode transform -n \"box\";\n"
+                              "createNode mesh -n \"boxShape\" -p \"box\";\n"
+                              "createNode polyCube -n \"polyCube1\";\n"
+                              "createNode animCurveTL -n \"box_translateX\";\n"
+                              "\tsetAttr -s 2 \".kit[0:1]\" 2 2;\n"
+                              "\tsetAttr -s 2 \".kot[0:1]\" 2 2;\n"
+                              "\tsetAttr -s 2 \".ktv[0:1]\"  1 0 11 10;\n"
+                              "connectAttr \"box_translateX.o\" \"box.tx\";\n"
+                              "connectAttr \"polyCube1.out\" \"boxShape.i\";\n"
+                              "connectAttr \"boxShape.iog\" \":initialShadingGroup.dsm\" -na;\n");
+    CliRun at1 = runPushpin("--info --frame 1 '" + file.string() + "'");
+    CliRun at6 = runPushpin("--info --frame 6 '" + file.string() + "'");
+    ASSERT_EQ(at1.exitCode, 0) << at1.err;
+    ASSERT_EQ(at6.exitCode, 0) << at6.err;
+    EXPECT_NE(at1.out.find("\"min\": [\n"), std::string::npos);
+    // Linear tangents: x goes 0 → 10 over frames 1 → 11, so at frame 6 the unit cube spans 4.5..5.5.
+    EXPECT_NE(at1.out.find("-0.5"), std::string::npos);
+    EXPECT_NE(at6.out.find("4.5"), std::string::npos) << at6.out;
+    EXPECT_NE(at6.out.find("5.5"), std::string::npos);
+}
+
+}  // namespace
