@@ -1,0 +1,628 @@
+// Tests of texture/bot_file.h: lossless round trips, mip levels against an independent reference,
+// sRGB filtering in linear light, and clear errors for damaged or hostile files.
+#include "texture/bot_file.h"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <Imath/half.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cache/error.h"
+#include "texture/detail/bot_checksum.h"
+#include "texture/detail/bot_layout.h"
+
+namespace pushpin::texture {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path tempDir() {
+    fs::path dir = fs::temp_directory_path() / ("pushpin_bot_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::vector<uint8_t> readBytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+void writeBytes(const fs::path& p, const std::vector<uint8_t>& bytes) {
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// Values exactly representable in `type`, so level 0 must come back bit for bit.
+std::vector<float> makeImage(uint32_t w, uint32_t h, uint32_t ch, PixelType type, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::vector<float> px(size_t(w) * h * ch);
+    for (size_t i = 0; i < px.size(); ++i) {
+        switch (type) {
+            case PixelType::U8: px[i] = float(rng() % 256) / 255.0f; break;
+            case PixelType::U16: px[i] = float(rng() % 65536) / 65535.0f; break;
+            case PixelType::Half: px[i] = float(Imath::half(float(int(rng() % 20001) - 10000) / 997.0f)); break;
+            case PixelType::Float: px[i] = std::ldexp(float(int(rng() % 2000001) - 1000000), -int(rng() % 30)); break;
+        }
+    }
+    return px;
+}
+
+// Reads a whole level (unpadded) through readPage.
+std::vector<float> readLevel(const BotFile& file, uint32_t level) {
+    const BotHeader& h = file.header();
+    const BotLevel& lv = h.levels.at(level);
+    const uint32_t ch = h.channels;
+    std::vector<float> out(size_t(lv.width) * lv.height * ch);
+    std::vector<float> page(kPageSizeTexels * kPageSizeTexels * ch);
+    const int fd = ::open(file.path().c_str(), O_RDONLY);
+    EXPECT_GE(fd, 0);
+    for (uint32_t py = 0; py < lv.pagesY; ++py) {
+        for (uint32_t px = 0; px < lv.pagesX; ++px) {
+            file.readPage(fd, level, px, py, page.data());
+            for (uint32_t y = 0; y < kPageSizeTexels; ++y) {
+                for (uint32_t x = 0; x < kPageSizeTexels; ++x) {
+                    const uint32_t gx = px * kPageSizeTexels + x, gy = py * kPageSizeTexels + y;
+                    const float* t = page.data() + (y * kPageSizeTexels + x) * ch;
+                    // Padding repeats the edge texels.
+                    const uint32_t sx = std::min(gx, lv.width - 1), sy = std::min(gy, lv.height - 1);
+                    if (gx < lv.width && gy < lv.height) {
+                        std::memcpy(out.data() + (size_t(gy) * lv.width + gx) * ch, t, ch * sizeof(float));
+                    } else {
+                        const float* e = page.data() +
+                                         ((sy - py * kPageSizeTexels) * kPageSizeTexels + (sx - px * kPageSizeTexels)) * ch;
+                        for (uint32_t c = 0; c < ch; ++c) EXPECT_EQ(t[c], e[c]) << "padding at " << gx << "," << gy;
+                    }
+                }
+            }
+        }
+    }
+    ::close(fd);
+    return out;
+}
+
+TEST(BotChecksum, MatchesPublishedXxh64Values) {
+    EXPECT_EQ(detail::xxh64("", 0, 0), 0xEF46DB3751D8E999ull);
+    EXPECT_EQ(detail::xxh64("abc", 3, 0), 0x44BC2CF5AD770999ull);
+}
+
+class BotRoundTrip : public ::testing::TestWithParam<PixelType> {};
+
+TEST_P(BotRoundTrip, LevelZeroReproducesSourceExactly) {
+    const PixelType type = GetParam();
+    for (auto [w, h, ch] : {std::tuple<uint32_t, uint32_t, uint32_t>{37, 21, 3}, {13, 7, 4}, {1, 9, 1}, {200, 130, 2}}) {
+        const std::vector<float> src = makeImage(w, h, ch, type, w * 131 + h);
+        const fs::path path = tempDir() / ("rt_" + std::string(pixelTypeName(type)) + ".bot");
+        BotWriteOptions opt;
+        opt.pixelType = type;
+        writeBot(path, src.data(), w, h, ch, opt);
+        const auto file = BotFile::open(path);
+        EXPECT_EQ(file->header().width, w);
+        EXPECT_EQ(file->header().height, h);
+        EXPECT_EQ(file->header().channels, ch);
+        EXPECT_EQ(file->header().pixelType, type);
+        EXPECT_EQ(file->fileBytes(), fs::file_size(path));
+        const std::vector<float> back = readLevel(*file, 0);
+        ASSERT_EQ(back.size(), src.size());
+        for (size_t i = 0; i < src.size(); ++i) ASSERT_EQ(back[i], src[i]) << "sample " << i << " of " << w << "x" << h;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllPixelTypes, BotRoundTrip,
+                         ::testing::Values(PixelType::U8, PixelType::U16, PixelType::Half, PixelType::Float),
+                         [](const auto& p) { return std::string(pixelTypeName(p.param)); });
+
+TEST(BotFile, RoundTripsWithoutPredictionOrDictionary) {
+    const std::vector<float> src = makeImage(64, 48, 3, PixelType::U8, 5);
+    const fs::path path = tempDir() / "plain.bot";
+    BotWriteOptions opt;
+    opt.predictPages = false;
+    opt.trainDictionary = false;
+    writeBot(path, src.data(), 64, 48, 3, opt);
+    const auto file = BotFile::open(path);
+    EXPECT_FALSE(file->pagesPredicted());
+    EXPECT_EQ(file->dictionaryBytes(), 0u);
+    EXPECT_EQ(readLevel(*file, 0), src);
+}
+
+TEST(BotFile, LargeImageTrainsDictionaryAndRoundTrips) {
+    // Smooth content with mild noise: many pages, enough for the dictionary trainer.
+    const uint32_t w = 512, h = 512, ch = 3;
+    std::vector<float> src(size_t(w) * h * ch);
+    std::mt19937 rng(9);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            for (uint32_t c = 0; c < ch; ++c) {
+                const float v = 0.5f + 0.4f * std::sin(0.02f * x * (c + 1)) * std::cos(0.03f * y);
+                const int code = std::clamp(int(v * 255.0f) + int(rng() % 5) - 2, 0, 255);
+                src[(size_t(y) * w + x) * ch + c] = float(code) / 255.0f;
+            }
+    const fs::path path = tempDir() / "large.bot";
+    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    const auto file = BotFile::open(path);
+    EXPECT_GT(file->dictionaryBytes(), 0u);
+    EXPECT_EQ(file->header().levels.size(), 10u);
+    EXPECT_EQ(readLevel(*file, 0), src);
+    EXPECT_LT(file->fileBytes(), uint64_t(w) * h * ch);  // compresses
+}
+
+TEST(BotFile, LevelTableFollowsFloorRule) {
+    const std::vector<float> src = makeImage(13, 7, 1, PixelType::Float, 1);
+    const fs::path path = tempDir() / "levels.bot";
+    BotWriteOptions opt;
+    opt.pixelType = PixelType::Float;
+    writeBot(path, src.data(), 13, 7, 1, opt);
+    const auto file = BotFile::open(path);
+    const auto& lv = file->header().levels;
+    ASSERT_EQ(lv.size(), 4u);
+    EXPECT_EQ(lv[1].width, 6u);
+    EXPECT_EQ(lv[1].height, 3u);
+    EXPECT_EQ(lv[2].width, 3u);
+    EXPECT_EQ(lv[2].height, 1u);
+    EXPECT_EQ(lv[3].width, 1u);
+    EXPECT_EQ(lv[3].height, 1u);
+    EXPECT_EQ(lv[0].pagesX, 2u);
+    EXPECT_EQ(lv[0].pagesY, 1u);
+}
+
+// ------------------------------------------------------------------ mip levels vs a reference
+
+// Weight of source texel j for destination texel i when resampling n -> m, written directly from
+// the filter definitions in BOT_FORMAT.md: box = exact coverage; triangle and Lanczos-3 sample the
+// kernel at source texel centres, clamped indices, normalised.
+std::vector<std::vector<double>> referenceWeights(uint32_t n, uint32_t m, const std::string& filter) {
+    std::vector<std::vector<double>> w(m, std::vector<double>(n, 0.0));
+    const double s = double(n) / double(m);
+    for (uint32_t i = 0; i < m; ++i) {
+        if (filter == "box") {
+            for (uint32_t j = 0; j < n; ++j) {
+                const double lo = std::max(double(j), i * s), hi = std::min(double(j + 1), (i + 1) * s);
+                if (hi > lo) w[i][j] = (hi - lo) / s;
+            }
+        } else {
+            const double c = (i + 0.5) * s;
+            for (int j = -200; j < int(n) + 200; ++j) {
+                const double x = (j + 0.5 - c) / s;
+                double k = 0.0;
+                if (filter == "triangle") {
+                    k = std::max(0.0, 1.0 - std::fabs(x));
+                } else if (std::fabs(x) < 3.0) {
+                    auto sinc = [](double t) { return t == 0.0 ? 1.0 : std::sin(M_PI * t) / (M_PI * t); };
+                    k = sinc(x) * sinc(x / 3.0);
+                }
+                w[i][std::clamp(j, 0, int(n) - 1)] += k;
+            }
+        }
+        double sum = 0.0;
+        for (double v : w[i]) sum += v;
+        for (double& v : w[i]) v /= sum;
+    }
+    return w;
+}
+
+std::vector<double> referenceDownsample(const std::vector<float>& src, uint32_t w, uint32_t h, uint32_t ch,
+                                        uint32_t w2, uint32_t h2, const std::string& filter) {
+    const auto wx = referenceWeights(w, w2, filter), wy = referenceWeights(h, h2, filter);
+    std::vector<double> out(size_t(w2) * h2 * ch, 0.0);
+    for (uint32_t j = 0; j < h2; ++j)
+        for (uint32_t i = 0; i < w2; ++i)
+            for (uint32_t y = 0; y < h; ++y)
+                for (uint32_t x = 0; x < w; ++x) {
+                    const double k = wx[i][x] * wy[j][y];
+                    if (k == 0.0) continue;
+                    for (uint32_t c = 0; c < ch; ++c) out[(size_t(j) * w2 + i) * ch + c] += k * src[(size_t(y) * w + x) * ch + c];
+                }
+    return out;
+}
+
+class BotMipLevels : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BotMipLevels, MatchIndependentDownsampleOfTheLevelAbove) {
+    const std::string filter = GetParam();
+    for (auto [w, h] : {std::pair<uint32_t, uint32_t>{13, 7}, {1, 9}, {16, 16}, {37, 70}, {9, 1}}) {
+        const uint32_t ch = 2;
+        std::vector<float> src(size_t(w) * h * ch);
+        std::mt19937 rng(w * 7 + h);
+        for (float& v : src) v = float(rng() % 10000) / 10000.0f;
+        const fs::path path = tempDir() / ("mip_" + filter + ".bot");
+        BotWriteOptions opt;
+        opt.pixelType = PixelType::Float;
+        opt.filter = filter;
+        writeBot(path, src.data(), w, h, ch, opt);
+        const auto file = BotFile::open(path);
+        const auto& levels = file->header().levels;
+        std::vector<float> above = readLevel(*file, 0);
+        for (uint32_t l = 1; l < levels.size(); ++l) {
+            const std::vector<float> got = readLevel(*file, l);
+            const auto ref = referenceDownsample(above, levels[l - 1].width, levels[l - 1].height, ch, levels[l].width,
+                                                 levels[l].height, filter);
+            ASSERT_EQ(got.size(), ref.size());
+            for (size_t i = 0; i < ref.size(); ++i)
+                ASSERT_NEAR(got[i], ref[i], 1e-6) << filter << " " << w << "x" << h << " level " << l << " sample " << i;
+            above = got;
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFilters, BotMipLevels, ::testing::Values("box", "triangle", "lanczos3"));
+
+TEST(BotMipLevels, BoxOfConstantImageIsConstant) {
+    std::vector<float> src(size_t(13) * 7 * 3, 0.25f);
+    const fs::path path = tempDir() / "const.bot";
+    BotWriteOptions opt;
+    opt.pixelType = PixelType::Float;
+    opt.filter = "lanczos3";
+    writeBot(path, src.data(), 13, 7, 3, opt);
+    const auto file = BotFile::open(path);
+    for (uint32_t l = 0; l < file->header().levels.size(); ++l)
+        for (float v : readLevel(*file, l)) ASSERT_NEAR(v, 0.25f, 1e-6f) << "level " << l;
+}
+
+TEST(BotMipLevels, SrgbEightBitIsFilteredInLinearLight) {
+    // A black/white checker averages to half the linear intensity, i.e. sRGB code 188, not 128.
+    const uint32_t w = 2, h = 2, ch = 4;
+    std::vector<float> src(w * h * ch);
+    for (uint32_t i = 0; i < w * h; ++i) {
+        const float v = (i == 0 || i == 3) ? 1.0f : 0.0f;
+        src[i * ch + 0] = src[i * ch + 1] = src[i * ch + 2] = v;
+        src[i * ch + 3] = v;  // alpha is linear and averages to 0.5
+    }
+    const fs::path path = tempDir() / "srgb.bot";
+    BotWriteOptions opt;
+    opt.colorSpace = ColorSpace::SRGB;
+    writeBot(path, src.data(), w, h, ch, opt);
+    const auto file = BotFile::open(path);
+    EXPECT_EQ(file->header().colorSpace, ColorSpace::SRGB);
+    const std::vector<float> top = readLevel(*file, 1);
+    const double srgbHalf = 1.055 * std::pow(0.5, 1.0 / 2.4) - 0.055;
+    const int code = int(std::lround(srgbHalf * 255.0));
+    EXPECT_EQ(code, 188);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(std::lround(top[c] * 255.0f), code) << "channel " << c;
+    EXPECT_EQ(std::lround(top[3] * 255.0f), 128);  // 127.5 rounds up
+
+    // The same data tagged linear averages in the stored values.
+    const fs::path linPath = tempDir() / "lin.bot";
+    writeBot(linPath, src.data(), w, h, ch, BotWriteOptions{});
+    const auto lin = BotFile::open(linPath);
+    EXPECT_EQ(std::lround(readLevel(*lin, 1)[0] * 255.0f), 128);
+}
+
+TEST(BotMipLevels, NanAndInfinityDoNotSpreadIntoMips) {
+    std::vector<float> src(16 * 16, 0.5f);
+    src[17] = std::nanf("");
+    src[40] = INFINITY;
+    const fs::path path = tempDir() / "nan.bot";
+    BotWriteOptions opt;
+    opt.pixelType = PixelType::Float;
+    writeBot(path, src.data(), 16, 16, 1, opt);
+    const auto file = BotFile::open(path);
+    for (uint32_t l = 1; l < file->header().levels.size(); ++l)
+        for (float v : readLevel(*file, l)) ASSERT_FALSE(std::isnan(v)) << "level " << l;
+}
+
+// ------------------------------------------------------------------ damaged and hostile files
+
+std::vector<uint8_t> validFile(uint32_t w, uint32_t h, uint32_t ch, const std::string& name) {
+    const std::vector<float> src = makeImage(w, h, ch, PixelType::U8, 77);
+    const fs::path path = tempDir() / name;
+    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    return readBytes(path);
+}
+
+// Recomputes the table checksum after a test edits header or tables, so the edit itself is what
+// the reader has to reject.
+void reseal(std::vector<uint8_t>& b) {
+    using namespace detail;
+    const uint64_t dataStart = get64(&b[kFieldDictionary]) + get32(&b[kFieldDictionaryBytes]);
+    ASSERT_LE(dataStart, b.size());
+    put64(&b[kFieldMetaChecksum],
+          xxh64(b.data() + kBotHeaderBytes, size_t(dataStart - kBotHeaderBytes), xxh64(b.data(), kFieldMetaChecksum, 0)));
+}
+
+std::string openError(const std::vector<uint8_t>& bytes, const fs::path& path) {
+    writeBytes(path, bytes);
+    try {
+        BotFile::open(path);
+    } catch (const FormatError& e) {
+        EXPECT_EQ(e.path(), path);
+        EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+        return e.what();
+    }
+    return "";
+}
+
+TEST(BotFileErrors, MissingFileIsIoErrorNamingIt) {
+    const fs::path path = tempDir() / "does_not_exist.bot";
+    try {
+        BotFile::open(path);
+        FAIL() << "no exception";
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find("does_not_exist.bot"), std::string::npos);
+    }
+}
+
+TEST(BotFileErrors, TruncatedFilesAreFormatErrors) {
+    const std::vector<uint8_t> good = validFile(40, 30, 3, "trunc_src.bot");
+    const fs::path path = tempDir() / "truncated.bot";
+    for (size_t len : {size_t(0), size_t(5), size_t(95), size_t(96), size_t(200), good.size() / 2, good.size() - 1}) {
+        std::vector<uint8_t> cut(good.begin(), good.begin() + std::ptrdiff_t(len));
+        EXPECT_NE(openError(cut, path), "") << "length " << len;
+    }
+}
+
+TEST(BotFileErrors, FlippedPageByteNamesThePage) {
+    std::vector<uint8_t> bytes = validFile(40, 30, 3, "flip_src.bot");
+    const fs::path path = tempDir() / "flipped.bot";
+    writeBytes(path, bytes);
+    const auto file = BotFile::open(path);
+    const uint64_t index = file->pageIndex(0, 2, 1);
+    const BotPageEntry e = file->pageEntry(index);
+    bytes[e.offsetBytes + e.storedBytes / 2] ^= 0x10;
+    writeBytes(path, bytes);
+    const auto damaged = BotFile::open(path);  // tables are intact
+    std::vector<float> page(64 * 3);
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    try {
+        damaged->readPage(fd, 0, 2, 1, page.data());
+        FAIL() << "no exception";
+    } catch (const FormatError& err) {
+        const std::string msg = err.what();
+        EXPECT_NE(msg.find("checksum mismatch"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("level 0 page (2, 1)"), std::string::npos) << msg;
+        EXPECT_NE(msg.find(path.string()), std::string::npos) << msg;
+    }
+    EXPECT_NO_THROW(damaged->readPage(fd, 0, 1, 1, page.data()));  // neighbours still read
+    ::close(fd);
+}
+
+TEST(BotFileErrors, FileTruncatedAfterOpenNamesThePage) {
+    std::vector<uint8_t> bytes = validFile(40, 30, 3, "late_src.bot");
+    const fs::path path = tempDir() / "late.bot";
+    writeBytes(path, bytes);
+    const auto file = BotFile::open(path);
+    const BotPageEntry last = file->pageEntry(file->pageIndex(0, 4, 3));
+    ::truncate(path.c_str(), off_t(last.offsetBytes + 1));
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    std::vector<float> page(64 * 3);
+    try {
+        file->readPage(fd, 0, 4, 3, page.data());
+        FAIL() << "no exception";
+    } catch (const FormatError& err) {
+        EXPECT_NE(std::string(err.what()).find("level 0 page (4, 3)"), std::string::npos) << err.what();
+    }
+    ::close(fd);
+}
+
+TEST(BotFileErrors, CorruptTablesAreDetectedByChecksum) {
+    std::vector<uint8_t> bytes = validFile(40, 30, 3, "table_src.bot");
+    bytes[detail::kBotHeaderBytes + 20] ^= 1;
+    EXPECT_NE(openError(bytes, tempDir() / "table.bot").find("checksum"), std::string::npos);
+}
+
+TEST(BotFileErrors, BadOffsetsAndSizesPastEndNameThePage) {
+    using namespace detail;
+    const std::vector<uint8_t> good = validFile(40, 30, 3, "off_src.bot");
+    const uint64_t rowTable = get64(&good[kFieldRowTable]);
+    const uint64_t pageTable = get64(&good[kFieldPageTable]);
+    const fs::path path = tempDir() / "offsets.bot";
+    {
+        std::vector<uint8_t> b = good;
+        put64(&b[rowTable + 8], uint64_t(1) << 40);  // level 0, page row 1 far past the end
+        reseal(b);
+        const std::string msg = openError(b, path);
+        EXPECT_NE(msg.find("level 0 page (0, 1) lies outside the file"), std::string::npos) << msg;
+    }
+    {
+        std::vector<uint8_t> b = good;
+        put64(&b[rowTable], 3);  // inside the header
+        reseal(b);
+        EXPECT_NE(openError(b, path).find("level 0 page (0, 0)"), std::string::npos);
+    }
+    {
+        std::vector<uint8_t> b = good;
+        const uint64_t lastRow = rowTable + 8 * 3;  // level 0 has 4 page rows
+        const uint64_t lastPage = 5 * 4 - 1;
+        put32(&b[pageTable + lastPage * 8], uint32_t(b.size()));  // size past end of file
+        (void)lastRow;
+        reseal(b);
+        const std::string msg = openError(b, path);
+        EXPECT_NE(msg.find("level 0 page (4, 3)"), std::string::npos) << msg;
+    }
+    {
+        std::vector<uint8_t> b = good;
+        put32(&b[pageTable], 0);
+        reseal(b);
+        EXPECT_NE(openError(b, path).find("bad stored size 0 of level 0 page (0, 0)"), std::string::npos);
+    }
+    {
+        std::vector<uint8_t> b = good;
+        put64(&b[kFieldPageTable], 1ull << 62);
+        EXPECT_NE(openError(b, path).find("bad table offsets"), std::string::npos);
+    }
+}
+
+TEST(BotFileErrors, AbsurdHeaderValuesAreRejectedWithoutAllocating) {
+    using namespace detail;
+    const std::vector<uint8_t> good = validFile(40, 30, 3, "absurd_src.bot");
+    const fs::path path = tempDir() / "absurd.bot";
+    auto with = [&](auto edit) {
+        std::vector<uint8_t> b = good;
+        edit(b);
+        return openError(b, path);
+    };
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldWidth], 1u << 31); put32(&b[kFieldHeight], 1u << 31); })
+                  .find("bad dimensions 2147483648x2147483648"),
+              std::string::npos);
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldWidth], 0); }).find("bad dimensions"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldChannels], 0); }).find("bad channel count 0"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldChannels], 100000); }).find("bad channel count"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldLevelCount], 1000); }).find("bad level count 1000"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { b[kFieldPixelType] = 9; }).find("bad pixel type 9"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { b[0] = 'X'; }).find("bad magic"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldVersion], 2); }).find("unsupported BOT version 2"), std::string::npos);
+    // Largest legal dimensions, but the page table they imply does not fit in the file.
+    EXPECT_NE(with([](auto& b) {
+                  put32(&b[kFieldWidth], kMaxDimension);
+                  put32(&b[kFieldHeight], kMaxDimension);
+                  put32(&b[kFieldLevelCount], 25);
+              }).find("page count"),
+              std::string::npos);
+    EXPECT_NE(with([](auto& b) {
+                  put32(&b[kFieldDictionaryBytes], 1u << 19);
+              }).find("past end of file"),
+              std::string::npos);
+}
+
+TEST(BotFile, ParseFromMemoryMatchesOpen) {
+    const std::vector<uint8_t> bytes = validFile(40, 30, 3, "mem_src.bot");
+    const auto file = BotFile::parse(bytes.data(), bytes.size(), "memory.bot");
+    std::vector<float> a(64 * 3), b(64 * 3);
+    const auto disk = BotFile::open(tempDir() / "mem_src.bot");
+    const int fd = ::open(disk->path().c_str(), O_RDONLY);
+    for (uint32_t l = 0; l < file->header().levels.size(); ++l)
+        for (uint32_t py = 0; py < file->header().levels[l].pagesY; ++py)
+            for (uint32_t px = 0; px < file->header().levels[l].pagesX; ++px) {
+                file->readPageFromMemory(bytes.data(), bytes.size(), l, px, py, a.data());
+                disk->readPage(fd, l, px, py, b.data());
+                ASSERT_EQ(a, b);
+            }
+    ::close(fd);
+    EXPECT_THROW(file->readPageFromMemory(bytes.data(), bytes.size(), 99, 0, 0, a.data()), std::out_of_range);
+}
+
+TEST(BotWriter, AbandonedWriterLeavesNoFileAndKeepsExistingOutput) {
+    const fs::path path = tempDir() / "abandoned.bot";
+    writeBytes(path, {1, 2, 3});
+    {
+        BotWriter writer(path, 16, 16, 1, BotWriteOptions{});
+        std::vector<float> row(16, 0.5f);
+        writer.addRows(0, 0, 1, row.data(), false);
+        EXPECT_THROW(writer.finish(), std::logic_error);  // incomplete
+    }
+    EXPECT_EQ(readBytes(path), (std::vector<uint8_t>{1, 2, 3}));
+    for (const auto& entry : fs::directory_iterator(tempDir()))
+        EXPECT_EQ(entry.path().filename().string().find(".abandoned.bot.tmp"), std::string::npos) << entry.path();
+}
+
+TEST(BotWriter, RejectsBadArguments) {
+    const fs::path path = tempDir() / "bad_args.bot";
+    EXPECT_THROW(BotWriter(path, 0, 4, 1, BotWriteOptions{}), std::invalid_argument);
+    EXPECT_THROW(BotWriter(path, 4, 4, 0, BotWriteOptions{}), std::invalid_argument);
+    BotWriteOptions opt;
+    opt.filter = "gaussian";
+    EXPECT_THROW(BotWriter(path, 4, 4, 1, opt), std::invalid_argument);
+    EXPECT_THROW(BotWriter(tempDir() / "no_such_dir" / "x.bot", 4, 4, 1, BotWriteOptions{}), IoError);
+    EXPECT_FALSE(fs::exists(path));
+}
+
+}  // namespace
+}  // namespace pushpin::texture
+
+// ------------------------------------------------------------------ deterministic mutation test
+
+namespace pushpin::texture {
+namespace {
+
+// Parses `bytes` and decodes every page. Returns true when everything read cleanly, false when a
+// pushpin::Error was thrown. Anything else (crash, other exception) fails the test.
+bool readEverything(const std::vector<uint8_t>& bytes) {
+    try {
+        const auto file = BotFile::parse(bytes.data(), bytes.size(), "mutant.bot");
+        std::vector<float> page(kPageSizeTexels * kPageSizeTexels * file->header().channels);
+        for (uint32_t l = 0; l < file->header().levels.size(); ++l)
+            for (uint32_t py = 0; py < file->header().levels[l].pagesY; ++py)
+                for (uint32_t px = 0; px < file->header().levels[l].pagesX; ++px)
+                    file->readPageFromMemory(bytes.data(), bytes.size(), l, px, py, page.data());
+        return true;
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("mutant.bot"), std::string::npos) << e.what();
+        return false;
+    }
+}
+
+TEST(BotFileMutation, ThousandsOfMutantsNeverCrashAndFlipsAreAlwaysDetected) {
+    // One file with a trained dictionary, one small file without.
+    std::vector<std::vector<uint8_t>> seeds;
+    {
+        const uint32_t w = 300, h = 200;
+        std::vector<float> src(size_t(w) * h * 3);
+        for (size_t i = 0; i < src.size(); ++i) src[i] = float((i * 7 + (i / 900) * 3) % 256) / 255.0f;
+        writeBot(tempDir() / "mut_a.bot", src.data(), w, h, 3, BotWriteOptions{});
+        seeds.push_back(readBytes(tempDir() / "mut_a.bot"));
+    }
+    {
+        const std::vector<float> src = makeImage(13, 7, 2, PixelType::Half, 3);
+        BotWriteOptions opt;
+        opt.pixelType = PixelType::Half;
+        opt.filter = "lanczos3";
+        writeBot(tempDir() / "mut_b.bot", src.data(), 13, 7, 2, opt);
+        seeds.push_back(readBytes(tempDir() / "mut_b.bot"));
+    }
+    ASSERT_TRUE(readEverything(seeds[0]));
+    ASSERT_TRUE(readEverything(seeds[1]));
+
+    std::mt19937_64 rng(20240611);
+    int detected = 0, cases = 0;
+    for (int iter = 0; iter < 4000; ++iter) {
+        const std::vector<uint8_t>& seed = seeds[iter % 2];
+        std::vector<uint8_t> b = seed;
+        const int kind = int(rng() % 5);
+        bool mustFail = false;
+        switch (kind) {
+            case 0: {  // one flipped bit anywhere: every byte is covered by a checksum
+                const size_t pos = rng() % b.size();
+                b[pos] ^= uint8_t(1u << (rng() % 8));
+                mustFail = true;
+                break;
+            }
+            case 1:  // truncation
+                b.resize(rng() % b.size());
+                mustFail = true;
+                break;
+            case 2: {  // inserted bytes
+                const size_t pos = rng() % (b.size() + 1);
+                const size_t n = 1 + rng() % 16;
+                std::vector<uint8_t> ins(n);
+                for (auto& v : ins) v = uint8_t(rng());
+                b.insert(b.begin() + std::ptrdiff_t(pos), ins.begin(), ins.end());
+                break;
+            }
+            case 3: {  // a header or table field overwritten, then resealed so only validation can catch it
+                const size_t tablesEnd = size_t(detail::get64(&b[detail::kFieldDictionary]));
+                const size_t pos = rng() % (tablesEnd - 8);
+                const uint64_t values[] = {0, ~0ull, rng(), 1ull << 31, 1ull << 63, b.size(), b.size() - 1};
+                const uint64_t v = values[rng() % 7];
+                for (int i = 0; i < 8; ++i) b[pos + size_t(i)] = uint8_t(v >> (8 * i));
+                if (pos + 8 <= detail::kFieldMetaChecksum || pos >= detail::kBotHeaderBytes) {
+                    const uint64_t dataStart =
+                        detail::get64(&b[detail::kFieldDictionary]) + detail::get32(&b[detail::kFieldDictionaryBytes]);
+                    if (dataStart <= b.size()) reseal(b);
+                }
+                break;
+            }
+            default: {  // several random bytes
+                for (int k = 0; k < 1 + int(rng() % 8); ++k) b[rng() % b.size()] = uint8_t(rng());
+                break;
+            }
+        }
+        if (b == seed) continue;
+        ++cases;
+        const bool clean = readEverything(b);
+        if (!clean) ++detected;
+        if (mustFail) {
+            ASSERT_FALSE(clean) << "undetected mutation kind " << kind << " at iteration " << iter;
+        }
+    }
+    EXPECT_GT(cases, 3900);
+    EXPECT_GT(detected, cases / 2);
+}
+
+}  // namespace
+}  // namespace pushpin::texture

@@ -1,0 +1,687 @@
+#include "texture/bot_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "cache/error.h"
+#include "cache/zstd_codec.h"
+#include "texture/detail/bot_checksum.h"
+#include "texture/detail/bot_layout.h"
+#include "texture/detail/bot_page.h"
+#include "texture/mipmap.h"
+
+namespace pushpin::texture {
+
+using detail::get32;
+using detail::get64;
+using detail::kPageTexels;
+
+uint32_t bytesPerSample(PixelType type) {
+    switch (type) {
+        case PixelType::U8: return 1;
+        case PixelType::U16: return 2;
+        case PixelType::Half: return 2;
+        case PixelType::Float: return 4;
+    }
+    return 1;
+}
+
+const char* pixelTypeName(PixelType type) {
+    switch (type) {
+        case PixelType::U8: return "u8";
+        case PixelType::U16: return "u16";
+        case PixelType::Half: return "half";
+        case PixelType::Float: return "float";
+    }
+    return "?";
+}
+
+const char* wrapModeName(WrapMode mode) {
+    switch (mode) {
+        case WrapMode::Black: return "black";
+        case WrapMode::Clamp: return "clamp";
+        case WrapMode::Periodic: return "periodic";
+        case WrapMode::Mirror: return "mirror";
+    }
+    return "?";
+}
+
+const char* colorSpaceName(ColorSpace space) { return space == ColorSpace::SRGB ? "srgb" : "linear"; }
+
+namespace {
+
+std::string pageName(uint32_t level, uint32_t pageX, uint32_t pageY) {
+    return "level " + std::to_string(level) + " page (" + std::to_string(pageX) + ", " + std::to_string(pageY) + ")";
+}
+
+uint32_t pageChecksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex) {
+    return uint32_t(detail::xxh64(stored, bytes, pageIndex));
+}
+
+uint64_t pagesOf(uint32_t texels) { return (uint64_t(texels) + kPageSizeTexels - 1) / kPageSizeTexels; }
+
+// The level table every valid file of this size has.
+std::vector<BotLevel> levelsFor(uint32_t width, uint32_t height) {
+    std::vector<BotLevel> levels;
+    for (auto [w, h] : mipLevelSizes(width, height))
+        levels.push_back({w, h, uint32_t(pagesOf(w)), uint32_t(pagesOf(h))});
+    return levels;
+}
+
+// Reads exactly n bytes at offset; returns false on a short read (end of file), throws IoError on error.
+bool preadAll(int fd, void* dst, size_t n, uint64_t offset, const std::filesystem::path& path) {
+    uint8_t* p = static_cast<uint8_t*>(dst);
+    while (n > 0) {
+        const ssize_t r = ::pread(fd, p, n, off_t(offset));
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            throw IoError(path, "read of " + std::to_string(n) + " bytes at offset " + std::to_string(offset), errno);
+        }
+        if (r == 0) return false;
+        p += r;
+        n -= size_t(r);
+        offset += uint64_t(r);
+    }
+    return true;
+}
+
+void pwriteAll(int fd, const void* src, size_t n, uint64_t offset, const std::filesystem::path& path) {
+    const uint8_t* p = static_cast<const uint8_t*>(src);
+    while (n > 0) {
+        const ssize_t r = ::pwrite(fd, p, n, off_t(offset));
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            throw IoError(path, "write of " + std::to_string(n) + " bytes at offset " + std::to_string(offset), errno);
+        }
+        p += r;
+        n -= size_t(r);
+        offset += uint64_t(r);
+    }
+}
+
+// Per-thread buffers of readPage, sized for the largest page any valid file can have.
+struct PageScratch {
+    std::vector<uint8_t> stored, packed, samples;
+    std::optional<cache::ZstdDecompressor> decompressor;
+    const cache::ZstdDictionary* dictionary = nullptr;
+};
+
+PageScratch& pageScratch() {
+    thread_local PageScratch scratch;
+    return scratch;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------- reading
+
+struct BotFile::Source {
+    int fd = -1;
+    const uint8_t* bytes = nullptr;
+    uint64_t size = 0;
+    // Returns false when [offset, offset + n) is not inside the source.
+    bool read(void* dst, size_t n, uint64_t offset, const std::filesystem::path& path) const {
+        if (offset > size || n > size - offset) return false;
+        if (bytes) {
+            std::memcpy(dst, bytes + offset, n);
+            return true;
+        }
+        return preadAll(fd, dst, n, offset, path);
+    }
+};
+
+std::shared_ptr<const BotFile> BotFile::open(const std::filesystem::path& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw IoError(path, "cannot open BOT file", errno);
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        const int e = errno;
+        ::close(fd);
+        throw IoError(path, "cannot stat BOT file", e);
+    }
+    if (!S_ISREG(st.st_mode)) {
+        ::close(fd);
+        throw IoError(path, "not a regular file");
+    }
+    Source source;
+    source.fd = fd;
+    source.size = uint64_t(st.st_size);
+    try {
+        auto file = parseImpl(path, source);
+        ::close(fd);
+        return file;
+    } catch (...) {
+        ::close(fd);
+        throw;
+    }
+}
+
+std::shared_ptr<const BotFile> BotFile::parse(const uint8_t* bytes, size_t byteCount,
+                                              const std::filesystem::path& path) {
+    Source source;
+    source.bytes = bytes;
+    source.size = byteCount;
+    return parseImpl(path, source);
+}
+
+std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& path, const Source& source) {
+    using namespace detail;
+    auto fail = [&](const std::string& msg) -> FormatError { return FormatError(path, msg); };
+    const uint64_t fileBytes = source.size;
+    uint8_t h[kBotHeaderBytes];
+    if (!source.read(h, kBotHeaderBytes, 0, path))
+        throw fail("truncated BOT header (" + std::to_string(fileBytes) + " bytes, need " +
+                   std::to_string(kBotHeaderBytes) + ")");
+    if (std::memcmp(h, kBotMagic, sizeof kBotMagic) != 0) throw fail("not a BOT file (bad magic)");
+    if (get32(h + kFieldVersion) != kBotVersion)
+        throw fail("unsupported BOT version " + std::to_string(get32(h + kFieldVersion)));
+    if (get32(h + kFieldHeaderBytes) != kBotHeaderBytes)
+        throw fail("bad header size " + std::to_string(get32(h + kFieldHeaderBytes)));
+
+    std::shared_ptr<BotFile> file(new BotFile());
+    file->m_path = path;
+    file->m_fileBytes = fileBytes;
+    BotHeader& hd = file->m_header;
+    hd.width = get32(h + kFieldWidth);
+    hd.height = get32(h + kFieldHeight);
+    hd.channels = get32(h + kFieldChannels);
+    if (hd.width == 0 || hd.height == 0 || hd.width > kMaxDimension || hd.height > kMaxDimension)
+        throw fail("bad dimensions " + std::to_string(hd.width) + "x" + std::to_string(hd.height) + " (1.." +
+                   std::to_string(kMaxDimension) + " allowed)");
+    if (hd.channels == 0 || hd.channels > kMaxChannels)
+        throw fail("bad channel count " + std::to_string(hd.channels) + " (1.." + std::to_string(kMaxChannels) +
+                   " allowed)");
+    if (h[kFieldPixelType] > 3) throw fail("bad pixel type " + std::to_string(h[kFieldPixelType]));
+    if (h[kFieldColorSpace] > 1) throw fail("bad colour space " + std::to_string(h[kFieldColorSpace]));
+    if (h[kFieldWrapS] > 3 || h[kFieldWrapT] > 3) throw fail("bad wrap mode");
+    if (h[kFieldPageFilter] > 1) throw fail("bad page filter " + std::to_string(h[kFieldPageFilter]));
+    if (h[kFieldMipFilter] > 2) throw fail("bad mip filter " + std::to_string(h[kFieldMipFilter]));
+    hd.pixelType = PixelType(h[kFieldPixelType]);
+    hd.colorSpace = ColorSpace(h[kFieldColorSpace]);
+    hd.wrapS = WrapMode(h[kFieldWrapS]);
+    hd.wrapT = WrapMode(h[kFieldWrapT]);
+    file->m_pageFilter = h[kFieldPageFilter];
+    file->m_pageRawBytes = detail::pageRawBytes(hd.channels, hd.pixelType);
+
+    const uint32_t levelCount = get32(h + kFieldLevelCount);
+    hd.levels = levelsFor(hd.width, hd.height);
+    if (levelCount != hd.levels.size())
+        throw fail("bad level count " + std::to_string(levelCount) + " (a " + std::to_string(hd.width) + "x" +
+                   std::to_string(hd.height) + " image has " + std::to_string(hd.levels.size()) + ")");
+
+    uint64_t pageCount = 0, rowCount = 0;
+    for (const BotLevel& l : hd.levels) {
+        file->m_levelFirstPage.push_back(pageCount);
+        pageCount += uint64_t(l.pagesX) * l.pagesY;
+        rowCount += l.pagesY;
+    }
+    const uint64_t levelTable = kBotHeaderBytes;
+    const uint64_t rowTable = levelTable + uint64_t(levelCount) * kBotLevelEntryBytes;
+    const uint64_t pageTable = rowTable + rowCount * kBotRowEntryBytes;
+    const uint64_t dictOffset = pageTable + pageCount * kBotPageEntryBytes;
+    const uint32_t dictBytes = get32(h + kFieldDictionaryBytes);
+    if (get64(h + kFieldPageCount) != pageCount)
+        throw fail("bad page count " + std::to_string(get64(h + kFieldPageCount)) + " (expected " +
+                   std::to_string(pageCount) + ")");
+    if (get64(h + kFieldLevelTable) != levelTable || get64(h + kFieldRowTable) != rowTable ||
+        get64(h + kFieldPageTable) != pageTable || get64(h + kFieldDictionary) != dictOffset)
+        throw fail("bad table offsets in header");
+    if (get16(h + kFieldReserved0) != 0 || get32(h + kFieldReserved1) != 0) throw fail("reserved header fields not zero");
+    if (dictBytes > kBotMaxDictionaryBytes) throw fail("bad dictionary size " + std::to_string(dictBytes));
+    const uint64_t dataStart = dictOffset + dictBytes;
+    if (dataStart > fileBytes)
+        throw fail("tables extend past end of file (need " + std::to_string(dataStart) + " bytes, file has " +
+                   std::to_string(fileBytes) + ")");
+
+    // The whole table region is inside the file, so this allocation is bounded by the file size.
+    std::vector<uint8_t> tables(size_t(dataStart - levelTable));
+    if (!source.read(tables.data(), tables.size(), levelTable, path)) throw fail("truncated tables");
+    const uint64_t metaChecksum = xxh64(tables.data(), tables.size(), xxh64(h, kFieldMetaChecksum, 0));
+    if (metaChecksum != get64(h + kFieldMetaChecksum)) throw fail("header/page table checksum mismatch");
+
+    const uint8_t* lt = tables.data();
+    for (uint32_t l = 0; l < levelCount; ++l) {
+        if (get32(lt + l * 8) != hd.levels[l].width || get32(lt + l * 8 + 4) != hd.levels[l].height)
+            throw fail("level table entry " + std::to_string(l) + " does not match the image size");
+    }
+    const uint8_t* rt = tables.data() + (rowTable - levelTable);
+    const uint8_t* pt = tables.data() + (pageTable - levelTable);
+    const uint32_t maxStored = uint32_t(cache::zstdCompressBound(file->m_pageRawBytes));
+    file->m_pages.resize(size_t(pageCount));
+    uint64_t row = 0, index = 0;
+    for (uint32_t l = 0; l < levelCount; ++l) {
+        const BotLevel& lv = hd.levels[l];
+        for (uint32_t py = 0; py < lv.pagesY; ++py, ++row) {
+            uint64_t offset = get64(rt + row * 8);
+            for (uint32_t px = 0; px < lv.pagesX; ++px, ++index) {
+                BotPageEntry& e = file->m_pages[index];
+                const uint32_t sizeField = get32(pt + index * 8);
+                e.checksum = get32(pt + index * 8 + 4);
+                e.raw = (sizeField & kBotRawPageBit) != 0;
+                e.storedBytes = sizeField & ~kBotRawPageBit;
+                e.offsetBytes = offset;
+                if (e.raw ? e.storedBytes != file->m_pageRawBytes : (e.storedBytes == 0 || e.storedBytes > maxStored))
+                    throw fail("bad stored size " + std::to_string(e.storedBytes) + " of " + pageName(l, px, py));
+                if (offset < dataStart || offset > fileBytes || e.storedBytes > fileBytes - offset)
+                    throw fail(pageName(l, px, py) + " lies outside the file (offset " + std::to_string(offset) +
+                               ", " + std::to_string(e.storedBytes) + " bytes, file has " +
+                               std::to_string(fileBytes) + ")");
+                offset += e.storedBytes;
+            }
+        }
+    }
+    file->m_dictionaryBytes = dictBytes;
+    if (dictBytes > 0) {
+        try {
+            file->m_dictionary = std::make_shared<cache::ZstdDictionary>(
+                tables.data() + (dictOffset - levelTable), dictBytes, 3);
+        } catch (const Error& e) {
+            throw fail(std::string("invalid zstd dictionary: ") + e.what());
+        }
+    }
+    return file;
+}
+
+uint64_t BotFile::pageIndex(uint32_t level, uint32_t pageX, uint32_t pageY) const {
+    if (level >= m_header.levels.size() || pageX >= m_header.levels[level].pagesX ||
+        pageY >= m_header.levels[level].pagesY)
+        throw std::out_of_range(m_path.string() + ": no " + pageName(level, pageX, pageY));
+    return m_levelFirstPage[level] + uint64_t(pageY) * m_header.levels[level].pagesX + pageX;
+}
+
+uint64_t BotFile::readPage(int fd, uint32_t level, uint32_t pageX, uint32_t pageY, float* dst) const {
+    const uint64_t index = pageIndex(level, pageX, pageY);
+    const BotPageEntry& e = m_pages[index];
+    PageScratch& scratch = pageScratch();
+    scratch.stored.resize(e.storedBytes);
+    if (!preadAll(fd, scratch.stored.data(), e.storedBytes, e.offsetBytes, m_path))
+        throw FormatError(m_path, pageName(level, pageX, pageY) + " extends past end of file (file truncated?)");
+    return decodePage(index, level, pageX, pageY, scratch.stored.data(), dst);
+}
+
+uint64_t BotFile::readPageFromMemory(const uint8_t* bytes, size_t byteCount, uint32_t level, uint32_t pageX,
+                                     uint32_t pageY, float* dst) const {
+    const uint64_t index = pageIndex(level, pageX, pageY);
+    const BotPageEntry& e = m_pages[index];
+    if (e.offsetBytes > byteCount || e.storedBytes > byteCount - e.offsetBytes)
+        throw FormatError(m_path, pageName(level, pageX, pageY) + " extends past end of file");
+    return decodePage(index, level, pageX, pageY, bytes + e.offsetBytes, dst);
+}
+
+uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uint32_t pageY, const uint8_t* stored,
+                             float* dst) const {
+    const BotPageEntry& e = m_pages[index];
+    if (pageChecksum(stored, e.storedBytes, index) != e.checksum)
+        throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
+    PageScratch& scratch = pageScratch();
+    const uint8_t* packed = stored;
+    if (!e.raw) {
+        if (!scratch.decompressor) scratch.decompressor.emplace();
+        if (scratch.dictionary != m_dictionary.get()) {
+            scratch.decompressor->setDictionary(m_dictionary);
+            scratch.dictionary = m_dictionary.get();
+        }
+        scratch.packed.resize(m_pageRawBytes);
+        if (!scratch.decompressor->decompress(stored, e.storedBytes, scratch.packed.data(), m_pageRawBytes))
+            throw FormatError(m_path, "corrupt compressed data in " + pageName(level, pageX, pageY));
+        packed = scratch.packed.data();
+    }
+    scratch.samples.resize(m_pageRawBytes);
+    detail::unpackPage(packed, m_header.channels, m_header.pixelType, m_pageFilter != 0, scratch.samples.data());
+    detail::samplesToFloat(scratch.samples.data(), m_header.channels, m_header.pixelType, dst);
+    return e.storedBytes;
+}
+
+// ---------------------------------------------------------------------------------------- writing
+
+struct BotWriter::Impl {
+    std::filesystem::path target, temp;
+    int fd = -1;
+    bool finished = false;
+    BotHeader header;
+    BotWriteOptions options;
+    MipFilter mipFilter = MipFilter::Box;
+    uint32_t rawBytes = 0;
+    std::vector<uint64_t> levelFirstPage, levelFirstRow;
+    std::vector<uint64_t> rowOffsets;
+    std::vector<uint32_t> pageSizes, pageChecksums;
+    uint64_t rowTableOffset = 0, pageTableOffset = 0, dictOffset = 0, cursor = 0;
+
+    struct LevelRows {
+        std::vector<float> rows;  // up to kPageSizeTexels rows being gathered
+        uint32_t filled = 0;      // rows in `rows`
+        uint32_t nextRow = 0;     // next row expected
+        bool linearLight = false;
+    };
+    std::vector<LevelRows> levels;
+
+    // Dictionary training: page rows are kept packed (uncompressed) until enough samples exist.
+    bool dictionaryDecided = false;
+    std::shared_ptr<const cache::ZstdDictionary> dictionary;
+    struct PendingRow {
+        uint32_t level, pageY;
+        std::vector<uint8_t> packed;  // pagesX * rawBytes
+    };
+    std::vector<PendingRow> pending;
+    size_t pendingBytes = 0;
+    std::optional<tbb::enumerable_thread_specific<std::unique_ptr<cache::ZstdCompressor>>> compressors;
+    std::vector<uint8_t> rowBuffer;
+    std::vector<uint32_t> rowSizes;
+
+    // Gathers page (px) of a row band (nRows rows of level `level`) into a padded 8x8 block and packs it.
+    void packPage(uint32_t level, const float* rows, uint32_t nRows, uint32_t px, bool linear, uint8_t* out) const {
+        const uint32_t ch = header.channels;
+        const uint32_t w = header.levels[level].width;
+        float texels[kPageTexels * kMaxChannels];
+        alignas(16) uint8_t samples[kPageTexels * kMaxChannels * 4];
+        for (uint32_t y = 0; y < kPageSizeTexels; ++y) {
+            const float* src = rows + size_t(std::min(y, nRows - 1)) * w * ch;
+            for (uint32_t x = 0; x < kPageSizeTexels; ++x) {
+                const uint32_t sx = std::min(px * kPageSizeTexels + x, w - 1);
+                std::memcpy(texels + (y * kPageSizeTexels + x) * ch, src + size_t(sx) * ch, ch * sizeof(float));
+            }
+        }
+        detail::quantizePage(texels, ch, header.pixelType, header.colorSpace, options.alphaChannel, linear, samples);
+        detail::packPage(samples, ch, header.pixelType, options.predictPages, out);
+    }
+
+    // Compresses one packed page into dst (capacity >= rawBytes); returns stored size with raw bit.
+    uint32_t compressPage(const uint8_t* packed, uint8_t* dst) {
+        auto& slot = compressors->local();
+        if (!slot) slot = std::make_unique<cache::ZstdCompressor>(options.compressionLevel, dictionary);
+        const size_t n = slot->compress(packed, rawBytes, dst, rawBytes - 1);
+        if (n == 0) {
+            std::memcpy(dst, packed, rawBytes);
+            return rawBytes | detail::kBotRawPageBit;
+        }
+        return uint32_t(n);
+    }
+
+    // Writes nRowsOfPages page rows whose packed pages are in `packed` (page-row-major).
+    void writeRows(const std::vector<std::pair<uint32_t, uint32_t>>& rowsToWrite,
+                   const std::vector<const uint8_t*>& packedRows) {
+        // Index every page of every row, compress them all in parallel, then write row by row.
+        std::vector<uint64_t> firstPageOfRow(rowsToWrite.size() + 1, 0);
+        for (size_t r = 0; r < rowsToWrite.size(); ++r)
+            firstPageOfRow[r + 1] = firstPageOfRow[r] + header.levels[rowsToWrite[r].first].pagesX;
+        const uint64_t total = firstPageOfRow.back();
+        const size_t slotBytes = rawBytes;
+        rowBuffer.resize(size_t(total) * slotBytes);
+        rowSizes.resize(size_t(total));
+        tbb::parallel_for(tbb::blocked_range<uint64_t>(0, total, 16), [&](const tbb::blocked_range<uint64_t>& rg) {
+            for (uint64_t k = rg.begin(); k != rg.end(); ++k) {
+                const size_t r = size_t(std::upper_bound(firstPageOfRow.begin(), firstPageOfRow.end(), k) -
+                                        firstPageOfRow.begin() - 1);
+                const uint64_t px = k - firstPageOfRow[r];
+                const uint8_t* packed = packedRows[r] + px * rawBytes;
+                uint8_t* dst = rowBuffer.data() + k * slotBytes;
+                const uint32_t sizeField = compressPage(packed, dst);
+                const auto [level, pageY] = rowsToWrite[r];
+                const uint64_t index = levelFirstPage[level] + uint64_t(pageY) * header.levels[level].pagesX + px;
+                rowSizes[k] = sizeField;
+                pageSizes[index] = sizeField;
+                pageChecksums[index] = pageChecksum(dst, sizeField & ~detail::kBotRawPageBit, index);
+            }
+        });
+        // Close the gaps between slots and write everything with one call.
+        size_t packedEnd = 0;
+        for (size_t r = 0; r < rowsToWrite.size(); ++r) {
+            const auto [level, pageY] = rowsToWrite[r];
+            rowOffsets[levelFirstRow[level] + pageY] = cursor + packedEnd;
+            for (uint64_t k = firstPageOfRow[r]; k < firstPageOfRow[r + 1]; ++k) {
+                const uint32_t n = rowSizes[k] & ~detail::kBotRawPageBit;
+                std::memmove(rowBuffer.data() + packedEnd, rowBuffer.data() + k * slotBytes, n);
+                packedEnd += n;
+            }
+        }
+        pwriteAll(fd, rowBuffer.data(), packedEnd, cursor, target);
+        cursor += packedEnd;
+    }
+
+    void emitPageRow(uint32_t level, uint32_t pageY, const float* rows, uint32_t nRows, bool linear) {
+        const uint32_t pagesX = header.levels[level].pagesX;
+        std::vector<uint8_t> packed(size_t(pagesX) * rawBytes);
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, pagesX, 8), [&](const tbb::blocked_range<uint32_t>& rg) {
+            for (uint32_t px = rg.begin(); px != rg.end(); ++px)
+                packPage(level, rows, nRows, px, linear, packed.data() + size_t(px) * rawBytes);
+        });
+        if (!dictionaryDecided) {
+            pendingBytes += packed.size();
+            pending.push_back({level, pageY, std::move(packed)});
+            if (pendingBytes >= kDictionarySampleBytes) decideDictionary();
+            return;
+        }
+        writeRows({{level, pageY}}, {packed.data()});
+    }
+
+    void decideDictionary() {
+        dictionaryDecided = true;
+        size_t pageCount = pendingBytes / rawBytes;
+        // Too few samples make zstd's trainer fail or produce a dictionary that costs more than it saves.
+        if (options.trainDictionary && pageCount >= 64 && pendingBytes >= 16 * 1024) {
+            std::vector<uint8_t> samples;
+            samples.reserve(pendingBytes);
+            for (const PendingRow& r : pending) samples.insert(samples.end(), r.packed.begin(), r.packed.end());
+            std::vector<size_t> sizes(pageCount, rawBytes);
+            const size_t capacity = std::clamp<size_t>(pendingBytes / 32, 2048, 16384);
+            std::vector<uint8_t> dict = cache::trainZstdDictionary(samples.data(), sizes.data(), sizes.size(), capacity);
+            if (!dict.empty()) {
+                dictionary = std::make_shared<cache::ZstdDictionary>(dict.data(), dict.size(), options.compressionLevel);
+                pwriteAll(fd, dict.data(), dict.size(), cursor, target);
+                cursor += dict.size();
+            }
+        }
+        compressors.emplace();
+        std::vector<std::pair<uint32_t, uint32_t>> rows;
+        std::vector<const uint8_t*> packed;
+        for (const PendingRow& r : pending) {
+            rows.emplace_back(r.level, r.pageY);
+            packed.push_back(r.packed.data());
+        }
+        if (!rows.empty()) writeRows(rows, packed);
+        pending.clear();
+        pending.shrink_to_fit();
+        pendingBytes = 0;
+    }
+
+    void writeTables() {
+        using namespace detail;
+        const uint32_t levelCount = uint32_t(header.levels.size());
+        const uint32_t dictBytes = dictionary ? uint32_t(dictionary->bytes().size()) : 0;
+        std::vector<uint8_t> tables(size_t(dictOffset + dictBytes - kBotHeaderBytes));
+        uint8_t* lt = tables.data();
+        for (uint32_t l = 0; l < levelCount; ++l) {
+            put32(lt + l * 8, header.levels[l].width);
+            put32(lt + l * 8 + 4, header.levels[l].height);
+        }
+        uint8_t* rt = tables.data() + (rowTableOffset - kBotHeaderBytes);
+        for (size_t r = 0; r < rowOffsets.size(); ++r) put64(rt + r * 8, rowOffsets[r]);
+        uint8_t* pt = tables.data() + (pageTableOffset - kBotHeaderBytes);
+        for (size_t p = 0; p < pageSizes.size(); ++p) {
+            put32(pt + p * 8, pageSizes[p]);
+            put32(pt + p * 8 + 4, pageChecksums[p]);
+        }
+        if (dictBytes) std::memcpy(tables.data() + (dictOffset - kBotHeaderBytes), dictionary->bytes().data(), dictBytes);
+
+        uint8_t h[kBotHeaderBytes] = {};
+        std::memcpy(h, kBotMagic, sizeof kBotMagic);
+        put32(h + kFieldVersion, kBotVersion);
+        put32(h + kFieldHeaderBytes, kBotHeaderBytes);
+        put32(h + kFieldWidth, header.width);
+        put32(h + kFieldHeight, header.height);
+        put32(h + kFieldChannels, header.channels);
+        h[kFieldPixelType] = uint8_t(header.pixelType);
+        h[kFieldColorSpace] = uint8_t(header.colorSpace);
+        h[kFieldWrapS] = uint8_t(header.wrapS);
+        h[kFieldWrapT] = uint8_t(header.wrapT);
+        h[kFieldPageFilter] = options.predictPages ? 1 : 0;
+        h[kFieldMipFilter] = uint8_t(mipFilter);
+        put32(h + kFieldLevelCount, levelCount);
+        put64(h + kFieldLevelTable, kBotHeaderBytes);
+        put64(h + kFieldRowTable, rowTableOffset);
+        put64(h + kFieldPageTable, pageTableOffset);
+        put64(h + kFieldDictionary, dictOffset);
+        put32(h + kFieldDictionaryBytes, dictBytes);
+        put64(h + kFieldPageCount, pageSizes.size());
+        put64(h + kFieldMetaChecksum, xxh64(tables.data(), tables.size(), xxh64(h, kFieldMetaChecksum, 0)));
+        // The dictionary bytes were already written where they belong; rewriting them is harmless.
+        pwriteAll(fd, tables.data(), tables.size(), kBotHeaderBytes, target);
+        pwriteAll(fd, h, kBotHeaderBytes, 0, target);
+    }
+};
+
+BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t height, uint32_t channels,
+                     const BotWriteOptions& options)
+    : m_impl(std::make_unique<Impl>()) {
+    Impl& m = *m_impl;
+    if (width == 0 || height == 0 || width > kMaxDimension || height > kMaxDimension)
+        throw std::invalid_argument(path.string() + ": unsupported image size " + std::to_string(width) + "x" +
+                                    std::to_string(height));
+    if (channels == 0 || channels > kMaxChannels)
+        throw std::invalid_argument(path.string() + ": unsupported channel count " + std::to_string(channels));
+    const auto filter = parseMipFilter(options.filter);
+    if (!filter) throw std::invalid_argument("unknown mip filter '" + options.filter + "'");
+    if (options.alphaChannel < -2 || options.alphaChannel >= int(channels))
+        throw std::invalid_argument("bad alpha channel " + std::to_string(options.alphaChannel));
+    m.target = path;
+    m.options = options;
+    m.mipFilter = *filter;
+    m.header.width = width;
+    m.header.height = height;
+    m.header.channels = channels;
+    m.header.pixelType = options.pixelType;
+    m.header.colorSpace = options.colorSpace;
+    m.header.wrapS = options.wrapS;
+    m.header.wrapT = options.wrapT;
+    m.header.levels = levelsFor(width, height);
+    m.rawBytes = detail::pageRawBytes(channels, options.pixelType);
+    uint64_t pages = 0, rows = 0;
+    for (const BotLevel& l : m.header.levels) {
+        m.levelFirstPage.push_back(pages);
+        m.levelFirstRow.push_back(rows);
+        pages += uint64_t(l.pagesX) * l.pagesY;
+        rows += l.pagesY;
+    }
+    m.rowOffsets.assign(size_t(rows), 0);
+    m.pageSizes.assign(size_t(pages), 0);
+    m.pageChecksums.assign(size_t(pages), 0);
+    m.levels.resize(m.header.levels.size());
+    m.rowTableOffset = detail::kBotHeaderBytes + uint64_t(m.header.levels.size()) * detail::kBotLevelEntryBytes;
+    m.pageTableOffset = m.rowTableOffset + rows * detail::kBotRowEntryBytes;
+    m.dictOffset = m.pageTableOffset + pages * detail::kBotPageEntryBytes;
+    m.cursor = m.dictOffset;
+
+    // A unique temporary name in the target's folder, so the final rename is atomic.
+    const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    std::string tmpl = (dir / ("." + path.filename().string() + ".tmp.XXXXXX")).string();
+    const int fd = ::mkstemp(tmpl.data());
+    if (fd < 0) throw IoError(path, "cannot create temporary file in " + dir.string(), errno);
+    ::fchmod(fd, 0644);
+    m.fd = fd;
+    m.temp = tmpl;
+}
+
+BotWriter::~BotWriter() {
+    if (m_impl && m_impl->fd >= 0) ::close(m_impl->fd);
+    if (m_impl && !m_impl->finished && !m_impl->temp.empty()) ::unlink(m_impl->temp.c_str());
+}
+
+const BotHeader& BotWriter::header() const { return m_impl->header; }
+
+void BotWriter::addRows(uint32_t level, uint32_t firstRow, uint32_t rowCount, const float* rows, bool linearLight) {
+    Impl& m = *m_impl;
+    if (m.finished) throw std::logic_error("BotWriter::addRows after finish");
+    if (level >= m.header.levels.size()) throw std::logic_error("BotWriter::addRows: no level " + std::to_string(level));
+    Impl::LevelRows& lr = m.levels[level];
+    const BotLevel& lv = m.header.levels[level];
+    if (firstRow != lr.nextRow || rowCount > lv.height - firstRow)
+        throw std::logic_error("BotWriter::addRows: rows of level " + std::to_string(level) + " out of order");
+    const size_t stride = size_t(lv.width) * m.header.channels;
+    uint32_t done = 0;
+    while (done < rowCount) {
+        const uint32_t row = firstRow + done;
+        const uint32_t pageY = row / kPageSizeTexels;
+        const uint32_t rowsInPage = std::min(kPageSizeTexels, lv.height - pageY * kPageSizeTexels);
+        if (lr.filled == 0 && rowCount - done >= rowsInPage) {
+            // A whole page row is available in the caller's buffer: no copy.
+            m.emitPageRow(level, pageY, rows + done * stride, rowsInPage, linearLight);
+            done += rowsInPage;
+            continue;
+        }
+        const uint32_t take = std::min(rowsInPage - lr.filled, rowCount - done);
+        lr.rows.resize(size_t(kPageSizeTexels) * stride);
+        std::memcpy(lr.rows.data() + lr.filled * stride, rows + done * stride, take * stride * sizeof(float));
+        lr.filled += take;
+        done += take;
+        if (lr.filled == rowsInPage) {
+            m.emitPageRow(level, pageY, lr.rows.data(), rowsInPage, linearLight);
+            lr.filled = 0;
+        }
+    }
+    lr.nextRow = firstRow + rowCount;
+    if (lr.nextRow == lv.height) {
+        lr.rows.clear();
+        lr.rows.shrink_to_fit();
+    }
+}
+
+BotWriteStats BotWriter::finish() {
+    Impl& m = *m_impl;
+    if (m.finished) throw std::logic_error("BotWriter::finish called twice");
+    for (size_t l = 0; l < m.levels.size(); ++l)
+        if (m.levels[l].nextRow != m.header.levels[l].height)
+            throw std::logic_error("BotWriter::finish: level " + std::to_string(l) + " has " +
+                                   std::to_string(m.levels[l].nextRow) + " of " +
+                                   std::to_string(m.header.levels[l].height) + " rows");
+    if (!m.dictionaryDecided) m.decideDictionary();
+    m.writeTables();
+    const int fd = m.fd;
+    m.fd = -1;
+    if (::close(fd) != 0) throw IoError(m.target, "close of temporary file " + m.temp.string(), errno);
+    if (::rename(m.temp.c_str(), m.target.c_str()) != 0)
+        throw IoError(m.target, "rename from " + m.temp.string(), errno);
+    m.finished = true;
+    BotWriteStats stats;
+    stats.pages = m.pageSizes.size();
+    stats.rawBytes = stats.pages * m.rawBytes;
+    stats.fileBytes = m.cursor;
+    stats.dictionaryBytes = m.dictionary ? uint32_t(m.dictionary->bytes().size()) : 0;
+    return stats;
+}
+
+void writeBot(const std::filesystem::path& path, const float* pixels, uint32_t width, uint32_t height,
+              uint32_t channels, const BotWriteOptions& options) {
+    auto run = [&] {
+        BotWriter writer(path, width, height, channels, options);
+        MipCascade cascade(width, height, channels, *parseMipFilter(options.filter), options.colorSpace,
+                           options.alphaChannel,
+                           [&](uint32_t level, uint32_t firstRow, uint32_t rowCount, const float* rows, bool linear) {
+                               writer.addRows(level, firstRow, rowCount, rows, linear);
+                           });
+        const size_t stride = size_t(width) * channels;
+        constexpr uint32_t kBand = 64;
+        for (uint32_t y = 0; y < height; y += kBand) cascade.pushRows(pixels + y * stride, std::min(kBand, height - y));
+        writer.finish();
+    };
+    if (options.threads > 0) {
+        tbb::task_arena arena(options.threads);
+        arena.execute(run);
+    } else {
+        run();
+    }
+}
+
+}  // namespace pushpin::texture

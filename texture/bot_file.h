@@ -1,0 +1,172 @@
+// texture/bot_file.h: the BOT texture file (see texture/BOT_FORMAT.md): reading its header, level
+// table and page table, reading single 8x8 pages, and writing whole files (streaming BotWriter, or
+// writeBot for an image already in memory).
+// Thread safety: a BotFile is immutable after open(); all its const methods may be called
+// concurrently. A BotWriter belongs to one thread (it parallelises page encoding internally with
+// oneTBB).
+// Memory: a BotFile holds 16 bytes per page plus the file's dictionary; readPage uses thread-local
+// buffers bounded by the largest possible page (64 channels of float: 16 KiB raw). A BotWriter holds
+// 8 rows per level, 8 bytes per page for its tables, and while it trains its dictionary at most
+// kDictionarySampleBytes of pending pages.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pushpin::cache {
+class ZstdDictionary;
+}
+
+namespace pushpin::texture {
+
+enum class PixelType : uint8_t { U8 = 0, U16 = 1, Half = 2, Float = 3 };
+enum class WrapMode : uint8_t { Black = 0, Clamp = 1, Periodic = 2, Mirror = 3 };
+enum class ColorSpace : uint8_t { Linear = 0, SRGB = 1 };
+
+constexpr uint32_t kPageSizeTexels = 8;  // pages are 8x8 texels
+constexpr uint32_t kMaxChannels = 64;
+constexpr uint32_t kMaxDimension = 1u << 24;  // widest or tallest level 0 a BOT file may declare
+
+struct BotLevel {
+    uint32_t width = 0, height = 0, pagesX = 0, pagesY = 0;
+};
+
+struct BotHeader {
+    uint32_t width = 0, height = 0, channels = 0;
+    PixelType pixelType = PixelType::U8;
+    ColorSpace colorSpace = ColorSpace::Linear;
+    WrapMode wrapS = WrapMode::Periodic, wrapT = WrapMode::Periodic;
+    std::vector<BotLevel> levels;  // level 0 = full resolution
+};
+
+// Bytes per stored sample of `type` (1, 2, 2, 4).
+uint32_t bytesPerSample(PixelType type);
+const char* pixelTypeName(PixelType type);
+const char* wrapModeName(WrapMode mode);
+const char* colorSpaceName(ColorSpace space);
+
+// Where one page lives in the file (plain data).
+struct BotPageEntry {
+    uint64_t offsetBytes = 0;
+    uint32_t storedBytes = 0;  // bytes on disk
+    uint32_t checksum = 0;     // low 32 bits of XXH64(stored bytes, seed = global page index)
+    bool raw = false;          // stored without zstd (incompressible page)
+};
+
+// A parsed BOT file: header, level table and page table in memory; no file descriptor is kept open.
+// Thread safety: all const methods may be called concurrently.
+class BotFile {
+public:
+    // Reads and validates header and page table. Throws IoError / FormatError naming the file.
+    static std::shared_ptr<const BotFile> open(const std::filesystem::path& path);
+    // Parses a whole BOT file held in memory (`path` only names it in messages). Same checks as open().
+    static std::shared_ptr<const BotFile> parse(const uint8_t* bytes, size_t byteCount,
+                                                const std::filesystem::path& path);
+
+    const std::filesystem::path& path() const { return m_path; }
+    const BotHeader& header() const { return m_header; }
+    uint64_t fileBytes() const { return m_fileBytes; }
+
+    // Reads one page with pread() on an fd the caller opened on path() (O_RDONLY), verifies its
+    // checksum, decompresses and converts it to float (u8/u16 normalised to [0,1]; sRGB-tagged data
+    // is returned as stored, not linearised), writing kPageSizeTexels*kPageSizeTexels*channels
+    // floats, row-major, channels interleaved. Texels past the level's edge hold the padding the
+    // writer stored (edge texels repeated). Returns the number of compressed bytes read. Throws
+    // FormatError naming file, level and page on corruption, IoError on a failed read,
+    // std::out_of_range for a level or page that does not exist. Never allocates more than a
+    // bounded page buffer.
+    uint64_t readPage(int fd, uint32_t level, uint32_t pageX, uint32_t pageY, float* dst) const;
+    // The same for a file held in memory (the bytes parse() was given, or a copy of the file).
+    uint64_t readPageFromMemory(const uint8_t* bytes, size_t byteCount, uint32_t level, uint32_t pageX,
+                                uint32_t pageY, float* dst) const;
+
+    // Page table access (for botinfo and tests).
+    uint64_t pageCount() const { return m_pages.size(); }
+    uint64_t pageIndex(uint32_t level, uint32_t pageX, uint32_t pageY) const;  // throws out_of_range
+    const BotPageEntry& pageEntry(uint64_t index) const { return m_pages[index]; }
+    uint32_t pageRawBytes() const { return m_pageRawBytes; }  // decompressed bytes of one page
+    uint32_t dictionaryBytes() const { return m_dictionaryBytes; }
+    bool pagesPredicted() const { return m_pageFilter != 0; }
+
+private:
+    struct Source;  // where parseImpl reads from: a file descriptor or a memory buffer
+    BotFile() = default;
+    static std::shared_ptr<const BotFile> parseImpl(const std::filesystem::path& path, const Source& source);
+    uint64_t decodePage(uint64_t index, uint32_t level, uint32_t pageX, uint32_t pageY,
+                        const uint8_t* stored, float* dst) const;
+
+    std::filesystem::path m_path;
+    BotHeader m_header;
+    uint64_t m_fileBytes = 0;
+    uint32_t m_pageRawBytes = 0;
+    uint32_t m_dictionaryBytes = 0;
+    uint8_t m_pageFilter = 0;
+    std::vector<uint64_t> m_levelFirstPage;
+    std::vector<BotPageEntry> m_pages;
+    std::shared_ptr<const cache::ZstdDictionary> m_dictionary;
+};
+
+// How a BOT file is written. Fields after `threads` are tuning knobs with sensible defaults.
+struct BotWriteOptions {
+    PixelType pixelType = PixelType::U8;
+    ColorSpace colorSpace = ColorSpace::Linear;
+    WrapMode wrapS = WrapMode::Periodic, wrapT = WrapMode::Periodic;
+    std::string filter = "box";  // mip filter: box, triangle or lanczos3
+    int threads = 0;             // 0: all hardware threads
+    int alphaChannel = -2;       // -2: last channel of 2- and 4-channel images; -1: none
+    int compressionLevel = 1;    // zstd level for pages (1 measured best on 8x8 pages, see BOT_FORMAT.md)
+    bool trainDictionary = true; // train a per-file zstd dictionary from the first pages
+    bool predictPages = true;    // MED prediction + byte planes before zstd (BOT_FORMAT.md)
+};
+
+// Figures about one written file.
+struct BotWriteStats {
+    uint64_t pages = 0;
+    uint64_t rawBytes = 0;    // decompressed page bytes
+    uint64_t fileBytes = 0;   // whole file
+    uint32_t dictionaryBytes = 0;
+};
+
+// Writes a BOT file from a float image already in memory (used by tests and by makebot's
+// small-image path). `pixels` is width*height*channels floats, row-major, interleaved. Builds the
+// whole mip chain with `filter`. Writes a temporary name and renames; throws IoError (naming the
+// path) on IO failure and std::invalid_argument on bad dimensions or options.
+void writeBot(const std::filesystem::path& path, const float* pixels, uint32_t width, uint32_t height,
+              uint32_t channels, const BotWriteOptions& options);
+
+// Streams pages into a BOT file. Rows of each level arrive in increasing order (levels may
+// interleave); every 8 rows (or the level's last rows, padded by repeating the last row and the
+// last column) become a row of pages. The file is written under a temporary name in the target's
+// folder and renamed over `path` by finish(); a writer destroyed before finish() removes its
+// temporary file and leaves `path` untouched.
+class BotWriter {
+public:
+    // Throws std::invalid_argument for unsupported dimensions/channels, IoError if the temporary
+    // file cannot be created.
+    BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t height, uint32_t channels,
+              const BotWriteOptions& options);
+    ~BotWriter();
+    BotWriter(const BotWriter&) = delete;
+    BotWriter& operator=(const BotWriter&) = delete;
+
+    const BotHeader& header() const;
+    // Adds rows [firstRow, firstRow + rowCount) of `level` (width*channels floats per row).
+    // `linearLight`: the values are linear and are encoded to the file's colour space when stored
+    // (mip levels); otherwise they are stored as given (level 0). Throws IoError on write failure,
+    // std::logic_error on out-of-order rows.
+    void addRows(uint32_t level, uint32_t firstRow, uint32_t rowCount, const float* rows, bool linearLight);
+    // Writes the tables and renames the file into place. Throws IoError, or std::logic_error if
+    // some level is incomplete.
+    BotWriteStats finish();
+
+    static constexpr size_t kDictionarySampleBytes = size_t(1) << 19;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace pushpin::texture

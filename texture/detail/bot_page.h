@@ -1,0 +1,42 @@
+// texture/detail/bot_page.h: converting one 8x8 page between float texels and the stored bytes of a
+// BOT file (sample quantisation, sRGB encoding of linear values, MED prediction and byte planes).
+// Pure functions on caller-owned buffers: thread-safe, no allocation.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "texture/bot_file.h"
+
+namespace pushpin::texture::detail {
+
+constexpr uint32_t kPageTexels = kPageSizeTexels * kPageSizeTexels;
+
+inline uint32_t pageRawBytes(uint32_t channels, PixelType type) {
+    return kPageTexels * channels * bytesPerSample(type);
+}
+
+// sRGB transfer functions (IEC 61966-2-1), exact formulas.
+float srgbToLinear(float v);
+float linearToSrgb(float v);
+// 256-entry table: srgbToLinear(k / 255).
+const float* srgbU8ToLinearTable();
+
+// Quantises kPageTexels*channels interleaved floats to samples of `type`, written as host-order
+// integers into `samples` (uint8_t, uint16_t (half bits for Half) or uint32_t (float bits)).
+// When `linearLight` is true and `space` is SRGB, colour channels (not `alphaChannel`) are encoded
+// with the sRGB curve first. u8/u16 are clamped to [0,1] and rounded to nearest; NaN stores 0.
+void quantizePage(const float* texels, uint32_t channels, PixelType type, ColorSpace space,
+                  int alphaChannel, bool linearLight, void* samples);
+
+// Turns host-order samples into the stored byte layout: with `predict`, each channel's 8x8 grid is
+// replaced by zigzagged MED-prediction residuals; then bytes are laid out plane by plane (channel
+// major, then byte significance from low to high, then texel). Writes pageRawBytes bytes.
+void packPage(const void* samples, uint32_t channels, PixelType type, bool predict, uint8_t* out);
+// Inverse of packPage.
+void unpackPage(const uint8_t* in, uint32_t channels, PixelType type, bool predict, void* samples);
+
+// Converts host-order samples to floats (u8/u16 normalised to [0,1], half widened, float as is).
+void samplesToFloat(const void* samples, uint32_t channels, PixelType type, float* texels);
+
+}  // namespace pushpin::texture::detail

@@ -1,0 +1,265 @@
+// makebot: converts any image OpenImageIO reads into a BOT texture (texture/BOT_FORMAT.md).
+// The input is read in bands of scanlines (or tile rows) and streamed through the mip cascade, so
+// memory stays bounded whatever the image size; reading the next band overlaps the work on the
+// current one. The output is written under a temporary name and renamed into place; on any error
+// nothing is left behind and an existing output is untouched.
+#include <OpenImageIO/imageio.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <future>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cache/error.h"
+#include "texture/bot_file.h"
+#include "texture/mipmap.h"
+
+namespace {
+
+using namespace pushpin;
+using namespace pushpin::texture;
+namespace OIIO = OIIO_NAMESPACE;
+
+struct Options {
+    std::string input, output;
+    MipFilter filter = MipFilter::Box;
+    std::optional<PixelType> format;
+    std::optional<ColorSpace> colorSpace;
+    WrapMode wrapS = WrapMode::Periodic, wrapT = WrapMode::Periodic;
+    int threads = 0;
+    bool verbose = false;
+    int compressionLevel = 1;
+    bool dictionary = true;
+    bool predict = true;
+};
+
+const char* kUsage =
+    "usage: makebot [options] input output.bot\n"
+    "  --filter box|triangle|lanczos3   mip filter (default box)\n"
+    "  --format u8|u16|half|float       stored pixel type (default: the input's)\n"
+    "  --wrap MODE | --wrap S,T         periodic|clamp|black|mirror (default periodic)\n"
+    "  --colorspace linear|srgb         default: srgb for 8-bit inputs without other colour-space\n"
+    "                                   metadata, else linear\n"
+    "  --threads N                      worker threads (default: all)\n"
+    "  --zstd-level N                   zstd level for pages (default 1)\n"
+    "  --no-dictionary                  do not train a zstd dictionary\n"
+    "  --no-predict                     store pages without MED prediction\n"
+    "  -v                               print levels, sizes, time and compression ratio\n";
+
+[[noreturn]] void usageError(const std::string& msg) {
+    std::fprintf(stderr, "makebot: %s\n%s", msg.c_str(), kUsage);
+    std::exit(2);
+}
+
+std::optional<WrapMode> parseWrap(const std::string& s) {
+    if (s == "periodic") return WrapMode::Periodic;
+    if (s == "clamp") return WrapMode::Clamp;
+    if (s == "black") return WrapMode::Black;
+    if (s == "mirror") return WrapMode::Mirror;
+    return std::nullopt;
+}
+
+Options parseArgs(int argc, char** argv) {
+    Options o;
+    std::vector<std::string> positional;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) usageError("missing value after " + a);
+            return argv[++i];
+        };
+        if (a == "--filter") {
+            const std::string v = value();
+            const auto f = parseMipFilter(v);
+            if (!f) usageError("unknown filter '" + v + "'");
+            o.filter = *f;
+        } else if (a == "--format") {
+            const std::string v = value();
+            if (v == "u8") o.format = PixelType::U8;
+            else if (v == "u16") o.format = PixelType::U16;
+            else if (v == "half") o.format = PixelType::Half;
+            else if (v == "float") o.format = PixelType::Float;
+            else usageError("unknown format '" + v + "'");
+        } else if (a == "--wrap") {
+            const std::string v = value();
+            const size_t comma = v.find(',');
+            const auto s = parseWrap(v.substr(0, comma));
+            const auto t = comma == std::string::npos ? s : parseWrap(v.substr(comma + 1));
+            if (!s || !t) usageError("unknown wrap mode '" + v + "'");
+            o.wrapS = *s;
+            o.wrapT = *t;
+        } else if (a == "--colorspace") {
+            const std::string v = value();
+            if (v == "linear") o.colorSpace = ColorSpace::Linear;
+            else if (v == "srgb") o.colorSpace = ColorSpace::SRGB;
+            else usageError("unknown colour space '" + v + "'");
+        } else if (a == "--threads") {
+            const std::string v = value();
+            char* end = nullptr;
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end || n < 0 || n > 4096) usageError("bad thread count '" + v + "'");
+            o.threads = int(n);
+        } else if (a == "--zstd-level") {
+            const std::string v = value();
+            char* end = nullptr;
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end || n < 1 || n > 22) usageError("bad zstd level '" + v + "'");
+            o.compressionLevel = int(n);
+        } else if (a == "--no-dictionary") {
+            o.dictionary = false;
+        } else if (a == "--no-predict") {
+            o.predict = false;
+        } else if (a == "-v" || a == "--verbose") {
+            o.verbose = true;
+        } else if (a == "-h" || a == "--help") {
+            std::fputs(kUsage, stdout);
+            std::exit(0);
+        } else if (a.size() > 1 && a[0] == '-') {
+            usageError("unknown option " + a);
+        } else {
+            positional.push_back(a);
+        }
+    }
+    if (positional.size() != 2) usageError("expected an input and an output file");
+    o.input = positional[0];
+    o.output = positional[1];
+    return o;
+}
+
+PixelType pixelTypeOf(OIIO::TypeDesc t) {
+    switch (t.basetype) {
+        case OIIO::TypeDesc::UINT8:
+        case OIIO::TypeDesc::INT8: return PixelType::U8;
+        case OIIO::TypeDesc::UINT16:
+        case OIIO::TypeDesc::INT16: return PixelType::U16;
+        case OIIO::TypeDesc::HALF: return PixelType::Half;
+        default: return PixelType::Float;
+    }
+}
+
+ColorSpace defaultColorSpace(const OIIO::ImageSpec& spec) {
+    std::string cs = spec.get_string_attribute("oiio:ColorSpace");
+    std::transform(cs.begin(), cs.end(), cs.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (cs.find("srgb") != std::string::npos) return ColorSpace::SRGB;
+    const bool eightBit = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::INT8;
+    return (eightBit && cs.empty()) ? ColorSpace::SRGB : ColorSpace::Linear;
+}
+
+int run(const Options& o) {
+    const auto start = std::chrono::steady_clock::now();
+    auto in = OIIO::ImageInput::open(o.input);
+    if (!in) {
+        std::string msg = OIIO::geterror();
+        throw IoError(o.input, "cannot read image" + (msg.empty() ? std::string() : ": " + msg));
+    }
+    const OIIO::ImageSpec spec = in->spec();
+    if (spec.depth > 1 || spec.deep) throw FormatError(o.input, "volume and deep images are not supported");
+    if (spec.width <= 0 || spec.height <= 0 || uint64_t(spec.width) > kMaxDimension ||
+        uint64_t(spec.height) > kMaxDimension)
+        throw FormatError(o.input, "unsupported image size " + std::to_string(spec.width) + "x" +
+                                       std::to_string(spec.height));
+    if (spec.nchannels <= 0 || uint32_t(spec.nchannels) > kMaxChannels)
+        throw FormatError(o.input, "unsupported channel count " + std::to_string(spec.nchannels));
+    const uint32_t width = uint32_t(spec.width), height = uint32_t(spec.height), channels = uint32_t(spec.nchannels);
+
+    BotWriteOptions wo;
+    wo.pixelType = o.format ? *o.format : pixelTypeOf(spec.format);
+    wo.colorSpace = o.colorSpace ? *o.colorSpace : defaultColorSpace(spec);
+    wo.wrapS = o.wrapS;
+    wo.wrapT = o.wrapT;
+    wo.filter = mipFilterName(o.filter);
+    wo.threads = o.threads;
+    wo.alphaChannel = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
+    wo.compressionLevel = o.compressionLevel;
+    wo.trainDictionary = o.dictionary;
+    wo.predictPages = o.predict;
+
+    // Band height: whole tile rows for tiled files, otherwise 64 scanlines.
+    const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
+    uint32_t band = 64;
+    if (tiled) band = uint32_t(spec.tile_height) * std::max(1u, 64u / uint32_t(spec.tile_height));
+    const size_t stride = size_t(width) * channels;
+
+    auto readBand = [&](uint32_t y0, std::vector<float>& buf) {
+        const uint32_t rows = std::min(band, height - y0);
+        buf.resize(stride * rows);
+        bool ok;
+        if (tiled) {
+            ok = in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + int(y0), spec.y + int(y0 + rows), spec.z,
+                                spec.z + 1, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, buf.data());
+        } else {
+            ok = in->read_scanlines(0, 0, spec.y + int(y0), spec.y + int(y0 + rows), spec.z, 0, spec.nchannels,
+                                    OIIO::TypeDesc::FLOAT, buf.data());
+        }
+        if (!ok) {
+            const std::string msg = in->geterror();
+            throw FormatError(o.input, "read failed at row " + std::to_string(y0) + (msg.empty() ? "" : ": " + msg));
+        }
+    };
+
+    BotWriteStats stats;
+    std::vector<BotLevel> levels;
+    auto convert = [&] {
+        BotWriter writer(o.output, width, height, channels, wo);
+        MipCascade cascade(width, height, channels, o.filter, wo.colorSpace, wo.alphaChannel,
+                           [&](uint32_t level, uint32_t firstRow, uint32_t rowCount, const float* rows, bool linear) {
+                               writer.addRows(level, firstRow, rowCount, rows, linear);
+                           });
+        std::vector<float> bufs[2];
+        readBand(0, bufs[0]);
+        for (uint32_t y = 0, k = 0; y < height; y += band, k ^= 1) {
+            const uint32_t next = y + band;
+            std::future<void> ahead;
+            if (next < height) ahead = std::async(std::launch::async, [&, next, k] { readBand(next, bufs[k ^ 1]); });
+            try {
+                cascade.pushRows(bufs[k].data(), std::min(band, height - y));
+            } catch (...) {
+                if (ahead.valid()) ahead.wait();
+                throw;
+            }
+            if (ahead.valid()) ahead.get();
+        }
+        levels = writer.header().levels;
+        stats = writer.finish();
+    };
+    if (o.threads > 0) {
+        tbb::task_arena arena(o.threads);
+        arena.execute(convert);
+    } else {
+        convert();
+    }
+    in->close();
+
+    if (o.verbose) {
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::printf("%s: %ux%u, %u channels, %s, %s, filter %s\n", o.input.c_str(), width, height, channels,
+                    pixelTypeName(wo.pixelType), colorSpaceName(wo.colorSpace), wo.filter.c_str());
+        for (size_t l = 0; l < levels.size(); ++l)
+            std::printf("  level %2zu: %6u x %-6u %6u x %-6u pages\n", l, levels[l].width, levels[l].height,
+                        levels[l].pagesX, levels[l].pagesY);
+        std::printf("%s: %llu pages, %llu bytes raw, %llu bytes written (ratio %.3f), dictionary %u bytes, %.3f s\n",
+                    o.output.c_str(), (unsigned long long)stats.pages, (unsigned long long)stats.rawBytes,
+                    (unsigned long long)stats.fileBytes, double(stats.fileBytes) / double(std::max<uint64_t>(1, stats.rawBytes)),
+                    stats.dictionaryBytes, seconds);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const Options o = parseArgs(argc, argv);
+    try {
+        return run(o);
+    } catch (const pushpin::Error& e) {
+        std::fprintf(stderr, "makebot: %s\n", e.what());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "makebot: %s -> %s: %s\n", o.input.c_str(), o.output.c_str(), e.what());
+    }
+    return 1;
+}
