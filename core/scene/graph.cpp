@@ -260,6 +260,7 @@ NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId pa
     NodeId id = m_nodes.back().id;
     m_byName.emplace(m_nodes.back().name, id);
     if (parent != kNoNode) setParent(id, parent, true);
+    else m_nodes.back().underWorld = dag;
     return id;
 }
 
@@ -271,8 +272,12 @@ void Graph::setParent(NodeId child, NodeId parent, bool add) {
             kids.erase(std::remove(kids.begin(), kids.end(), child), kids.end());
         }
         c.parents.clear();
+        c.underWorld = false;
     }
-    if (parent == kNoNode) return;
+    if (parent == kNoNode) {
+        c.underWorld = true;  // parent -w: a child of the world
+        return;
+    }
     // Refuse cycles: the new parent must not be the child or one of its descendants.
     std::function<bool(NodeId)> isDescendant = [&](NodeId n) {
         if (n == child) return true;
@@ -439,7 +444,7 @@ NodeId Graph::find(std::string_view text) const {
         if (m_nodes[id].name != parts[k]) return false;
         if (k == 0) {
             if (!absolute) return true;
-            return m_nodes[id].parents.empty();
+            return m_nodes[id].underWorld || m_nodes[id].parents.empty();
         }
         for (NodeId p : m_nodes[id].parents)
             if (matches(p, k - 1)) return true;
@@ -461,6 +466,7 @@ std::vector<std::vector<NodeId>> Graph::dagPaths(NodeId id) const {
     const Node& n = m_nodes.at(id);
     if (n.parents.empty()) return {{id}};
     std::vector<std::vector<NodeId>> out;
+    if (n.underWorld) out.push_back({id});
     for (NodeId p : n.parents)
         for (auto& path : dagPaths(p)) {
             path.push_back(id);

@@ -77,6 +77,7 @@ struct Node {
     std::string name;                  // unique among non-DAG nodes; DAG siblings differ
     const NodeSchema* schema = nullptr;  // nullptr for types pushpin does not model
     std::vector<NodeId> parents;       // DAG parents; more than one = instanced
+    bool underWorld = false;           // also (or only) a child of the world: a DAG path starts here
     std::vector<NodeId> children;
     std::map<std::string, AttrData> attrs;  // canonical path (long names, indices) → data
     std::vector<AttrSpec> dynamicAttrs;     // from addAttr

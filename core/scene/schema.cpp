@@ -504,7 +504,7 @@ void addAnimationTypes(Table& t) {
     // evaluator converts a curve's output by its type.
     t.type("animCurve", "node");
     t.c("keyTimeValue", "ktv", T::Double2, {0, 0, 0, 0}, U::None, {{"keyTime", "kt"}, {"keyValue", "kv"}}, true)
-        .a("keyTanLocked", "tl", T::Bool, 1, U::None, true).a("keyWeightLocked", "wl", T::Bool, 1, U::None, true)
+        .a("keyTanLocked", "ktl", T::Bool, 1, U::None, true).a("keyWeightLocked", "kwl", T::Bool, 1, U::None, true)
         .a("keyTanInType", "kit", T::Enum, 0, U::None, true).a("keyTanOutType", "kot", T::Enum, 0, U::None, true)
         .a("keyTanInX", "kix", T::Double, 1, U::None, true).a("keyTanInY", "kiy", T::Double, 0, U::None, true)
         .a("keyTanOutX", "kox", T::Double, 1, U::None, true).a("keyTanOutY", "koy", T::Double, 0, U::None, true)
@@ -578,12 +578,15 @@ void addHistoryTypes(Table& t) {
     t.type("revolvedPrimitive", "primitive");
     t.a("startSweep", "ssw", T::Double, 0, U::Angle).a("endSweep", "esw", T::Double, 360 * kDeg, U::Angle)
         .a("sections", "s", T::Int, 8).a("spans", "nsp", T::Int, 1).a("heightRatio", "hr", T::Double, 2);
+    // A sphere Maya creates with default settings is written without `nsp`: its default is 4.
     t.type("makeNurbSphere", "revolvedPrimitive");
+    t.a("spans", "nsp", T::Int, 4);
     t.type("makeNurbCylinder", "revolvedPrimitive");
     t.type("makeNurbCone", "revolvedPrimitive");
     t.a("useOldInitBehaviour", "oib", T::Bool, 0);
     t.type("makeNurbTorus", "revolvedPrimitive");
-    t.a("minorSweep", "msw", T::Double, 360 * kDeg, U::Angle);
+    t.a("minorSweep", "msw", T::Double, 360 * kDeg, U::Angle).a("spans", "nsp", T::Int, 4)
+        .a("heightRatio", "hr", T::Double, 0.5);
     t.type("makeNurbPlane", "primitive");
     t.a("width", "w", T::Double, 1, U::Distance).a("lengthRatio", "lr", T::Double, 1)
         .a("patchesU", "u", T::Int, 1).a("patchesV", "v", T::Int, 1);

@@ -130,6 +130,23 @@ TEST(Graph, DagPathsAndInstancing) {
     EXPECT_EQ(g.find("|child"), c1);
 }
 
+TEST(Graph, InstancingAWorldLevelNodeKeepsTheWorldInstance) {
+    Graph g;
+    NodeId cube = g.createNode("transform", "pCube1");
+    NodeId grp = g.createNode("transform", "grp");
+    g.setParent(cube, grp, true);  // parent -add "pCube1" "grp"
+    auto paths = g.dagPaths(cube);
+    ASSERT_EQ(paths.size(), 2u);
+    EXPECT_EQ(g.dagPathName(paths[0]), "|pCube1");
+    EXPECT_EQ(g.dagPathName(paths[1]), "|grp|pCube1");
+    EXPECT_EQ(g.find("|pCube1"), cube);
+    EXPECT_EQ(g.find("|grp|pCube1"), cube);
+    // Plain reparenting (no -add) leaves the world.
+    g.setParent(cube, grp, false);
+    ASSERT_EQ(g.dagPaths(cube).size(), 1u);
+    EXPECT_EQ(g.find("|pCube1"), kNoNode);
+}
+
 TEST(Graph, ConnectionsNextAvailableAndReplacement) {
     Graph g;
     NodeId sg = g.createNode("shadingEngine", "sg");
