@@ -27,7 +27,7 @@ fi
 
 # Fuzzing: libFuzzer targets built with clang, AddressSanitizer and UndefinedBehaviorSanitizer.
 # Seeds are copied into a temporary folder; the project tree is never written to.
-fuzz_seconds="${PUSHPIN_FUZZ_SECONDS:-60}"
+fuzz_seconds="${PUSHPIN_FUZZ_SECONDS:-120}"
 if command -v clang++ >/dev/null 2>&1; then
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DPUSHPIN_FUZZ=ON -DPUSHPIN_SANITIZE=ON -DPUSHPIN_BUILD_TESTS=OFF -DPUSHPIN_BUILD_BENCH=OFF

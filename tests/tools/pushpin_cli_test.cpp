@@ -167,6 +167,22 @@ TEST(PushpinCli, PrintedDemoReadsBackTheSame) {
     EXPECT_EQ(strip(fromFile.out), strip(builtIn.out));
 }
 
+TEST(PushpinCli, EveryPublicSceneReportsWithExitZero) {
+    fs::path corpus(PUSHPIN_MA_CORPUS);
+    std::error_code ec;
+    if (!fs::is_directory(corpus, ec)) GTEST_SKIP() << "no .ma corpus at " << corpus << " (PUSHPIN_MA_CORPUS)";
+    size_t files = 0;
+    for (const auto& entry : fs::directory_iterator(corpus)) {
+        if (entry.path().extension() != ".ma") continue;
+        ++files;
+        CliRun r = runPushpin("--info '" + entry.path().string() + "'");
+        EXPECT_EQ(r.exitCode, 0) << entry.path() << ": " << r.err;
+        EXPECT_TRUE(JsonChecker(r.out).valid()) << entry.path();
+        EXPECT_NE(r.out.find("\"shapeCounts\""), std::string::npos) << entry.path();
+    }
+    EXPECT_GT(files, 0u);
+}
+
 TEST(PushpinCli, MissingFileExitsTwoNamingThePath) {
     CliRun r = runPushpin("--info /nonexistent/dir/scene.ma");
     EXPECT_EQ(r.exitCode, 2);
