@@ -112,11 +112,14 @@ void pwriteAll(int fd, const void* src, size_t n, uint64_t offset, const std::fi
     }
 }
 
-// Per-thread buffers of readPage, sized for the largest page any valid file can have.
+// Per-thread buffers of readPage, allocated once at the size of the largest page any valid file can
+// have, so reading a page never allocates.
 struct PageScratch {
-    std::vector<uint8_t> stored, packed, samples;
+    static constexpr size_t kMaxRawBytes = size_t(kPageTexels) * kMaxChannels * 4;
+    std::vector<uint8_t> stored, packed;
     std::optional<cache::ZstdDecompressor> decompressor;
     const cache::ZstdDictionary* dictionary = nullptr;
+    PageScratch() : stored(cache::zstdCompressBound(kMaxRawBytes)), packed(kMaxRawBytes) {}
 };
 
 PageScratch& pageScratch() {
@@ -306,7 +309,6 @@ uint64_t BotFile::readPage(int fd, uint32_t level, uint32_t pageX, uint32_t page
     const uint64_t index = pageIndex(level, pageX, pageY);
     const BotPageEntry& e = m_pages[index];
     PageScratch& scratch = pageScratch();
-    scratch.stored.resize(e.storedBytes);
     if (!preadAll(fd, scratch.stored.data(), e.storedBytes, e.offsetBytes, m_path))
         throw FormatError(m_path, pageName(level, pageX, pageY) + " extends past end of file (file truncated?)");
     return decodePage(index, level, pageX, pageY, scratch.stored.data(), dst);
@@ -334,14 +336,11 @@ uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uin
             scratch.decompressor->setDictionary(m_dictionary);
             scratch.dictionary = m_dictionary.get();
         }
-        scratch.packed.resize(m_pageRawBytes);
         if (!scratch.decompressor->decompress(stored, e.storedBytes, scratch.packed.data(), m_pageRawBytes))
             throw FormatError(m_path, "corrupt compressed data in " + pageName(level, pageX, pageY));
         packed = scratch.packed.data();
     }
-    scratch.samples.resize(m_pageRawBytes);
-    detail::unpackPage(packed, m_header.channels, m_header.pixelType, m_pageFilter != 0, scratch.samples.data());
-    detail::samplesToFloat(scratch.samples.data(), m_header.channels, m_header.pixelType, dst);
+    detail::unpackPageToFloat(packed, m_header.channels, m_header.pixelType, m_pageFilter != 0, dst);
     return e.storedBytes;
 }
 

@@ -166,6 +166,15 @@ inline float sanitize(float v) {
     return std::clamp(v, -1e30f, 1e30f);
 }
 
+// Nearest integer of k, ties to even: std::nearbyint in the default rounding mode, without a
+// library call. Below 2^23 in magnitude, adding 2^23 leaves no fraction bits, so the addition itself
+// rounds (2^23 is even, so ties keep their parity); from 2^23 up every float is an integer.
+inline float roundToInteger(float k) {
+    constexpr float kShift = 8388608.0f;  // 2^23
+    if (!(std::fabs(k) < kShift)) return k;
+    return k >= 0.0f ? (k + kShift) - kShift : -((kShift - k) - kShift);
+}
+
 }  // namespace
 
 // Builds level `level` from the rows of level - 1.
@@ -271,18 +280,24 @@ void MipCascade::pushRows(const float* rows, uint32_t rowCount) {
         for (uint32_t r = rg.begin(); r != rg.end(); ++r) {
             const float* s = rows + r * stride;
             float* d = lin + r * stride;
-            for (size_t i = 0; i < stride; ++i) {
-                float v = sanitize(s[i]);
-                if (srgb && int(i % channels) != alpha) {
-                    // 8-bit inputs arrive as exact k/255 values: use the table for them.
-                    const float k = v * 255.0f;
-                    const float kr = std::nearbyint(k);
-                    if (kr >= 0.0f && kr <= 255.0f && std::fabs(k - kr) < 1e-3f)
-                        v = lut[int(kr)];
-                    else
-                        v = detail::srgbToLinear(v);
+            if (!srgb) {
+                for (size_t i = 0; i < stride; ++i) d[i] = sanitize(s[i]);
+                continue;
+            }
+            for (size_t i = 0; i < stride; i += channels) {
+                for (uint32_t c = 0; c < channels; ++c) {
+                    float v = sanitize(s[i + c]);
+                    if (int(c) != alpha) {
+                        // 8-bit inputs arrive as exact k/255 values: use the table for them.
+                        const float k = v * 255.0f;
+                        const float kr = roundToInteger(k);
+                        if (kr >= 0.0f && kr <= 255.0f && std::fabs(k - kr) < 1e-3f)
+                            v = lut[int(kr)];
+                        else
+                            v = detail::srgbToLinear(v);
+                    }
+                    d[i + c] = v;
                 }
-                d[i] = v;
             }
         }
     });

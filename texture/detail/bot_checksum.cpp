@@ -1,5 +1,8 @@
 #include "texture/detail/bot_checksum.h"
 
+#include <bit>
+#include <cstring>
+
 namespace pushpin::texture::detail {
 
 namespace {
@@ -12,14 +15,27 @@ constexpr uint64_t kPrime5 = 2870177450012600261ull;
 
 inline uint64_t rotl(uint64_t x, int r) { return (x << r) | (x >> (64 - r)); }
 
-// Little-endian loads composed from bytes, so the hash is the same on any host.
+// Little-endian loads, so the hash is the same on any host: one unaligned load on little-endian
+// hosts, composed from bytes elsewhere.
 inline uint64_t load64(const uint8_t* p) {
-    uint64_t v = 0;
-    for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
-    return v;
+    if constexpr (std::endian::native == std::endian::little) {
+        uint64_t v;
+        std::memcpy(&v, p, 8);
+        return v;
+    } else {
+        uint64_t v = 0;
+        for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+        return v;
+    }
 }
 inline uint32_t load32(const uint8_t* p) {
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+    if constexpr (std::endian::native == std::endian::little) {
+        uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+    } else {
+        return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+    }
 }
 
 inline uint64_t round(uint64_t acc, uint64_t lane) {

@@ -6,7 +6,13 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <type_traits>
+#include <utility>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace pushpin::texture::detail {
 
@@ -23,8 +29,9 @@ namespace {
 struct SrgbTables {
     std::array<float, 256> toLinear;
     // thresholds[k] is the linear value halfway (in sRGB code space) between codes k and k+1, so the
-    // nearest 8-bit code of a linear value v is the number of thresholds <= v.
-    std::array<float, 255> thresholds;
+    // nearest 8-bit code of a linear value v is the number of thresholds <= v. Entry 255 is +inf so
+    // that a branchless binary search over 256 entries stays inside the table.
+    std::array<float, 256> thresholds;
     std::array<float, 256> unorm;  // k / 255
     SrgbTables() {
         for (int k = 0; k < 256; ++k) {
@@ -32,6 +39,7 @@ struct SrgbTables {
             unorm[k] = float(k) / 255.0f;
         }
         for (int k = 0; k < 255; ++k) thresholds[k] = float(srgbToLinear((double(k) + 0.5) / 255.0));
+        thresholds[255] = std::numeric_limits<float>::infinity();
     }
     static float srgbToLinear(double v) {
         return float(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
@@ -43,10 +51,13 @@ const SrgbTables& tables() {
     return t;
 }
 
-inline uint8_t linearToSrgbU8(float v) {
-    const auto& t = tables().thresholds;
+// Nearest sRGB 8-bit code of linear value v: counts the thresholds <= v by a binary search whose
+// steps are conditional adds rather than branches (noisy data would mispredict them).
+inline uint8_t linearToSrgbU8(const float* thresholds, float v) {
     if (!(v > 0.0f)) return 0;  // also NaN
-    return uint8_t(std::upper_bound(t.begin(), t.end(), v) - t.begin());
+    uint32_t pos = 0;
+    for (uint32_t step = 128; step > 0; step >>= 1) pos += thresholds[pos + step - 1] <= v ? step : 0;
+    return uint8_t(pos);
 }
 
 inline float clamp01(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; }  // NaN -> 0
@@ -56,37 +67,59 @@ int resolveAlpha(int alphaChannel, uint32_t channels) {
     return alphaChannel;
 }
 
+// Undoes the zigzag mapping of a residual (0, -1, 1, -2, ... were stored as 0, 1, 2, 3, ...).
+template <typename T>
+inline T unzigzag(T z) {
+    return T(T(z >> 1) ^ T(T(0) - T(z & 1)));
+}
+
+// Median edge detector (LOCO-I) prediction from the left (a), upper (b) and upper-left (d) samples:
+// d >= max(a, b) gives min(a, b), d <= min(a, b) gives max(a, b), otherwise a + b - d. That equals
+// a + b - d clamped to [min(a, b), max(a, b)], computed here without branches (a branch on noisy
+// texture data is mispredicted about half of the time).
+template <typename T>
+inline T medPredict(T a, T b, T d) {
+    // Samples fit in Wide with room to spare, so each difference is exact and its sign is the top bit.
+    using Wide = std::conditional_t<(sizeof(T) < 4), int32_t, int64_t>;
+    constexpr int kSignShift = int(sizeof(Wide)) * 8 - 1;
+    const Wide wa = Wide(a), wb = Wide(b);
+    const Wide ab = wa - wb, abNeg = ab >> kSignShift;  // all ones when a < b
+    const Wide lo = wb + (ab & abNeg), hi = wa - (ab & abNeg);
+    Wide g = wa + wb - Wide(d);
+    const Wide gl = g - lo;
+    g -= gl & (gl >> kSignShift);  // max(g, lo)
+    const Wide gh = g - hi;
+    g = hi + (gh & (gh >> kSignShift));  // min(g, hi)
+    return T(g);
+}
+
 template <typename T>
 void packT(const T* samples, uint32_t channels, bool predict, uint8_t* out) {
     using S = std::make_signed_t<T>;
     constexpr int kBits = int(sizeof(T)) * 8;
     constexpr uint32_t kBytes = sizeof(T);
-    T z[kPageTexels];
+    constexpr uint32_t n = kPageSizeTexels;
+    T s[kPageTexels], z[kPageTexels];
     for (uint32_t c = 0; c < channels; ++c) {
+        for (uint32_t i = 0; i < kPageTexels; ++i) s[i] = samples[i * channels + c];
         if (predict) {
-            for (uint32_t y = 0; y < kPageSizeTexels; ++y) {
-                for (uint32_t x = 0; x < kPageSizeTexels; ++x) {
-                    const uint32_t i = y * kPageSizeTexels + x;
-                    const T cur = samples[i * channels + c];
-                    T pred;
-                    if (y == 0) {
-                        pred = x == 0 ? T(0) : samples[(i - 1) * channels + c];
-                    } else if (x == 0) {
-                        pred = samples[(i - kPageSizeTexels) * channels + c];
-                    } else {
-                        // Median edge detector (LOCO-I): predicts across edges better than an average.
-                        const T a = samples[(i - 1) * channels + c];
-                        const T b = samples[(i - kPageSizeTexels) * channels + c];
-                        const T d = samples[(i - kPageSizeTexels - 1) * channels + c];
-                        const T lo = std::min(a, b), hi = std::max(a, b);
-                        pred = d >= hi ? lo : (d <= lo ? hi : T(a + b - d));
-                    }
-                    const S r = S(T(cur - pred));
-                    z[i] = T((T(r) << 1) ^ T(r >> (kBits - 1)));
-                }
+            // Residuals against the MED prediction (row 0: left neighbour, column 0: upper one),
+            // zigzagged so that small magnitudes of either sign become small codes. Every
+            // prediction reads original samples, so the texels are independent of each other.
+            auto zigzag = [](T cur, T pred) {
+                const S r = S(T(cur - pred));
+                return T((T(r) << 1) ^ T(r >> (kBits - 1)));
+            };
+            z[0] = zigzag(s[0], T(0));
+            for (uint32_t x = 1; x < n; ++x) z[x] = zigzag(s[x], s[x - 1]);
+            for (uint32_t y = 1; y < n; ++y) {
+                const T* up = s + (y - 1) * n;
+                const T* row = s + y * n;
+                z[y * n] = zigzag(row[0], up[0]);
+                for (uint32_t x = 1; x < n; ++x) z[y * n + x] = zigzag(row[x], medPredict(row[x - 1], up[x], up[x - 1]));
             }
         } else {
-            for (uint32_t i = 0; i < kPageTexels; ++i) z[i] = samples[i * channels + c];
+            std::memcpy(z, s, sizeof z);
         }
         for (uint32_t b = 0; b < kBytes; ++b) {
             uint8_t* plane = out + (size_t(c) * kBytes + b) * kPageTexels;
@@ -95,40 +128,186 @@ void packT(const T* samples, uint32_t channels, bool predict, uint8_t* out) {
     }
 }
 
-template <typename T>
-void unpackT(const uint8_t* in, uint32_t channels, bool predict, T* samples) {
-    constexpr uint32_t kBytes = sizeof(T);
-    T z[kPageTexels];
-    for (uint32_t c = 0; c < channels; ++c) {
-        for (uint32_t i = 0; i < kPageTexels; ++i) z[i] = 0;
-        for (uint32_t b = 0; b < kBytes; ++b) {
-            const uint8_t* plane = in + (size_t(c) * kBytes + b) * kPageTexels;
-            for (uint32_t i = 0; i < kPageTexels; ++i) z[i] = T(z[i] | T(T(plane[i]) << (8 * b)));
-        }
-        if (!predict) {
-            for (uint32_t i = 0; i < kPageTexels; ++i) samples[i * channels + c] = z[i];
-            continue;
-        }
-        for (uint32_t y = 0; y < kPageSizeTexels; ++y) {
-            for (uint32_t x = 0; x < kPageSizeTexels; ++x) {
-                const uint32_t i = y * kPageSizeTexels + x;
-                const T r = T(T(z[i] >> 1) ^ T(T(0) - T(z[i] & 1)));  // undo zigzag
-                T pred;
-                if (y == 0) {
-                    pred = x == 0 ? T(0) : samples[(i - 1) * channels + c];
-                } else if (x == 0) {
-                    pred = samples[(i - kPageSizeTexels) * channels + c];
-                } else {
-                    const T a = samples[(i - 1) * channels + c];
-                    const T b = samples[(i - kPageSizeTexels) * channels + c];
-                    const T d = samples[(i - kPageSizeTexels - 1) * channels + c];
-                    const T lo = std::min(a, b), hi = std::max(a, b);
-                    pred = d >= hi ? lo : (d <= lo ? hi : T(a + b - d));
-                }
-                samples[i * channels + c] = T(pred + r);
+#if defined(__SSE2__)
+// MED reconstruction of K 8-bit channels at once. Each channel's 8 rows sit in the 8 16-bit lanes of
+// an SSE2 register, skewed so that lane y handles texel (t - y, y) at step t: its left neighbour is
+// its own previous result, its upper and upper-left neighbours are lane y - 1's results of the
+// previous two steps. 15 steps replace 64 dependent scalar predictions, and the K independent
+// channels hide each other's latency. planes[k] holds channel k's zigzagged residuals (row-major)
+// on entry and its samples on exit.
+template <uint32_t K>
+void unpredictU8(uint8_t* const* planes) {
+    constexpr uint32_t n = kPageSizeTexels;
+    uint8_t r[K][kPageTexels];
+    for (uint32_t k = 0; k < K; ++k)
+        for (uint32_t i = 0; i < kPageTexels; ++i) r[k][i] = unzigzag<uint8_t>(planes[k][i]);
+    alignas(16) static constexpr int16_t kLaneMasks[n][n] = {
+        {-1, 0, 0, 0, 0, 0, 0, 0}, {0, -1, 0, 0, 0, 0, 0, 0}, {0, 0, -1, 0, 0, 0, 0, 0}, {0, 0, 0, -1, 0, 0, 0, 0},
+        {0, 0, 0, 0, -1, 0, 0, 0}, {0, 0, 0, 0, 0, -1, 0, 0}, {0, 0, 0, 0, 0, 0, -1, 0}, {0, 0, 0, 0, 0, 0, 0, -1}};
+    const __m128i lane0 = _mm_load_si128(reinterpret_cast<const __m128i*>(kLaneMasks[0]));
+    const __m128i low8 = _mm_set1_epi16(0xff);
+    __m128i prev[K], prev2[K];
+    for (uint32_t k = 0; k < K; ++k) prev[k] = prev2[k] = _mm_setzero_si128();
+    // The diagonals are gathered and scattered lane by lane in registers (pinsrw / pextrw): going
+    // through memory would stall every vector load on eight narrow stores. Every step is expanded
+    // at compile time, so the lane choices are constants.
+    auto gather = [&]<size_t T, size_t... Y>(const uint8_t* src, std::index_sequence<Y...>) {
+        __m128i v = _mm_setzero_si128();
+        ((v = (T - Y < n) ? _mm_insert_epi16(v, src[Y * n + (T - Y) % n], int(Y)) : v), ...);
+        return v;
+    };
+    auto scatter = [&]<size_t T, size_t... Y>(__m128i v, uint8_t* dst, std::index_sequence<Y...>) {
+        ((T - Y < n ? void(dst[Y * n + (T - Y) % n] = uint8_t(_mm_extract_epi16(v, int(Y)))) : void()), ...);
+    };
+    auto step = [&]<size_t T>() {
+        for (uint32_t k = 0; k < K; ++k) {
+            __m128i a = prev[k];
+            // Row 0 has no upper neighbours: b = d = a makes MED predict the left neighbour.
+            __m128i b = _mm_or_si128(_mm_slli_si128(prev[k], 2), _mm_and_si128(a, lane0));
+            __m128i d = _mm_or_si128(_mm_slli_si128(prev2[k], 2), _mm_and_si128(a, lane0));
+            if constexpr (T < n) {
+                // Column 0 of row T has no left neighbour: a = d = b makes MED predict the upper one.
+                const __m128i m = _mm_load_si128(reinterpret_cast<const __m128i*>(kLaneMasks[T]));
+                a = _mm_or_si128(_mm_and_si128(m, b), _mm_andnot_si128(m, a));
+                d = _mm_or_si128(_mm_and_si128(m, b), _mm_andnot_si128(m, d));
             }
+            const __m128i lo = _mm_min_epi16(a, b), hi = _mm_max_epi16(a, b);
+            __m128i g = _mm_sub_epi16(_mm_add_epi16(a, b), d);
+            g = _mm_min_epi16(_mm_max_epi16(g, lo), hi);
+            const __m128i res = gather.template operator()<T>(r[k], std::make_index_sequence<n>());
+            const __m128i v = _mm_and_si128(_mm_add_epi16(g, res), low8);
+            scatter.template operator()<T>(v, planes[k], std::make_index_sequence<n>());
+            prev2[k] = prev[k];
+            prev[k] = v;
+        }
+    };
+    [&]<size_t... T>(std::index_sequence<T...>) {
+        (step.template operator()<T>(), ...);
+    }(std::make_index_sequence<2 * n - 1>());
+}
+
+// Reconstructs `channels` planar 8-bit grids (64 bytes apart in `planes`) in groups of up to four.
+void unpredictU8Planes(uint8_t* planes, uint32_t channels) {
+    for (uint32_t c = 0; c < channels;) {
+        // Pointers past the last channel are never used; they are clamped so that they stay valid.
+        uint8_t* p[4];
+        for (uint32_t k = 0; k < 4; ++k) p[k] = planes + size_t(std::min(c + k, channels - 1)) * kPageTexels;
+        switch (std::min<uint32_t>(channels - c, 4)) {
+            case 1: unpredictU8<1>(p); c += 1; break;
+            case 2: unpredictU8<2>(p); c += 2; break;
+            case 3: unpredictU8<3>(p); c += 3; break;
+            default: unpredictU8<4>(p); c += 4; break;
         }
     }
+}
+#endif
+
+// Rebuilds channel `c` of a page from its byte planes into the planar grid `s` (kPageTexels
+// samples, row-major): merges the planes, then undoes the zigzagged MED residuals when `predict`.
+template <typename T>
+inline void unpackChannel(const uint8_t* in, uint32_t c, bool predict, T* s) {
+    constexpr uint32_t kBytes = sizeof(T);
+    const uint8_t* planes = in + size_t(c) * kBytes * kPageTexels;
+    if constexpr (kBytes == 1) {
+        std::memcpy(s, planes, kPageTexels);
+    } else {
+        for (uint32_t i = 0; i < kPageTexels; ++i) {
+            T v = 0;
+            for (uint32_t b = 0; b < kBytes; ++b) v = T(v | T(T(planes[b * kPageTexels + i]) << (8 * b)));
+            s[i] = v;
+        }
+    }
+    if (!predict) return;
+    constexpr uint32_t n = kPageSizeTexels;
+    // Row 0 predicts from the left neighbour (0 for the first texel).
+    T left = 0;
+    for (uint32_t x = 0; x < n; ++x) {
+        left = T(left + unzigzag(s[x]));
+        s[x] = left;
+    }
+    // Other rows: the first texel predicts from above, the rest with MED.
+    for (uint32_t y = 1; y < n; ++y) {
+        const T* up = s + (y - 1) * n;
+        T* row = s + y * n;
+        T a = T(up[0] + unzigzag(row[0]));
+        row[0] = a;
+        for (uint32_t x = 1; x < n; ++x) {
+            a = T(medPredict(a, up[x], up[x - 1]) + unzigzag(row[x]));
+            row[x] = a;
+        }
+    }
+}
+
+#if defined(__SSE2__)
+// The 8-bit planes of a page are its channels' grids; all are reconstructed together.
+// Returns a pointer to channel 0's samples (channel c at + 64 c).
+inline const uint8_t* unpackU8Planes(const uint8_t* in, uint32_t channels, bool predict, uint8_t* planes) {
+    if (!predict) return in;
+    std::memcpy(planes, in, size_t(channels) * kPageTexels);
+    unpredictU8Planes(planes, channels);
+    return planes;
+}
+#endif
+
+template <typename T>
+void unpackT(const uint8_t* in, uint32_t channels, bool predict, T* samples) {
+#if defined(__SSE2__)
+    if constexpr (sizeof(T) == 1) {
+        uint8_t planes[kPageTexels * kMaxChannels];
+        const uint8_t* s = unpackU8Planes(in, channels, predict, planes);
+        for (uint32_t c = 0; c < channels; ++c)
+            for (uint32_t i = 0; i < kPageTexels; ++i) samples[i * channels + c] = s[c * kPageTexels + i];
+        return;
+    }
+#endif
+    T s[kPageTexels];
+    for (uint32_t c = 0; c < channels; ++c) {
+        unpackChannel(in, c, predict, s);
+        for (uint32_t i = 0; i < kPageTexels; ++i) samples[i * channels + c] = s[i];
+    }
+}
+
+// Scatters one planar channel into interleaved floats through `convert`. The channel counts of
+// ordinary images get a constant stride so the stores need no multiplication by a variable.
+template <uint32_t kChannels, typename T, typename Convert>
+inline void scatterFixed(const T* s, uint32_t c, float* texels, Convert convert) {
+    for (uint32_t i = 0; i < kPageTexels; ++i) texels[i * kChannels + c] = convert(s[i]);
+}
+
+template <typename T, typename Convert>
+inline void scatter(const T* s, uint32_t c, uint32_t channels, float* texels, Convert convert) {
+    switch (channels) {
+        case 1: scatterFixed<1>(s, c, texels, convert); break;
+        case 2: scatterFixed<2>(s, c, texels, convert); break;
+        case 3: scatterFixed<3>(s, c, texels, convert); break;
+        case 4: scatterFixed<4>(s, c, texels, convert); break;
+        default:
+            for (uint32_t i = 0; i < kPageTexels; ++i) texels[i * channels + c] = convert(s[i]);
+            break;
+    }
+}
+
+template <typename T, typename Convert>
+void unpackToFloatT(const uint8_t* in, uint32_t channels, bool predict, float* texels, Convert convert) {
+#if defined(__SSE2__)
+    if constexpr (sizeof(T) == 1) {
+        uint8_t planes[kPageTexels * kMaxChannels];
+        const uint8_t* s = unpackU8Planes(in, channels, predict, planes);
+        for (uint32_t c = 0; c < channels; ++c) scatter(s + c * kPageTexels, c, channels, texels, convert);
+        return;
+    }
+#endif
+    T s[kPageTexels];
+    for (uint32_t c = 0; c < channels; ++c) {
+        unpackChannel(in, c, predict, s);
+        scatter(s, c, channels, texels, convert);
+    }
+}
+
+float halfBitsToFloat(uint16_t bits) {
+    Imath::half h;
+    h.setBits(bits);
+    return float(h);
 }
 
 }  // namespace
@@ -146,9 +325,12 @@ void quantizePage(const float* texels, uint32_t channels, PixelType type, ColorS
             if (!encode) {
                 for (uint32_t i = 0; i < n; ++i) out[i] = uint8_t(clamp01(texels[i]) * 255.0f + 0.5f);
             } else {
-                for (uint32_t i = 0; i < n; ++i) {
-                    const bool isAlpha = int(i % channels) == alpha;
-                    out[i] = isAlpha ? uint8_t(clamp01(texels[i]) * 255.0f + 0.5f) : linearToSrgbU8(texels[i]);
+                const float* thresholds = tables().thresholds.data();
+                for (uint32_t i = 0; i < n; i += channels) {
+                    for (uint32_t c = 0; c < channels; ++c) {
+                        const float v = texels[i + c];
+                        out[i + c] = int(c) == alpha ? uint8_t(clamp01(v) * 255.0f + 0.5f) : linearToSrgbU8(thresholds, v);
+                    }
                 }
             }
             break;
@@ -217,14 +399,33 @@ void samplesToFloat(const void* samples, uint32_t channels, PixelType type, floa
         }
         case PixelType::Half: {
             const uint16_t* in = static_cast<const uint16_t*>(samples);
-            for (uint32_t i = 0; i < n; ++i) {
-                Imath::half h;
-                h.setBits(in[i]);
-                texels[i] = float(h);
-            }
+            for (uint32_t i = 0; i < n; ++i) texels[i] = halfBitsToFloat(in[i]);
             break;
         }
         case PixelType::Float: std::memcpy(texels, samples, size_t(n) * 4); break;
+    }
+}
+
+void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, bool predict, float* texels) {
+    switch (type) {
+        case PixelType::U8: {
+            const float* unorm = tables().unorm.data();
+            unpackToFloatT<uint8_t>(in, channels, predict, texels, [unorm](uint8_t v) { return unorm[v]; });
+            break;
+        }
+        case PixelType::U16:
+            unpackToFloatT<uint16_t>(in, channels, predict, texels, [](uint16_t v) { return float(v) / 65535.0f; });
+            break;
+        case PixelType::Half:
+            unpackToFloatT<uint16_t>(in, channels, predict, texels, halfBitsToFloat);
+            break;
+        case PixelType::Float:
+            unpackToFloatT<uint32_t>(in, channels, predict, texels, [](uint32_t v) {
+                float f;
+                std::memcpy(&f, &v, 4);
+                return f;
+            });
+            break;
     }
 }
 

@@ -36,6 +36,9 @@ void packPage(const void* samples, uint32_t channels, PixelType type, bool predi
 // Inverse of packPage.
 void unpackPage(const uint8_t* in, uint32_t channels, PixelType type, bool predict, void* samples);
 
+// unpackPage followed by samplesToFloat in one pass, without the intermediate sample buffer.
+void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, bool predict, float* texels);
+
 // Converts host-order samples to floats (u8/u16 normalised to [0,1], half widened, float as is).
 void samplesToFloat(const void* samples, uint32_t channels, PixelType type, float* texels);
 
