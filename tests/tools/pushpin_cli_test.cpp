@@ -1,4 +1,6 @@
 // Runs the built `pushpin` program the way users do and checks exit codes, stdout and stderr.
+#include "tests/support/ma_corpus.h"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -168,17 +170,14 @@ TEST(PushpinCli, PrintedDemoReadsBackTheSame) {
 }
 
 TEST(PushpinCli, EveryPublicSceneReportsWithExitZero) {
-    fs::path corpus(PUSHPIN_MA_CORPUS);
-    std::error_code ec;
-    if (!fs::is_directory(corpus, ec)) GTEST_SKIP() << "no .ma corpus at " << corpus << " (PUSHPIN_MA_CORPUS)";
+    PUSHPIN_REQUIRE_MA_CORPUS();
     size_t files = 0;
-    for (const auto& entry : fs::directory_iterator(corpus)) {
-        if (entry.path().extension() != ".ma") continue;
+    for (const fs::path& path : pushpin::test::maCorpusFiles()) {
         ++files;
-        CliRun r = runPushpin("--info '" + entry.path().string() + "'");
-        EXPECT_EQ(r.exitCode, 0) << entry.path() << ": " << r.err;
-        EXPECT_TRUE(JsonChecker(r.out).valid()) << entry.path();
-        EXPECT_NE(r.out.find("\"shapeCounts\""), std::string::npos) << entry.path();
+        CliRun r = runPushpin("--info '" + path.string() + "'");
+        EXPECT_EQ(r.exitCode, 0) << path << ": " << r.err;
+        EXPECT_TRUE(JsonChecker(r.out).valid()) << path;
+        EXPECT_NE(r.out.find("\"shapeCounts\""), std::string::npos) << path;
     }
     EXPECT_GT(files, 0u);
 }

@@ -4,6 +4,8 @@
 #include "core/scene/render_setup.h"
 #include "core/scene/scene_info.h"
 
+#include "tests/support/ma_corpus.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,24 +16,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path corpusDir() { return fs::path(PUSHPIN_MA_CORPUS); }
-
-std::vector<fs::path> corpusFiles() {
-    std::vector<fs::path> files;
-    std::error_code ec;
-    if (!fs::is_directory(corpusDir(), ec)) return files;
-    for (const auto& e : fs::directory_iterator(corpusDir()))
-        if (e.path().extension() == ".ma") files.push_back(e.path());
-    std::sort(files.begin(), files.end());
-    return files;
-}
-
-#define REQUIRE_CORPUS()                                                                            \
-    if (corpusFiles().empty()) GTEST_SKIP() << "no .ma corpus at " << corpusDir() << " (PUSHPIN_MA_CORPUS)"
+using test::maCorpusDir;
+using test::maCorpusFiles;
 
 TEST(Corpus, EveryFileLoadsAndReports) {
-    REQUIRE_CORPUS();
-    for (const fs::path& file : corpusFiles()) {
+    PUSHPIN_REQUIRE_MA_CORPUS();
+    for (const fs::path& file : maCorpusFiles()) {
         SCOPED_TRACE(file.filename().string());
         Graph g;
         ASSERT_NO_THROW(g = MaReader::readFile(file));
@@ -59,7 +49,7 @@ struct Expected {
 constexpr size_t kDefaultShadingGroups = 2;
 
 TEST(Corpus, CountsMatchWhatTheFilesSay) {
-    REQUIRE_CORPUS();
+    PUSHPIN_REQUIRE_MA_CORPUS();
     const Expected expected[] = {
         {"yamins81__cgkit__objects.ma", 2, 0, 0, 0},
         {"haggi__OpenMaya__mayaSpotSoftShadows.ma", 2, 1, 4, 0},
@@ -73,7 +63,7 @@ TEST(Corpus, CountsMatchWhatTheFilesSay) {
     };
     for (const Expected& e : expected) {
         SCOPED_TRACE(e.file);
-        fs::path file = corpusDir() / e.file;
+        fs::path file = maCorpusDir() / e.file;
         ASSERT_TRUE(fs::exists(file));
         Graph g = MaReader::readFile(file);
         SceneReport report = describeScene(g, sceneCurrentFrame(g));
@@ -86,8 +76,8 @@ TEST(Corpus, CountsMatchWhatTheFilesSay) {
 }
 
 TEST(Corpus, PerFaceMaterialsAreComponentMembers) {
-    REQUIRE_CORPUS();
-    Graph g = MaReader::readFile(corpusDir() / "appleseedhq__appleseed-maya__face_materials.ma");
+    PUSHPIN_REQUIRE_MA_CORPUS();
+    Graph g = MaReader::readFile(maCorpusDir() / "appleseedhq__appleseed-maya__face_materials.ma");
     RenderSetup setup = extractRenderSetup(g);
     size_t componentMembers = 0;
     for (const ShadingGroupInfo& sg : setup.shadingGroups)
@@ -103,8 +93,8 @@ TEST(Corpus, PerFaceMaterialsAreComponentMembers) {
 }
 
 TEST(Corpus, LightLinksAreKept) {
-    REQUIRE_CORPUS();
-    Graph g = MaReader::readFile(corpusDir() / "Autodesk__maya-usd__ProxyShapeDrawLightingTest.ma");
+    PUSHPIN_REQUIRE_MA_CORPUS();
+    Graph g = MaReader::readFile(maCorpusDir() / "Autodesk__maya-usd__ProxyShapeDrawLightingTest.ma");
     RenderSetup setup = extractRenderSetup(g);
     EXPECT_FALSE(setup.lightLinks.empty());
     bool sawLink = false;

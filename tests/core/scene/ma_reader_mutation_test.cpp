@@ -3,6 +3,8 @@
 // or throw anything else. The same seed gives the same mutants on every run.
 #include "core/scene/ma_reader.h"
 
+#include "tests/support/ma_corpus.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -223,18 +225,11 @@ Outcome mutateAndRead(const std::string& text, const std::string& name, uint32_t
 
 std::vector<std::pair<std::string, std::string>> inputs() {
     std::vector<std::pair<std::string, std::string>> out;
-    const fs::path corpus = PUSHPIN_MA_CORPUS;
-    if (fs::is_directory(corpus)) {
-        std::vector<fs::path> files;
-        for (const auto& e : fs::directory_iterator(corpus))
-            if (e.path().extension() == ".ma") files.push_back(e.path());
-        std::sort(files.begin(), files.end());  // a stable order keeps seeds per file stable
-        for (const fs::path& p : files) {
-            std::ifstream in(p, std::ios::binary);
-            std::ostringstream ss;
-            ss << in.rdbuf();
-            out.emplace_back(p.filename().string(), ss.str());
-        }
+    for (const fs::path& p : test::maCorpusFiles()) {  // sorted: seeds per file stay stable
+        std::ifstream in(p, std::ios::binary);
+        std::ostringstream ss;
+        ss << in.rdbuf();
+        out.emplace_back(p.filename().string(), ss.str());
     }
     if (out.empty()) {
         int k = 0;

@@ -2,6 +2,8 @@
 
 #include "core/scene/detail/ma_lexer.h"
 
+#include "tests/support/ma_corpus.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -943,15 +945,13 @@ TEST(MaReader, ReadFileMissingIsAnIoError) {
 // ------------------------------------------------------------------ corpus
 
 TEST(MaReader, ReadsEveryCorpusFile) {
-    const fs::path corpus = PUSHPIN_MA_CORPUS;
-    if (!fs::is_directory(corpus)) GTEST_SKIP() << "corpus folder " << corpus << " is absent";
+    PUSHPIN_REQUIRE_MA_CORPUS();
     int files = 0;
-    for (const auto& entry : fs::directory_iterator(corpus)) {
-        if (entry.path().extension() != ".ma") continue;
+    for (const fs::path& path : test::maCorpusFiles()) {
         ++files;
-        SCOPED_TRACE(entry.path().string());
+        SCOPED_TRACE(path.string());
         Graph g;
-        ASSERT_NO_THROW(g = MaReader::readFile(entry.path()));
+        ASSERT_NO_THROW(g = MaReader::readFile(path));
         EXPECT_GT(g.size(), 23u);  // more than the implicit default nodes
         EXPECT_FALSE(g.requirements.empty());
         // Every mesh with explicit polyFaces has as many faces stored as its ranges say.

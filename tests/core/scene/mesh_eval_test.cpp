@@ -5,6 +5,8 @@
 #include "core/scene/components.h"
 #include "core/scene/ma_reader.h"
 
+#include "tests/support/ma_corpus.h"
+
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
@@ -540,12 +542,8 @@ connectAttr "groupParts1.og" "pCubeShape1.i";
 
 // ------------------------------------------------------------------ public corpus
 TEST(MeshEval, PublicCorpusEvaluatesOrSkipsEveryShape) {
-    const std::filesystem::path corpus = PUSHPIN_MA_CORPUS;
-    if (!std::filesystem::is_directory(corpus)) GTEST_SKIP() << "no .ma corpus at " << corpus;
-    std::vector<std::filesystem::path> files;
-    for (const auto& entry : std::filesystem::directory_iterator(corpus))
-        if (entry.path().extension() == ".ma") files.push_back(entry.path());
-    std::sort(files.begin(), files.end());
+    PUSHPIN_REQUIRE_MA_CORPUS();
+    const std::vector<std::filesystem::path> files = test::maCorpusFiles();
     size_t totalShapes = 0, totalEvaluated = 0, totalCached = 0;
     for (const std::filesystem::path& file : files) {
         Graph g;

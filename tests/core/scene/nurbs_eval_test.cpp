@@ -5,6 +5,8 @@
 #include "core/geom/nurbs_primitives.h"
 #include "core/scene/ma_reader.h"
 
+#include "tests/support/ma_corpus.h"
+
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
@@ -316,14 +318,8 @@ TEST(NurbsEval, CurvesDecodeAndCircleCreatorEvaluates) {
 }
 
 TEST(NurbsEval, EveryCorpusNurbsShapeDecodesOrIsSkippedWithAReason) {
-    std::vector<fs::path> files;
-    std::error_code ec;
-    if (fs::is_directory(PUSHPIN_MA_CORPUS, ec)) {
-        for (const auto& e : fs::directory_iterator(PUSHPIN_MA_CORPUS))
-            if (e.path().extension() == ".ma") files.push_back(e.path());
-    }
-    if (files.empty()) GTEST_SKIP() << "no .ma corpus at " << PUSHPIN_MA_CORPUS << " (PUSHPIN_MA_CORPUS)";
-    std::sort(files.begin(), files.end());
+    PUSHPIN_REQUIRE_MA_CORPUS();
+    const std::vector<fs::path> files = test::maCorpusFiles();
     int totalCached = 0, totalCreated = 0, totalCurves = 0;
     for (const fs::path& file : files) {
         SCOPED_TRACE(file.filename().string());
