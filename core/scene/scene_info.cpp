@@ -22,19 +22,16 @@ std::string diagnosticLine(const Diagnostic& d) {
     return s + d.message;
 }
 
-bool isHiddenOnPath(Evaluator& ev, const std::vector<NodeId>& path, std::string& why) {
-    const Graph& g = ev.graph();
-    for (NodeId id : path) {
-        if (!ev.getBool(id, "visibility", true) || !ev.getBool(id, "lodVisibility", true)) {
-            why = "hidden ('" + g.node(id).name + "' has visibility off)";
-            return true;
-        }
-        if (ev.getBool(id, "overrideEnabled", false) && !ev.getBool(id, "overrideVisibility", true)) {
-            why = "hidden by a drawing override on '" + g.node(id).name + "'";
-            return true;
-        }
+// Why a DAG path is not drawn, naming the first node that hides it; empty when it is visible.
+std::string hiddenReason(Evaluator& ev, const std::vector<NodeId>& path) {
+    if (ev.visible(path)) return {};
+    for (size_t k = 1; k <= path.size(); ++k) {
+        std::vector<NodeId> prefix(path.begin(), path.begin() + std::ptrdiff_t(k));
+        if (!ev.visible(prefix))
+            return "hidden by '" + ev.graph().node(path[k - 1]).name +
+                   "' (visibility, a drawing override or a display layer)";
     }
-    return false;
+    return "hidden";
 }
 
 // Object-space bounds of a shape's geometry at the evaluator's frame, or nullopt with a reason.
@@ -109,11 +106,12 @@ double sceneCurrentFrame(const Graph& g) {
     return globals != kNoNode ? g.getDouble(globals, "startFrame", 1.0) : 1.0;
 }
 
-SceneReport describeScene(const Graph& g, double frame) {
+namespace {
+
+SceneReport describeScene(const Graph& g, const RenderSetup& setup, double frame) {
     SceneReport report;
     report.frame = frame;
     for (const Diagnostic& d : g.warnings()) report.warnings.push_back(diagnosticLine(d));
-    RenderSetup setup = extractRenderSetup(g);
     Evaluator ev(g, frame);
     std::map<NodeId, std::tuple<std::optional<geom::Bounds3>, size_t, size_t, std::string>> geometry;
 
@@ -130,10 +128,9 @@ SceneReport describeScene(const Graph& g, double frame) {
             s.instance = int(instance);
             for (const ShadingGroupInfo* sg : shadingGroupsOf(setup, n.id, int(instance))) s.shadingGroups.push_back(sg->name);
 
-            std::string why;
             if (ev.getBool(n.id, "intermediateObject", false)) {
                 s.reason = "intermediate object";
-            } else if (isHiddenOnPath(ev, path, why)) {
+            } else if (std::string why = hiddenReason(ev, path); !why.empty()) {
                 s.reason = why;
             } else if (s.shadingGroups.empty()) {
                 s.reason = "belongs to no shading group";
@@ -161,9 +158,13 @@ SceneReport describeScene(const Graph& g, double frame) {
     return report;
 }
 
+}  // namespace
+
+SceneReport describeScene(const Graph& g, double frame) { return describeScene(g, extractRenderSetup(g), frame); }
+
 std::string sceneInfoJson(const Graph& g, double frame) {
-    SceneReport report = describeScene(g, frame);
-    RenderSetup setup = extractRenderSetup(g);
+    const RenderSetup setup = extractRenderSetup(g);
+    SceneReport report = describeScene(g, setup, frame);
     util::JsonWriter w;
     w.beginObject();
     w.field("file", g.sourceFile);
