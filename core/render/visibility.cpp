@@ -1,0 +1,710 @@
+// core/render/visibility.cpp: Exact Area Sampling rasterization, per-pixel hidden-surface
+// resolution and compositing (reference/algorithms.md §2: Carpenter's A-buffer with exact areas).
+#include "core/render/visibility.h"
+
+#include <algorithm>
+#include <bit>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace pushpin::render {
+
+namespace {
+
+constexpr double kMinFragmentArea = 1e-12;     // pixels²; smaller clipped areas are dropped
+constexpr double kFullPixelArea = 1.0 - 1e-6;  // a group at least this large covers the pixel
+constexpr float kDepthRelEpsilon = 1e-5f;      // "nearer" for sliver tests, relative to |depth|
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Sub-sample centres, pixel-local (exact in binary: odd multiples of 1/16).
+struct SubsampleCentres {
+    double coord[kSubsampleGrid];   // (i + 0.5) / 8
+    float u[kSubsampleCount], v[kSubsampleCount];
+    constexpr SubsampleCentres() : coord{}, u{}, v{} {
+        for (int i = 0; i < kSubsampleGrid; ++i) coord[i] = (i + 0.5) / kSubsampleGrid;
+        for (int b = 0; b < kSubsampleCount; ++b) {
+            u[b] = float(coord[b % kSubsampleGrid]);
+            v[b] = float(coord[b / kSubsampleGrid]);
+        }
+    }
+};
+constexpr SubsampleCentres kCentre;
+
+inline int lowestBit(uint64_t m) { return std::countr_zero(m); }
+
+// NaN compares as +inf so that every depth comparison is a total order.
+inline float depthKey(float z) { return z == z ? z : kInf; }
+
+inline bool nearerBy(float a, float b) {  // a nearer than b beyond a small relative epsilon
+    const float eps = kDepthRelEpsilon * std::max(std::fabs(a), std::fabs(b));
+    return a < b - eps;
+}
+
+inline float toFloat(double d) {
+    if (!(d == d)) return 0.0f;
+    return float(std::clamp(d, -double(FLT_MAX), double(FLT_MAX)));
+}
+
+inline float clamp01(float t) { return t > 0.0f ? (t < 1.0f ? t : 1.0f) : 0.0f; }
+
+inline uint32_t floatBits(float f) {
+    uint32_t u;
+    std::memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+// A total order on fragments: (object, triangle) first, the remaining fields only to make exact
+// duplicates and caller-made oddities sort the same way whatever the input order.
+bool fragmentLess(const Fragment& a, const Fragment& b) {
+    if (a.object != b.object) return a.object < b.object;
+    if (a.triangle != b.triangle) return a.triangle < b.triangle;
+    if (a.flags != b.flags) return a.flags < b.flags;
+    if (a.mask != b.mask) return a.mask < b.mask;
+    const float fa[6] = {a.area, a.cu, a.cv, a.z0, a.dzdu, a.dzdv};
+    const float fb[6] = {b.area, b.cu, b.cv, b.z0, b.dzdu, b.dzdv};
+    for (int i = 0; i < 6; ++i) {
+        if (floatBits(fa[i]) != floatBits(fb[i])) return floatBits(fa[i]) < floatBits(fb[i]);
+    }
+    return false;
+}
+
+// The active sub-sample nearest a pixel-local point (ties: the lower bit).
+int nearestActiveBit(uint64_t active, float cu, float cv) {
+    int best = -1;
+    float bestD = kInf;
+    for (uint64_t m = active; m; m &= m - 1) {
+        const int b = lowestBit(m);
+        const float du = kCentre.u[b] - cu, dv = kCentre.v[b] - cv;
+        const float d = du * du + dv * dv;
+        if (best < 0 || d < bestD) {
+            best = b;
+            bestD = d;
+        }
+    }
+    return best < 0 ? 0 : best;
+}
+
+// One triangle edge as E(p) = a·(p.x − ox) + b·(p.y − oy), positive inside. The origin is the
+// lexicographically smaller endpoint, so the two triangles that share an edge compute exactly
+// negated values at every point (IEEE rounding is symmetric): a sub-sample centre on or next to
+// the edge is inside exactly one of them, given the top-left tie rule.
+struct Edge {
+    double a = 0, b = 0, ox = 0, oy = 0;
+    bool topLeft = false;  // owns points with E == 0: gradient points right, or straight down
+};
+
+Edge makeEdge(double px, double py, double qx, double qy) {
+    Edge e;
+    const bool forward = px < qx || (px == qx && py < qy);
+    const double ox = forward ? px : qx, oy = forward ? py : qy;
+    const double dx = forward ? qx - px : px - qx, dy = forward ? qy - py : py - qy;
+    // For the edge p→q, E = cross(q − p, point − p) = (q−p).x·(y − p.y) − (q−p).y·(x − p.x).
+    e.a = forward ? -dy : dy;
+    e.b = forward ? dx : -dx;
+    e.ox = ox;
+    e.oy = oy;
+    e.topLeft = e.a > 0 || (e.a == 0 && e.b > 0);
+    return e;
+}
+
+// Sutherland–Hodgman: the pixel square clipped by the triangle's half-planes, in pixel-local
+// coordinates. Clipping the square (rather than the triangle) keeps every vertex inside [0,1]²,
+// which stays accurate for triangles much larger than a pixel.
+struct ClipPolygon {
+    static constexpr int kMax = 8;  // 4 corners + one vertex per clipping edge
+    double u[kMax], v[kMax];
+    int n = 0;
+};
+
+void clipByEdge(const ClipPolygon& in, ClipPolygon& out, double e00, double a, double b) {
+    out.n = 0;
+    if (in.n == 0) return;
+    double e[ClipPolygon::kMax];
+    for (int i = 0; i < in.n; ++i) e[i] = e00 + a * in.u[i] + b * in.v[i];
+    for (int i = 0; i < in.n; ++i) {
+        const int j = i + 1 == in.n ? 0 : i + 1;
+        const bool inI = e[i] >= 0, inJ = e[j] >= 0;
+        if (inI && out.n < ClipPolygon::kMax) {
+            out.u[out.n] = in.u[i];
+            out.v[out.n] = in.v[i];
+            ++out.n;
+        }
+        if (inI != inJ && out.n < ClipPolygon::kMax) {
+            const double t = e[i] / (e[i] - e[j]);
+            out.u[out.n] = in.u[i] + t * (in.u[j] - in.u[i]);
+            out.v[out.n] = in.v[i] + t * (in.v[j] - in.v[i]);
+            ++out.n;
+        }
+    }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// TileRasterizer
+
+TileRasterizer::TileRasterizer(const SubsamplePattern& pattern) : m_pattern(pattern) {}
+
+void TileRasterizer::reset(const PixelRect& region) {
+    m_region = region;
+    m_fragments.clear();
+    m_pixelOf.clear();
+    m_sorted.clear();
+    m_pixelStart.clear();
+}
+
+void TileRasterizer::add(const ScreenTriangle& tri) {
+    double x[3], y[3], z[3];
+    for (int i = 0; i < 3; ++i) {
+        x[i] = tri.x[i];
+        y[i] = tri.y[i];
+        z[i] = tri.z[i];
+        if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i])) {
+            ++m_stats.trianglesDegenerate;
+            return;
+        }
+    }
+    double area2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    if (!std::isfinite(area2) || area2 == 0.0) {
+        ++m_stats.trianglesDegenerate;
+        return;
+    }
+    if (area2 < 0) {  // normalise the winding so that the inside is where all edge functions are ≥ 0
+        std::swap(x[1], x[2]);
+        std::swap(y[1], y[2]);
+        std::swap(z[1], z[2]);
+        area2 = -area2;
+    }
+    // Depth plane z = z[0] + dzdx·(x − x[0]) + dzdy·(y − y[0]) (Cramer's rule on the two edges).
+    const double dzdx = ((z[1] - z[0]) * (y[2] - y[0]) - (z[2] - z[0]) * (y[1] - y[0])) / area2;
+    const double dzdy = ((x[1] - x[0]) * (z[2] - z[0]) - (x[2] - x[0]) * (z[1] - z[0])) / area2;
+    if (!std::isfinite(dzdx) || !std::isfinite(dzdy)) {
+        ++m_stats.trianglesDegenerate;
+        return;
+    }
+
+    // Pixel bounds, clamped in double before converting so huge coordinates cannot overflow.
+    const double minX = std::min({x[0], x[1], x[2]}), maxX = std::max({x[0], x[1], x[2]});
+    const double minY = std::min({y[0], y[1], y[2]}), maxY = std::max({y[0], y[1], y[2]});
+    const double lx = std::max(double(m_region.x0), std::floor(minX));
+    const double hx = std::min(double(m_region.x1), std::ceil(maxX));
+    const double ly = std::max(double(m_region.y0), std::floor(minY));
+    const double hy = std::min(double(m_region.y1), std::ceil(maxY));
+    if (!(lx < hx) || !(ly < hy)) return;
+    const int bx0 = int(lx), bx1 = int(hx), by0 = int(ly), by1 = int(hy);
+
+    const Edge edge[3] = {makeEdge(x[0], y[0], x[1], y[1]), makeEdge(x[1], y[1], x[2], y[2]),
+                          makeEdge(x[2], y[2], x[0], y[0])};
+    const uint64_t active = m_pattern.active;
+    const bool manyBits = m_pattern.count > 8;
+    const float fdzdu = toFloat(dzdx), fdzdv = toFloat(dzdy);
+    const uint32_t flags = tri.transparent ? kFragmentTransparent : 0u;
+    const int regionWidth = m_region.width();
+    const size_t before = m_fragments.size();
+
+    for (int py = by0; py < by1; ++py) {
+        // Edge values at the top and bottom corners of the row's first pixel, then stepped by a
+        // per pixel. Only the coverage class depends on these; masks are computed exactly below.
+        double top[3], bot[3];
+        for (int k = 0; k < 3; ++k) {
+            top[k] = edge[k].a * (bx0 - edge[k].ox) + edge[k].b * (py - edge[k].oy);
+            bot[k] = edge[k].a * (bx0 - edge[k].ox) + edge[k].b * (py + 1 - edge[k].oy);
+        }
+        const double rowZ = z[0] + dzdx * (bx0 - x[0]) + dzdy * (py - y[0]);
+        for (int px = bx0; px < bx1; ++px) {
+            const int step = px - bx0;
+            bool outside = false, full = true;
+            double e00[3];
+            int crossing[3], nCrossing = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double c00 = top[k], c10 = top[k] + edge[k].a;
+                const double c01 = bot[k], c11 = bot[k] + edge[k].a;
+                e00[k] = c00;
+                const double lo = std::min(std::min(c00, c10), std::min(c01, c11));
+                const double hi = std::max(std::max(c00, c10), std::max(c01, c11));
+                if (hi <= 0) outside = true;
+                if (lo < 0) {
+                    full = false;
+                    crossing[nCrossing++] = k;
+                }
+                top[k] = c10;
+                bot[k] = c11;
+            }
+            if (outside) continue;
+
+            Fragment f;
+            f.object = tri.object;
+            f.triangle = tri.triangle;
+            f.flags = flags;
+            f.dzdu = fdzdu;
+            f.dzdv = fdzdv;
+            f.z0 = toFloat(rowZ + dzdx * step);
+            if (full) {
+                f.mask = active;
+                f.area = 1.0f;
+                f.cu = f.cv = 0.5f;
+            } else {
+                // Exact area and centroid of the pixel square clipped by the crossing edges.
+                ClipPolygon poly[2];
+                poly[0].n = 4;
+                poly[0].u[0] = 0; poly[0].v[0] = 0;
+                poly[0].u[1] = 1; poly[0].v[1] = 0;
+                poly[0].u[2] = 1; poly[0].v[2] = 1;
+                poly[0].u[3] = 0; poly[0].v[3] = 1;
+                int cur = 0;
+                for (int c = 0; c < nCrossing; ++c) {
+                    const int k = crossing[c];
+                    clipByEdge(poly[cur], poly[cur ^ 1], e00[k], edge[k].a, edge[k].b);
+                    cur ^= 1;
+                }
+                const ClipPolygon& p = poly[cur];
+                double a2 = 0, cx = 0, cy = 0;
+                for (int i = 0; i < p.n; ++i) {
+                    const int j = i + 1 == p.n ? 0 : i + 1;
+                    const double cr = p.u[i] * p.v[j] - p.u[j] * p.v[i];
+                    a2 += cr;
+                    cx += (p.u[i] + p.u[j]) * cr;
+                    cy += (p.v[i] + p.v[j]) * cr;
+                }
+                const double area = 0.5 * a2;
+                if (!(area > kMinFragmentArea)) continue;
+                f.area = float(std::min(area, 1.0));
+                f.cu = float(std::clamp(cx / (3.0 * a2), 0.0, 1.0));
+                f.cv = float(std::clamp(cy / (3.0 * a2), 0.0, 1.0));
+
+                // Mask: sub-sample centres inside every crossing edge (top-left rule on E == 0).
+                // Each value is a fixed expression of the pixel, the centre and the edge's canonical
+                // coefficients, so neighbouring triangles see exactly negated values.
+                uint64_t mask = active;
+                for (int c = 0; c < nCrossing && mask; ++c) {
+                    const Edge& e = edge[crossing[c]];
+                    const double dx0 = double(px) - e.ox, dy0 = double(py) - e.oy;
+                    if (manyBits) {
+                        // All 64 centres, row by row, without branches (same values as below).
+                        double ax[kSubsampleGrid];
+                        for (int i = 0; i < kSubsampleGrid; ++i) ax[i] = e.a * (dx0 + kCentre.coord[i]);
+                        uint64_t inside = 0;
+                        for (int j = 0; j < kSubsampleGrid; ++j) {
+                            const double by = e.b * (dy0 + kCentre.coord[j]);
+                            unsigned row = 0;
+                            if (e.topLeft) {
+                                for (int i = 0; i < kSubsampleGrid; ++i) row |= unsigned(ax[i] + by >= 0) << i;
+                            } else {
+                                for (int i = 0; i < kSubsampleGrid; ++i) row |= unsigned(ax[i] + by > 0) << i;
+                            }
+                            inside |= uint64_t(row) << (kSubsampleGrid * j);
+                        }
+                        mask &= inside;
+                    } else {
+                        for (uint64_t m = mask; m; m &= m - 1) {
+                            const int b = lowestBit(m);
+                            const double ev = e.a * (dx0 + kCentre.coord[b % kSubsampleGrid]) +
+                                              e.b * (dy0 + kCentre.coord[b / kSubsampleGrid]);
+                            if (ev < 0 || (ev == 0 && !e.topLeft)) mask &= ~(uint64_t(1) << b);
+                        }
+                    }
+                }
+                f.mask = mask;
+            }
+            m_fragments.push_back(f);
+            m_pixelOf.push_back(uint32_t((py - m_region.y0) * regionWidth + (px - m_region.x0)));
+        }
+    }
+    const size_t added = m_fragments.size() - before;
+    if (added > 0) {
+        ++m_stats.trianglesRasterized;
+        m_stats.fragments += added;
+    }
+}
+
+void TileRasterizer::finish() {
+    const size_t pixels = size_t(m_region.width()) * size_t(m_region.height());
+    m_pixelStart.assign(pixels + 1, 0);
+    for (uint32_t p : m_pixelOf) ++m_pixelStart[p + 1];
+    for (size_t p = 0; p < pixels; ++p) m_pixelStart[p + 1] += m_pixelStart[p];
+    m_sorted.resize(m_fragments.size());
+    // Stable counting sort: m_pixelStart[p] advances to the end of pixel p's range while placing.
+    for (size_t i = 0; i < m_fragments.size(); ++i) m_sorted[m_pixelStart[m_pixelOf[i]]++] = m_fragments[i];
+    for (size_t p = pixels; p > 0; --p) m_pixelStart[p] = m_pixelStart[p - 1];
+    m_pixelStart[0] = 0;
+}
+
+std::span<const Fragment> TileRasterizer::fragments(int x, int y) const {
+    const size_t pixels = size_t(m_region.width()) * size_t(m_region.height());
+    if (!m_region.contains(x, y) || m_pixelStart.size() != pixels + 1 ||
+        m_sorted.size() != m_fragments.size()) {
+        return {};
+    }
+    const size_t p = size_t(y - m_region.y0) * size_t(m_region.width()) + size_t(x - m_region.x0);
+    return std::span<const Fragment>(m_sorted.data() + m_pixelStart[p], m_pixelStart[p + 1] - m_pixelStart[p]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// PixelResolver
+
+PixelResolver::PixelResolver(const SubsamplePattern& pattern, std::span<const ObjectTopology> topology)
+    : m_pattern(pattern), m_topology(topology), m_nearestDepth(kInf) {}
+
+namespace {
+
+// Index range in the sorted fragments holding (object, triangle).
+std::pair<size_t, size_t> findTriangle(const std::vector<Fragment>& sorted, uint32_t object, uint32_t triangle) {
+    auto less = [](const Fragment& f, std::pair<uint32_t, uint32_t> key) {
+        return f.object != key.first ? f.object < key.first : f.triangle < key.second;
+    };
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(object, triangle), less);
+    size_t lo = size_t(it - sorted.begin()), hi = lo;
+    while (hi < sorted.size() && sorted[hi].object == object && sorted[hi].triangle == triangle) ++hi;
+    return {lo, hi};
+}
+
+uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
+    a = findRoot(parent, a);
+    b = findRoot(parent, b);
+    if (a == b) return;
+    if (a < b) parent[b] = a;  // the smallest index is the root: groups numbered by first member
+    else parent[a] = b;
+}
+
+}  // namespace
+
+void PixelResolver::resolve(std::span<const Fragment> input) {
+    m_groups.clear();
+    m_members.clear();
+    m_nearestDepth = kInf;
+    m_opaqueCoverage = 0.0f;
+    const size_t n = input.size();
+    if (n == 0) return;
+    ++m_stats.pixels;
+    const uint64_t active = m_pattern.active;
+
+    // Canonical order, so nothing below depends on the order of the input; sanitise caller data.
+    m_sorted.assign(input.begin(), input.end());
+    for (Fragment& f : m_sorted) {
+        f.mask &= active;
+        f.area = (f.area > 0.0f && f.area <= FLT_MAX) ? f.area : 0.0f;
+        f.cu = f.cu == f.cu ? std::clamp(f.cu, 0.0f, 1.0f) : 0.5f;
+        f.cv = f.cv == f.cv ? std::clamp(f.cv, 0.0f, 1.0f) : 0.5f;
+    }
+    std::sort(m_sorted.begin(), m_sorted.end(), fragmentLess);
+    const std::vector<Fragment>& F = m_sorted;
+
+    // a. Opaque visibility per sub-sample: nearest opaque fragment; ties go to the one met first,
+    //    which in the canonical order is the smaller object, then the smaller triangle.
+    int winner[kSubsampleCount];
+    float winDepth[kSubsampleCount];
+    std::fill(std::begin(winner), std::end(winner), -1);
+    std::fill(std::begin(winDepth), std::end(winDepth), kInf);
+    for (size_t i = 0; i < n; ++i) {
+        const Fragment& f = F[i];
+        if (f.flags & kFragmentTransparent) continue;
+        for (uint64_t m = f.mask; m; m &= m - 1) {
+            const int b = lowestBit(m);
+            const float d = depthKey(f.depthAt(kCentre.u[b], kCentre.v[b]));
+            if (winner[b] < 0 || d < winDepth[b]) {
+                winner[b] = int(i);
+                winDepth[b] = d;
+            }
+        }
+    }
+    m_visible.assign(n, 0);
+    for (int b = 0; b < kSubsampleCount; ++b) {
+        if (winner[b] >= 0) m_visible[size_t(winner[b])] |= uint64_t(1) << b;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const Fragment& f = F[i];
+        if (!(f.flags & kFragmentTransparent)) continue;
+        uint64_t vis = 0;
+        for (uint64_t m = f.mask; m; m &= m - 1) {
+            const int b = lowestBit(m);
+            const float d = depthKey(f.depthAt(kCentre.u[b], kCentre.v[b]));
+            bool seen = winner[b] < 0 || d < winDepth[b];
+            if (!seen && d == winDepth[b]) {  // same tie-break as between opaque fragments
+                const Fragment& w = F[size_t(winner[b])];
+                seen = f.object != w.object ? f.object < w.object : f.triangle < w.triangle;
+            }
+            if (seen) vis |= uint64_t(1) << b;
+        }
+        m_visible[i] = vis;
+    }
+
+    // b. Surface groups: union–find over soft-edge neighbours of one object (and duplicates).
+    m_parent.resize(n);
+    for (size_t i = 0; i < n; ++i) m_parent[i] = uint32_t(i);
+    for (size_t i = 0; i < n; ++i) {
+        const Fragment& f = F[i];
+        if (i > 0 && F[i - 1].object == f.object && F[i - 1].triangle == f.triangle) {
+            unite(m_parent, uint32_t(i - 1), uint32_t(i));
+        }
+        if (f.object >= m_topology.size()) continue;
+        const ObjectTopology& topo = m_topology[f.object];
+        if (!topo.neighbors || f.triangle >= topo.triangleCount) continue;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t nb = topo.neighbors[3 * size_t(f.triangle) + k];
+            if (nb & kHardEdgeBit) continue;  // hard edge, or kNoTriangle
+            const auto [lo, hi] = findTriangle(F, f.object, nb);
+            for (size_t j = lo; j < hi; ++j) unite(m_parent, uint32_t(i), uint32_t(j));
+        }
+    }
+    // Replace roots by group ids numbered in order of first member (roots are the smallest index).
+    uint32_t groupCount = 0;
+    for (size_t i = 0; i < n; ++i) m_parent[i] = findRoot(m_parent, uint32_t(i));
+    for (size_t i = 0; i < n; ++i) {
+        m_parent[i] = m_parent[i] == i ? groupCount++ : m_parent[m_parent[i]];
+    }
+    std::vector<uint32_t>& groupOf = m_parent;
+    m_stats.surfaces += groupCount;
+    m_stats.mergedFragments += n - groupCount;
+
+    // Member lists: fragment indices grouped by group, ascending within a group.
+    m_groups.resize(groupCount);
+    for (uint32_t i = 0; i < n; ++i) ++m_groups[groupOf[i]].memberCount;
+    uint32_t begin = 0;
+    for (SurfaceGroup& g : m_groups) {
+        g.memberBegin = begin;
+        begin += g.memberCount;
+        g.memberCount = 0;
+    }
+    m_order.resize(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        SurfaceGroup& g = m_groups[groupOf[i]];
+        m_order[g.memberBegin + g.memberCount++] = i;
+    }
+
+    // Which fragment is an edge-neighbour (hard or soft) of some member of group `gid`.
+    auto neighbourOfGroup = [&](const Fragment& f, uint32_t gid) {
+        const SurfaceGroup& g = m_groups[gid];
+        if (f.object != g.object || f.object >= m_topology.size()) return false;
+        const ObjectTopology& topo = m_topology[f.object];
+        if (!topo.neighbors) return false;
+        auto neighbours = [&](uint32_t t, uint32_t other) {
+            if (t >= topo.triangleCount) return false;
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t nb = topo.neighbors[3 * size_t(t) + k];
+                if (nb != kNoTriangle && (nb & ~kHardEdgeBit) == other) return true;
+            }
+            return false;
+        };
+        for (uint32_t k = 0; k < g.memberCount; ++k) {
+            const Fragment& m = F[m_order[g.memberBegin + k]];
+            if (neighbours(f.triangle, m.triangle) || neighbours(m.triangle, f.triangle)) return true;
+        }
+        return false;
+    };
+
+    // c, d. Group properties, and the visibility of groups without sub-samples.
+    for (uint32_t gid = 0; gid < groupCount; ++gid) {
+        SurfaceGroup& g = m_groups[gid];
+        const uint32_t* idx = m_order.data() + g.memberBegin;
+        g.object = F[idx[0]].object;
+        double area = 0, wu = 0, wv = 0, su = 0, sv = 0;
+        uint32_t largest = idx[0];
+        for (uint32_t k = 0; k < g.memberCount; ++k) {
+            const Fragment& f = F[idx[k]];
+            g.mask |= f.mask;
+            g.visibleMask |= m_visible[idx[k]];
+            g.transparent = g.transparent || (f.flags & kFragmentTransparent);
+            area += f.area;
+            wu += double(f.area) * f.cu;
+            wv += double(f.area) * f.cv;
+            su += f.cu;
+            sv += f.cv;
+            if (f.area > F[largest].area) largest = idx[k];
+        }
+        g.area = float(area);
+        if (g.visibleMask) {
+            double u = 0, v = 0;
+            for (uint64_t m = g.visibleMask; m; m &= m - 1) {
+                u += kCentre.u[lowestBit(m)];
+                v += kCentre.v[lowestBit(m)];
+            }
+            const int c = std::popcount(g.visibleMask);
+            g.cu = float(u / c);
+            g.cv = float(v / c);
+        } else if (area > 0) {
+            g.cu = float(wu / area);
+            g.cv = float(wv / area);
+        } else {
+            g.cu = float(su / g.memberCount);
+            g.cv = float(sv / g.memberCount);
+        }
+        const bool useVisible = g.visibleMask != 0;
+        if (g.mask) {
+            float depth = kInf;
+            for (uint32_t k = 0; k < g.memberCount; ++k) {
+                const Fragment& f = F[idx[k]];
+                for (uint64_t m = useVisible ? m_visible[idx[k]] : f.mask; m; m &= m - 1) {
+                    const int b = lowestBit(m);
+                    depth = std::min(depth, depthKey(f.depthAt(kCentre.u[b], kCentre.v[b])));
+                }
+            }
+            g.depth = depth;
+        } else {
+            const Fragment& big = F[largest];
+            g.depth = depthKey(big.depthAt(big.cu, big.cv));
+            // A sliver between sub-samples is judged at its representative sub-sample r: hidden
+            // when an opaque fragment there, which is not a mesh neighbour of the sliver (a
+            // neighbour meets it at a shared edge rather than lying in front of it), is nearer
+            // at the sliver's centroid. The sliver's depth there is its largest member's plane.
+            const int r = nearestActiveBit(active, g.cu, g.cv);
+            const float own = depthKey(big.depthAt(g.cu, g.cv));
+            bool hidden = false;
+            for (size_t j = 0; j < n && !hidden; ++j) {
+                const Fragment& o = F[j];
+                if ((o.flags & kFragmentTransparent) || !((o.mask >> r) & 1)) continue;
+                if (!nearerBy(depthKey(o.depthAt(g.cu, g.cv)), own)) continue;
+                if (neighbourOfGroup(o, gid)) continue;
+                hidden = true;
+            }
+            g.coverage = hidden ? 0.0f : std::min(g.area, 1.0f);
+        }
+    }
+
+    // f. Front-to-back order: depth, object, smallest member triangle (the first member, as members
+    //    are in canonical order), then the first member's canonical index.
+    std::sort(m_groups.begin(), m_groups.end(), [&](const SurfaceGroup& a, const SurfaceGroup& b) {
+        if (a.depth != b.depth) return a.depth < b.depth;
+        if (a.object != b.object) return a.object < b.object;
+        const uint32_t fa = m_order[a.memberBegin], fb = m_order[b.memberBegin];
+        if (F[fa].triangle != F[fb].triangle) return F[fa].triangle < F[fb].triangle;
+        return fa < fb;
+    });
+    m_members.reserve(n);
+    for (SurfaceGroup& g : m_groups) {
+        const uint32_t newBegin = uint32_t(m_members.size());
+        for (uint32_t k = 0; k < g.memberCount; ++k) m_members.push_back(F[m_order[g.memberBegin + k]]);
+        g.memberBegin = newBegin;
+    }
+
+    // e. Coverage, front to back. A group that covers the whole pixel and is partly hidden gets
+    //    what the nearer opaque groups leave, which keeps an edge in front of it exact even when
+    //    the sub-samples misjudge the edge's area; any other group scales its exact area by the
+    //    visible fraction of its sub-samples.
+    double opaqueBefore = 0;
+    for (SurfaceGroup& g : m_groups) {
+        if (g.mask) {
+            if (g.area >= kFullPixelArea && (g.visibleMask != g.mask || opaqueBefore > 0)) {
+                g.coverage = float(std::min(double(g.area), std::max(0.0, 1.0 - opaqueBefore)));
+            } else {
+                g.coverage = g.area * float(std::popcount(g.visibleMask)) / float(std::popcount(g.mask));
+            }
+            g.coverage = std::clamp(g.coverage, 0.0f, 1.0f);
+        }
+        if (!g.transparent) opaqueBefore += g.coverage;
+    }
+    if (opaqueBefore > 1.0) {
+        const double scale = 1.0 / opaqueBefore;
+        for (SurfaceGroup& g : m_groups) {
+            if (!g.transparent) g.coverage = float(g.coverage * scale);
+        }
+    }
+    double opaque = 0;
+    for (const SurfaceGroup& g : m_groups) {
+        if (g.transparent) continue;
+        opaque += g.coverage;
+        if (g.coverage > 0) m_nearestDepth = std::min(m_nearestDepth, g.depth);
+    }
+    m_opaqueCoverage = float(std::min(opaque, 1.0));
+}
+
+const Fragment& PixelResolver::memberAt(const SurfaceGroup& group, int bit) const {
+    return surfaceMemberAt(m_members, group, bit);
+}
+
+const Fragment& surfaceMemberAt(std::span<const Fragment> members, const SurfaceGroup& group, int bit) {
+    const Fragment* first = members.data() + group.memberBegin;
+    const Fragment* best = nullptr;
+    float bestDepth = kInf;
+    if (bit >= 0 && bit < kSubsampleCount) {
+        for (uint32_t k = 0; k < group.memberCount; ++k) {
+            const Fragment& f = first[k];
+            if (!((f.mask >> bit) & 1)) continue;
+            const float d = depthKey(f.depthAt(kCentre.u[bit], kCentre.v[bit]));
+            if (!best || d < bestDepth) {
+                best = &f;
+                bestDepth = d;
+            }
+        }
+    }
+    if (best) return *best;
+    best = first;
+    for (uint32_t k = 1; k < group.memberCount; ++k) {
+        if (first[k].area > best->area) best = first + k;
+    }
+    return *best;
+}
+
+void PixelResolver::composite(std::span<const SurfaceShade> shades, std::span<SurfaceContribution> out) const {
+    compositeSurfaces(m_pattern, m_groups, m_members, shades, out);
+}
+
+void compositeSurfaces(const SubsamplePattern& pattern, std::span<const SurfaceGroup> groups,
+                       std::span<const Fragment> members, std::span<const SurfaceShade> shades,
+                       std::span<SurfaceContribution> out) {
+    const size_t count = std::min({groups.size(), shades.size(), out.size()});
+    float T[kSubsampleCount][3];
+    for (auto& t : T) t[0] = t[1] = t[2] = 1.0f;
+    // Transparency per channel as the composite uses it: 0 for surfaces that cannot be transparent.
+    auto transparencyOf = [&](size_t i, int c) {
+        return groups[i].transparent ? clamp01(shades[i].transparency[c]) : 0.0f;
+    };
+
+    for (size_t i = 0; i < count; ++i) {
+        const SurfaceGroup& g = groups[i];
+        const SurfaceShade& s = shades[i];
+        SurfaceContribution o;
+        o.cu = g.cu;
+        o.cv = g.cv;
+        const float tr[3] = {transparencyOf(i, 0), transparencyOf(i, 1), transparencyOf(i, 2)};
+        if (g.visibleMask) {
+            const float w = g.coverage / float(std::popcount(g.visibleMask));
+            double alpha = 0;
+            for (uint64_t m = g.visibleMask; m; m &= m - 1) {
+                float* t = T[lowestBit(m)];
+                double a = 0;
+                for (int c = 0; c < 3; ++c) {
+                    o.color[c] += w * t[c] * s.color[c];
+                    a += t[c] * (1.0f - tr[c]);
+                    t[c] *= tr[c];
+                }
+                alpha += w * a / 3.0;
+            }
+            o.alpha = float(alpha);
+        } else if (g.coverage > 0) {
+            // No visible sub-sample: a sliver, or a full surface whose sub-samples are all taken
+            // by nearer opaque ones. Its coverage already excludes what opaque surfaces hide, so
+            // only transparent surfaces in front of it at its representative sub-sample r dim it
+            // (an opaque neighbour that owns r would otherwise erase a sliver it does not cover).
+            const int r = nearestActiveBit(pattern.active, g.cu, g.cv);
+            const float own = depthKey(surfaceMemberAt(members, g, r).depthAt(kCentre.u[r], kCentre.v[r]));
+            float ts[3] = {1.0f, 1.0f, 1.0f};
+            for (size_t h = 0; h < i; ++h) {
+                const SurfaceGroup& front = groups[h];
+                if (!front.transparent || !((front.visibleMask >> r) & 1)) continue;
+                const float d = depthKey(surfaceMemberAt(members, front, r).depthAt(kCentre.u[r], kCentre.v[r]));
+                if (!nearerBy(d, own)) continue;
+                for (int c = 0; c < 3; ++c) ts[c] *= transparencyOf(h, c);
+            }
+            double a = 0;
+            for (int c = 0; c < 3; ++c) {
+                o.color[c] = g.coverage * ts[c] * s.color[c];
+                a += ts[c] * (1.0f - tr[c]);
+            }
+            o.alpha = float(g.coverage * a / 3.0);
+        }
+        out[i] = o;
+    }
+    for (size_t i = count; i < out.size(); ++i) out[i] = SurfaceContribution{};
+}
+
+}  // namespace pushpin::render

@@ -1,0 +1,132 @@
+// Tests for core/render/fragment.h: the sub-sample patterns of the edge anti-aliasing levels.
+#include "core/render/fragment.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <set>
+
+namespace pushpin::render {
+namespace {
+
+int rowOf(int b) { return b / kSubsampleGrid; }
+int colOf(int b) { return b % kSubsampleGrid; }
+// Quadrant 0..3 of a sub-sample (left/right, top/bottom half of the pixel).
+int quadrantOf(int b) { return (rowOf(b) >= 4 ? 2 : 0) + (colOf(b) >= 4 ? 1 : 0); }
+
+TEST(SubsamplePattern, CountsMatchTheLevels) {
+    const int expected[4] = {64, 32, 8, 2};  // Highest, High, Medium, Low
+    for (int eaa = 0; eaa <= 3; ++eaa) {
+        const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(eaa);
+        EXPECT_EQ(p.count, expected[eaa]) << "eaa " << eaa;
+        EXPECT_EQ(std::popcount(p.active), expected[eaa]) << "eaa " << eaa;
+        EXPECT_EQ(p.edgeAntiAliasing, eaa);
+    }
+}
+
+TEST(SubsamplePattern, ClampsOutOfRangeLevels) {
+    EXPECT_EQ(SubsamplePattern::forEdgeAntiAliasing(-5).count, 64);
+    EXPECT_EQ(SubsamplePattern::forEdgeAntiAliasing(-5).edgeAntiAliasing, 0);
+    EXPECT_EQ(SubsamplePattern::forEdgeAntiAliasing(7).count, 2);
+    EXPECT_EQ(SubsamplePattern::forEdgeAntiAliasing(7).edgeAntiAliasing, 3);
+}
+
+TEST(SubsamplePattern, IsDeterministic) {
+    for (int eaa = 0; eaa <= 3; ++eaa) {
+        const SubsamplePattern a = SubsamplePattern::forEdgeAntiAliasing(eaa);
+        const SubsamplePattern b = SubsamplePattern::forEdgeAntiAliasing(eaa);
+        EXPECT_EQ(a.active, b.active);
+        EXPECT_EQ(a.order, b.order);
+    }
+}
+
+TEST(SubsamplePattern, OrderIsAPermutationOfTheActiveBits) {
+    for (int eaa = 0; eaa <= 3; ++eaa) {
+        const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(eaa);
+        std::set<int> seen;
+        uint64_t fromOrder = 0;
+        for (int i = 0; i < p.count; ++i) {
+            const int b = p.order[i];
+            ASSERT_LT(b, kSubsampleCount) << "eaa " << eaa;
+            EXPECT_TRUE((p.active >> b) & 1) << "eaa " << eaa << " bit " << b;
+            seen.insert(b);
+            fromOrder |= uint64_t(1) << b;
+        }
+        EXPECT_EQ(int(seen.size()), p.count) << "eaa " << eaa;
+        EXPECT_EQ(fromOrder, p.active) << "eaa " << eaa;
+    }
+}
+
+TEST(SubsamplePattern, MediumAndLowUseDistinctRowsAndColumns) {
+    for (int eaa : {2, 3}) {
+        const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(eaa);
+        std::set<int> rows, cols;
+        for (int i = 0; i < p.count; ++i) {
+            rows.insert(rowOf(p.order[i]));
+            cols.insert(colOf(p.order[i]));
+        }
+        EXPECT_EQ(int(rows.size()), p.count) << "eaa " << eaa;
+        EXPECT_EQ(int(cols.size()), p.count) << "eaa " << eaa;
+    }
+}
+
+TEST(SubsamplePattern, HighIsACheckerboard) {
+    const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(1);
+    for (int b = 0; b < kSubsampleCount; ++b) {
+        const bool active = (p.active >> b) & 1;
+        const bool neighbourActive = colOf(b) + 1 < kSubsampleGrid && ((p.active >> (b + 1)) & 1);
+        if (active) {
+            EXPECT_FALSE(neighbourActive) << "bit " << b;
+        }
+    }
+    // Every row holds four of them.
+    for (int row = 0; row < kSubsampleGrid; ++row) {
+        EXPECT_EQ(std::popcount((p.active >> (row * kSubsampleGrid)) & 0xffu), 4) << "row " << row;
+    }
+}
+
+TEST(SubsamplePattern, PrefixesAreSpreadOverThePixel) {
+    for (int eaa = 0; eaa <= 2; ++eaa) {
+        const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(eaa);
+        // The first two sit in opposite quadrants, the first four in four different quadrants.
+        EXPECT_EQ(quadrantOf(p.order[0]) + quadrantOf(p.order[1]), 3) << "eaa " << eaa;
+        std::set<int> quadrants;
+        for (int i = 0; i < 4; ++i) quadrants.insert(quadrantOf(p.order[i]));
+        EXPECT_EQ(quadrants.size(), 4u) << "eaa " << eaa;
+        // The mean of the first 4 is close to the pixel centre.
+        double u = 0, v = 0;
+        for (int i = 0; i < 4; ++i) {
+            u += (colOf(p.order[i]) + 0.5) / kSubsampleGrid;
+            v += (rowOf(p.order[i]) + 0.5) / kSubsampleGrid;
+        }
+        EXPECT_NEAR(u / 4, 0.5, 0.13) << "eaa " << eaa;
+        EXPECT_NEAR(v / 4, 0.5, 0.13) << "eaa " << eaa;
+    }
+    // Low: its two points lie in opposite quadrants, symmetric about the pixel centre.
+    const SubsamplePattern low = SubsamplePattern::forEdgeAntiAliasing(3);
+    EXPECT_EQ(quadrantOf(low.order[0]) + quadrantOf(low.order[1]), 3);
+    EXPECT_EQ(rowOf(low.order[0]) + rowOf(low.order[1]), kSubsampleGrid - 1);
+    EXPECT_EQ(colOf(low.order[0]) + colOf(low.order[1]), kSubsampleGrid - 1);
+}
+
+TEST(SubsamplePattern, HighestOrderPrefixOf32IsTheHighPattern) {
+    const SubsamplePattern highest = SubsamplePattern::forEdgeAntiAliasing(0);
+    const SubsamplePattern high = SubsamplePattern::forEdgeAntiAliasing(1);
+    uint64_t prefix = 0;
+    for (int i = 0; i < 32; ++i) prefix |= uint64_t(1) << highest.order[i];
+    EXPECT_EQ(prefix, high.active);
+}
+
+TEST(Fragment, DepthAtIsThePlane) {
+    Fragment f;
+    f.z0 = 2.0f;
+    f.dzdu = 0.5f;
+    f.dzdv = -0.25f;
+    EXPECT_FLOAT_EQ(f.depthAt(0.0f, 0.0f), 2.0f);
+    EXPECT_FLOAT_EQ(f.depthAt(1.0f, 0.0f), 2.5f);
+    EXPECT_FLOAT_EQ(f.depthAt(0.5f, 1.0f), 2.0f);
+}
+
+}  // namespace
+}  // namespace pushpin::render
