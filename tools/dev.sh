@@ -20,8 +20,8 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$jobs"
 
 if [ "$job" = demo ]; then
-  echo "== pushpin --demo --info"
-  ./build/pushpin --demo --info
+  echo "== pushpin --demo (renders the built-in scene into build/images)"
+  ./build/pushpin --demo -rd build/images --stats build/images/softSpotlight-stats.json
   exit 0
 fi
 

@@ -1,6 +1,8 @@
 // Runs the built `pushpin` program the way users do and checks exit codes, stdout and stderr.
 #include "tests/support/ma_corpus.h"
 
+#include <OpenImageIO/imageio.h>
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -10,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -240,3 +243,73 @@ TEST(PushpinCli, FrameOptionEvaluatesAnimation) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------- rendering
+
+std::vector<float> readPixels(const fs::path& path, int* channels = nullptr) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) return {};
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
+    in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data());
+    if (channels) *channels = spec.nchannels;
+    return px;
+}
+
+TEST(PushpinCli, DemoRendersAnImageAndSaysWhere) {
+    fs::path dir = tempDir() / "demo";
+    fs::remove_all(dir);
+    fs::path stats = tempDir() / "demo-stats.json";
+    CliRun r = runPushpin("--demo -x 160 -y 120 -rd '" + dir.string() + "' --stats '" + stats.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    fs::path image = dir / "softSpotlight.png";
+    EXPECT_TRUE(fs::exists(image));
+    EXPECT_NE(r.err.find(image.string()), std::string::npos) << r.err;
+    std::ifstream in(stats);
+    std::string json((std::istreambuf_iterator<char>(in)), {});
+    EXPECT_TRUE(JsonChecker(json).valid()) << json.substr(0, 2000);
+    for (const char* key : {"\"fragments\"", "\"mergedFragments\"", "\"shadingSamplesBase\"", "\"shadingSamplesAdaptive\"",
+                            "\"trianglesRasterized\"", "\"pixels\"", "\"seconds\""})
+        EXPECT_NE(json.find(key), std::string::npos) << key;
+    std::vector<float> px = readPixels(image);
+    ASSERT_EQ(px.size(), size_t(160) * 120 * 4);
+    double alpha = 0.0;
+    for (size_t i = 3; i < px.size(); i += 4) alpha += px[i];
+    EXPECT_GT(alpha, 0.5 * 160 * 120);  // the floor fills most of the frame
+    // Nothing but the image (no temporary files) is left in the folder.
+    size_t files = 0;
+    for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+    EXPECT_EQ(files, 1u);
+}
+
+TEST(PushpinCli, ThreadCountAndTileSizeDoNotChangeTheImage) {
+    fs::path dir = tempDir() / "threads";
+    fs::remove_all(dir);
+    CliRun one = runPushpin("--demo -x 96 -y 72 -of exr -n 1 -tw 64 -th 64 -rd '" + (dir / "a").string() + "'");
+    CliRun two = runPushpin("--demo -x 96 -y 72 -of exr -n 2 -tw 16 -th 16 -rd '" + (dir / "b").string() + "'");
+    ASSERT_EQ(one.exitCode, 0) << one.err;
+    ASSERT_EQ(two.exitCode, 0) << two.err;
+    std::vector<float> a = readPixels(dir / "a" / "softSpotlight.exr");
+    std::vector<float> b = readPixels(dir / "b" / "softSpotlight.exr");
+    ASSERT_FALSE(a.empty());
+    EXPECT_EQ(a, b);
+}
+
+TEST(PushpinCli, BadRenderFlagsAreNamedAndWriteNothing) {
+    fs::path dir = tempDir() / "bad";
+    fs::remove_all(dir);
+    CliRun x = runPushpin("--demo -x abc -rd '" + dir.string() + "'");
+    EXPECT_EQ(x.exitCode, 2);
+    EXPECT_NE(x.err.find("-x"), std::string::npos) << x.err;
+    CliRun unknown = runPushpin("--demo -zz 3 -rd '" + dir.string() + "'");
+    EXPECT_EQ(unknown.exitCode, 2);
+    EXPECT_NE(unknown.err.find("-zz"), std::string::npos) << unknown.err;
+    CliRun cam = runPushpin("--demo -cam nosuchcamera -rd '" + dir.string() + "'");
+    EXPECT_EQ(cam.exitCode, 2);
+    EXPECT_NE(cam.err.find("nosuchcamera"), std::string::npos) << cam.err;
+    fs::path bad = writeFile("broken.ma", "//Maya ASCII 2018 scene\ncreateNode mesh -n \"m\";\n\tsetAttr \".vt[0]\" -type \"float3\" 1 2;\n");
+    CliRun malformed = runPushpin("-rd '" + dir.string() + "' '" + bad.string() + "'");
+    EXPECT_EQ(malformed.exitCode, 2);
+    EXPECT_NE(malformed.err.find("broken.ma:3:"), std::string::npos) << malformed.err;
+    EXPECT_FALSE(fs::exists(dir) && !fs::is_empty(dir));
+}

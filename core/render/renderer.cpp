@@ -1,0 +1,871 @@
+#include "core/render/renderer.h"
+
+#include "core/render/tile_plan.h"
+#include "core/render/visibility.h"
+#include "core/util/json_writer.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <span>
+
+namespace pushpin::render {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// ---------------------------------------------------------------- pixel filters
+// reference/algorithms.md §4. Kernels are evaluated at the offset from a surface's centroid to a
+// target pixel's centre and normalised over the target pixels inside the image, so every surface
+// hands out exactly its own colour and alpha (the image keeps its energy at the borders too).
+struct PixelFilter {
+    int type = -1;        // -1: no multi-pixel filter (each pixel keeps its own fragments)
+    double radiusX = 0.5, radiusY = 0.5;  // support half-widths in pixels
+    int reach = 0;        // neighbour pixels a surface can reach in each direction
+
+    static double cubicBSpline(double x) {
+        x = std::fabs(x);
+        if (x < 1.0) return (3.0 * x * x * x - 6.0 * x * x + 4.0) / 6.0;
+        if (x < 2.0) return (2.0 - x) * (2.0 - x) * (2.0 - x) / 6.0;
+        return 0.0;
+    }
+    static double quadraticBSpline(double x) {
+        x = std::fabs(x);
+        if (x <= 0.5) return 0.75 - x * x;
+        if (x <= 1.5) return 0.5 * (x - 1.5) * (x - 1.5);
+        return 0.0;
+    }
+    double weight1d(double x, double r) const {
+        switch (type) {
+        case 0: return std::fabs(x) <= r ? 1.0 : 0.0;
+        case 2: return std::max(0.0, 1.0 - std::fabs(x) / r);
+        case 4: {
+            // Gaussian with sigma = r/2, shifted to reach 0 at the support edge.
+            double s2 = 2.0 * (0.5 * r) * (0.5 * r);
+            return std::fabs(x) >= r ? 0.0 : std::exp(-x * x / s2) - std::exp(-r * r / s2);
+        }
+        case 5: return quadraticBSpline(x * 1.5 / r);
+        case 6: return cubicBSpline(x);  // the 3×3 cubic B-spline at its natural scale
+        default: return 0.0;
+        }
+    }
+    double weight(double dx, double dy) const { return weight1d(dx, radiusX) * weight1d(dy, radiusY); }
+};
+
+PixelFilter makePixelFilter(const RenderSettings& s) {
+    PixelFilter f;
+    if (!s.useMultiPixelFilter) return f;
+    f.type = s.pixelFilterType;
+    if (f.type == 6) {
+        // Carpenter/Maya 1.0 style: the kernel is cut to the 3×3 neighbourhood and renormalised.
+        f.radiusX = f.radiusY = 2.0;
+        f.reach = 1;
+        return f;
+    }
+    if (f.type != 0 && f.type != 2 && f.type != 4 && f.type != 5) f.type = 2;
+    f.radiusX = std::clamp(s.pixelFilterWidthX, 1.0, 3.0) * 0.5;
+    f.radiusY = std::clamp(s.pixelFilterWidthY, 1.0, 3.0) * 0.5;
+    f.reach = int(std::ceil(std::max(f.radiusX, f.radiusY) + 0.5));
+    return f;
+}
+
+// ---------------------------------------------------------------- per-object camera-space data
+struct CameraObject {
+    glm::dmat4 cameraFromObject{1.0};
+    glm::dmat4 objectFromCamera{1.0};
+    std::vector<glm::dvec3> positions;  // per corner, camera space
+    std::vector<glm::vec3> normals;     // per corner, camera space, unit
+    std::vector<std::vector<shade::Light>> slotLights;  // per material slot, camera space
+    std::vector<uint8_t> slotTransparent;                // per material slot
+    bool kept = false;
+};
+
+// Near-plane clip of a camera-space triangle (keeps z <= -near). Returns 0, 3 or 4 vertices.
+int clipNear(const glm::dvec3 in[3], double nearZ, glm::dvec3 out[4]) {
+    int n = 0;
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec3& a = in[i];
+        const glm::dvec3& b = in[(i + 1) % 3];
+        bool aIn = a.z <= nearZ, bIn = b.z <= nearZ;
+        if (aIn) out[n++] = a;
+        if (aIn != bIn) {
+            double t = (nearZ - a.z) / (b.z - a.z);
+            out[n++] = a + (b - a) * t;
+        }
+    }
+    return n;
+}
+
+// ---------------------------------------------------------------- shading requests
+struct SampleResult {
+    float color[3];
+    float transparency[3];
+};
+
+struct PendingBatch {
+    uint32_t object = 0;
+    uint32_t slot = 0;
+    std::unique_ptr<shade::ShadingBatch> batch = std::make_unique<shade::ShadingBatch>();
+    std::array<uint32_t, shade::kBatchSize> target{};  // index into the tile's sample results
+};
+
+// One thread's reusable state.
+struct Worker {
+    Worker(const SubsamplePattern& pattern, std::span<const ObjectTopology> topology)
+        : rasterizer(pattern), resolver(pattern, topology) {}
+    TileRasterizer rasterizer;
+    PixelResolver resolver;
+    shade::ShadingScratch scratch;
+    std::unique_ptr<shade::ShadingResult> result = std::make_unique<shade::ShadingResult>();
+    std::vector<PendingBatch> pending;
+    // tile storage
+    std::vector<uint32_t> pixelGroupStart;   // base region pixel → first group (+1 end)
+    std::vector<SurfaceGroup> groups;        // memberBegin rebased into `members`
+    std::vector<Fragment> members;
+    std::vector<float> nearestDepth;         // per base-region pixel
+    std::vector<uint32_t> groupSampleStart;  // group → first base sample result (+1 end)
+    std::vector<SampleResult> samples;       // base samples, group by group, in order
+    std::vector<uint32_t> groupExtraStart;   // group → first adaptive sample result (+1 end)
+    std::vector<SampleResult> extraSamples;
+    std::vector<SurfaceShade> shades;        // per group
+    std::vector<SurfaceContribution> contributions;  // per group
+    std::vector<float> contributionNorm;     // per group: sum of filter weights over target pixels
+    std::vector<glm::vec3> baseColor;        // per base-region pixel, for the contrast test
+    std::vector<uint8_t> adaptive;           // per base-region pixel
+    RenderStats stats;
+};
+
+class FrameRenderer {
+public:
+    FrameRenderer(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
+                  RenderStats& stats, const RenderOptions& options)
+        : m_scene(scene), m_camera(camera), m_settings(settings), m_stats(stats), m_options(options),
+          m_pattern(SubsamplePattern::forEdgeAntiAliasing(settings.edgeAntiAliasing)),
+          m_filter(makePixelFilter(settings)) {}
+
+    Framebuffer run();
+
+private:
+    void prepare();
+    void prepareObject(uint32_t index);
+    void renderTile(const PixelRect& tile, Worker& w);
+    void requestSamples(Worker& w, uint32_t groupIndex, int px, int py, int first, int last, bool extra,
+                        uint32_t firstTarget);
+    void addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target);
+    void flush(Worker& w, PendingBatch& p);
+    void flushAll(Worker& w);
+    void fillSample(shade::ShadingBatch& b, int i, uint32_t object, uint32_t triangle, double rx, double ry) const;
+    int baseSamples(const RenderObject& o) const;
+    int maxSamples(const RenderObject& o) const;
+
+    const FrameScene& m_scene;
+    const RenderCamera& m_camera;
+    const RenderSettings& m_settings;
+    RenderStats& m_stats;
+    const RenderOptions& m_options;
+    SubsamplePattern m_pattern;
+    PixelFilter m_filter;
+    PixelRect m_region;                     // pixels rendered (the render region or the whole image)
+    std::vector<ObjectTopology> m_topology;
+    std::vector<CameraObject> m_objects;
+    std::vector<std::vector<ScreenTriangle>> m_objectTriangles;
+    std::vector<RenderStats> m_objectStats;  // per object, merged in object order
+    std::vector<ScreenTriangle> m_triangles;
+    std::vector<PixelRect> m_tiles;
+    std::vector<std::vector<uint32_t>> m_bins;  // per tile: indices into m_triangles
+    int m_marginLeft = 0, m_marginRight = 0, m_marginTop = 0, m_marginBottom = 0;
+    bool m_adaptive = false;
+    Framebuffer m_frame;
+};
+
+int FrameRenderer::baseSamples(const RenderObject& o) const {
+    int n = o.shadingSamplesOverride ? o.shadingSamples : m_settings.shadingSamples;
+    return std::clamp(n, 1, m_pattern.count);
+}
+
+int FrameRenderer::maxSamples(const RenderObject& o) const {
+    int n = o.shadingSamplesOverride ? o.maxShadingSamples : m_settings.maxShadingSamples;
+    return std::clamp(n, baseSamples(o), m_pattern.count);
+}
+
+void FrameRenderer::prepareObject(uint32_t index) {
+    const RenderObject& obj = m_scene.objects[index];
+    CameraObject& co = m_objects[index];
+    std::vector<ScreenTriangle>& out = m_objectTriangles[index];
+    co.cameraFromObject = m_camera.cameraFromWorld * obj.worldFromObject;
+    co.objectFromCamera = glm::inverse(co.cameraFromObject);
+
+    // Far-plane culling per object, and objects wholly behind the near plane.
+    geom::Bounds3 cb = obj.geometry.bounds.transformed(co.cameraFromObject);
+    if (cb.empty() || !std::isfinite(cb.lo.x) || !std::isfinite(cb.hi.x)) return;
+    if (-cb.hi.z > m_camera.farClipPlane) {
+        co.kept = false;
+        m_objectTriangles[index].clear();
+        return;
+    }
+    if (-cb.lo.z < m_camera.nearClipPlane) return;  // wholly between the eye and the near plane, or behind
+    // Frustum culling by screen-space bounds: exact for boxes wholly past the near plane;
+    // a box that crosses it is kept.
+    if (-cb.hi.z >= m_camera.nearClipPlane) {
+        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+        for (int c = 0; c < 8; ++c) {
+            glm::dvec3 p((c & 1) ? cb.hi.x : cb.lo.x, (c & 2) ? cb.hi.y : cb.lo.y, (c & 4) ? cb.hi.z : cb.lo.z);
+            glm::dvec2 r = m_camera.rasterFromCamera(p);
+            x0 = std::min(x0, r.x), x1 = std::max(x1, r.x), y0 = std::min(y0, r.y), y1 = std::max(y1, r.y);
+        }
+        if (x1 < m_region.x0 - m_marginRight || x0 > m_region.x1 + m_marginLeft ||
+            y1 < m_region.y0 - m_marginBottom || y0 > m_region.y1 + m_marginTop)
+            return;
+    }
+    co.kept = true;
+
+    const RenderGeometry& g = obj.geometry;
+    size_t corners = g.positions.size();
+    co.positions.resize(corners);
+    co.normals.resize(corners);
+    glm::dmat3 normalToCamera = glm::transpose(glm::inverse(glm::dmat3(co.cameraFromObject)));
+    for (size_t c = 0; c < corners; ++c) {
+        co.positions[c] = glm::dvec3(co.cameraFromObject * glm::dvec4(glm::dvec3(g.positions[c]), 1.0));
+        glm::dvec3 n = normalToCamera * glm::dvec3(c < g.normals.size() ? g.normals[c] : glm::vec3(0.0f));
+        double len = glm::length(n);
+        co.normals[c] = len > 0.0 && std::isfinite(len) ? glm::vec3(n / len) : glm::vec3(0.0f);
+    }
+
+    co.slotLights.resize(obj.materials.size());
+    co.slotTransparent.resize(obj.materials.size());
+    for (size_t s = 0; s < obj.materials.size(); ++s) {
+        const MaterialSlot& slot = obj.materials[s];
+        for (uint32_t li : slot.lights)
+            if (li < m_scene.lights.size())
+                co.slotLights[s].push_back(shade::transformed(m_scene.lights[li], m_camera.cameraFromWorld));
+        if (m_scene.usesDefaultLight) co.slotLights[s].push_back(shade::defaultLight(glm::dvec3(0.0, 0.0, -1.0)));
+        const auto& network = m_scene.shadingGroups[slot.shadingGroup].network;
+        co.slotTransparent[s] = network && network->mayBeTransparent();
+    }
+
+    RenderStats& st = m_objectStats[index];
+    size_t triangles = g.triangleCount();
+    st.triangles = triangles;
+    double nearZ = -m_camera.nearClipPlane;
+    for (size_t t = 0; t < triangles; ++t) {
+        glm::dvec3 c[3] = {co.positions[3 * t], co.positions[3 * t + 1], co.positions[3 * t + 2]};
+        glm::dvec3 n = glm::cross(c[1] - c[0], c[2] - c[0]);
+        if (obj.opposite) n = -n;
+        if (!obj.doubleSided) {
+            glm::dvec3 view = m_camera.orthographic ? glm::dvec3(0.0, 0.0, -1.0) : c[0];
+            if (glm::dot(n, view) >= 0.0) {
+                ++st.trianglesBackfacing;
+                continue;
+            }
+        }
+        glm::dvec3 poly[4];
+        int count = clipNear(c, nearZ, poly);
+        if (count < 3) {
+            ++st.trianglesOutside;
+            continue;
+        }
+        if (count != 3 || poly[0] != c[0] || poly[1] != c[1] || poly[2] != c[2]) ++st.trianglesNearClipped;
+        ScreenTriangle base;
+        base.object = index;
+        base.triangle = uint32_t(t);
+        uint16_t slot = t < g.material.size() ? g.material[t] : 0;
+        base.transparent = slot < co.slotTransparent.size() && co.slotTransparent[slot];
+        glm::dvec2 r[4];
+        double z[4];
+        for (int k = 0; k < count; ++k) {
+            r[k] = m_camera.rasterFromCamera(poly[k]);
+            z[k] = m_camera.depthKey(poly[k]);
+        }
+        for (int k = 1; k + 1 < count; ++k) {
+            ScreenTriangle s = base;
+            const int idx[3] = {0, k, k + 1};
+            double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+            for (int j = 0; j < 3; ++j) {
+                s.x[j] = r[idx[j]].x;
+                s.y[j] = r[idx[j]].y;
+                s.z[j] = z[idx[j]];
+                x0 = std::min(x0, s.x[j]), x1 = std::max(x1, s.x[j]);
+                y0 = std::min(y0, s.y[j]), y1 = std::max(y1, s.y[j]);
+            }
+            if (x1 < m_region.x0 - m_marginRight || x0 > m_region.x1 + m_marginLeft ||
+                y1 < m_region.y0 - m_marginBottom || y0 > m_region.y1 + m_marginTop) {
+                ++st.trianglesOutside;
+                continue;
+            }
+            out.push_back(s);
+        }
+    }
+}
+
+void FrameRenderer::prepare() {
+    auto t0 = Clock::now();
+    size_t n = m_scene.objects.size();
+    m_objects.assign(n, CameraObject{});
+    m_objectTriangles.assign(n, {});
+    m_objectStats.assign(n, RenderStats{});
+    tbb::parallel_for(size_t(0), n, [&](size_t i) { prepareObject(uint32_t(i)); });
+
+    m_stats.objects = n;
+    for (size_t i = 0; i < n; ++i) {
+        const RenderStats& s = m_objectStats[i];
+        if (!m_objects[i].kept) {
+            geom::Bounds3 cb = m_scene.objects[i].geometry.bounds.transformed(m_objects[i].cameraFromObject);
+            if (!cb.empty() && -cb.hi.z > m_camera.farClipPlane)
+                ++m_stats.objectsCulledFar;
+            else
+                ++m_stats.objectsCulledFrustum;
+            continue;
+        }
+        m_stats.triangles += s.triangles;
+        m_stats.trianglesBackfacing += s.trianglesBackfacing;
+        m_stats.trianglesNearClipped += s.trianglesNearClipped;
+        m_stats.trianglesOutside += s.trianglesOutside;
+        m_triangles.insert(m_triangles.end(), m_objectTriangles[i].begin(), m_objectTriangles[i].end());
+        std::vector<ScreenTriangle>().swap(m_objectTriangles[i]);
+    }
+
+    // Bin the triangles: a tile takes every triangle that touches its region or its apron.
+    int tw = std::max(1, m_settings.tileWidth), th = std::max(1, m_settings.tileHeight);
+    m_tiles = planTiles(m_region, tw, th);
+    int cols = (m_region.width() + tw - 1) / tw;
+    int rows = (m_region.height() + th - 1) / th;
+    m_bins.assign(m_tiles.size(), {});
+    for (uint32_t i = 0; i < m_triangles.size(); ++i) {
+        const ScreenTriangle& s = m_triangles[i];
+        double x0 = std::min({s.x[0], s.x[1], s.x[2]}) - m_marginRight;
+        double x1 = std::max({s.x[0], s.x[1], s.x[2]}) + m_marginLeft;
+        double y0 = std::min({s.y[0], s.y[1], s.y[2]}) - m_marginBottom;
+        double y1 = std::max({s.y[0], s.y[1], s.y[2]}) + m_marginTop;
+        if (!(x0 <= x1) || !(y0 <= y1)) continue;  // NaN
+        int c0 = std::clamp(int(std::floor((x0 - m_region.x0) / tw)), 0, cols - 1);
+        int c1 = std::clamp(int(std::floor((x1 - m_region.x0) / tw)), 0, cols - 1);
+        int r0 = std::clamp(int(std::floor((y0 - m_region.y0) / th)), 0, rows - 1);
+        int r1 = std::clamp(int(std::floor((y1 - m_region.y0) / th)), 0, rows - 1);
+        for (int r = r0; r <= r1; ++r)
+            for (int c = c0; c <= c1; ++c) m_bins[size_t(r) * cols + c].push_back(i);
+    }
+    m_stats.prepareSeconds += secondsSince(t0);
+}
+
+void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, uint32_t object, uint32_t triangle, double rx,
+                               double ry) const {
+    const RenderObject& obj = m_scene.objects[object];
+    const CameraObject& co = m_objects[object];
+    const RenderGeometry& g = obj.geometry;
+    size_t c0 = 3 * size_t(triangle);
+    const glm::dvec3& p0 = co.positions[c0];
+    const glm::dvec3& p1 = co.positions[c0 + 1];
+    const glm::dvec3& p2 = co.positions[c0 + 2];
+    glm::dvec3 origin, dir;
+    m_camera.rayThrough(rx, ry, origin, dir);
+    glm::dvec3 e1 = p1 - p0, e2 = p2 - p0;
+    glm::dvec3 n = glm::cross(e1, e2);
+    double nn = glm::dot(n, n);
+    double denom = glm::dot(n, dir);
+    double b0 = 1.0 / 3.0, b1 = 1.0 / 3.0, b2 = 1.0 / 3.0;
+    glm::dvec3 p = (p0 + p1 + p2) / 3.0;
+    if (nn > 0.0 && std::fabs(denom) > 1e-300) {
+        double t = glm::dot(n, p0 - origin) / denom;
+        glm::dvec3 hit = origin + dir * t;
+        glm::dvec3 d = hit - p0;
+        b1 = glm::dot(glm::cross(d, e2), n) / nn;
+        b2 = glm::dot(glm::cross(e1, d), n) / nn;
+        b0 = 1.0 - b1 - b2;
+        if (std::isfinite(b0) && std::isfinite(b1) && std::isfinite(b2)) {
+            p = hit;
+            if (b0 < 0.0 || b1 < 0.0 || b2 < 0.0) {
+                // A sample on a sub-sample the triangle owns lies inside it up to rounding; pull
+                // stray points back onto the triangle.
+                b0 = std::max(b0, 0.0), b1 = std::max(b1, 0.0), b2 = std::max(b2, 0.0);
+                double s = b0 + b1 + b2;
+                b0 /= s, b1 /= s, b2 /= s;
+                p = p0 * b0 + p1 * b1 + p2 * b2;
+            }
+        } else {
+            b0 = b1 = b2 = 1.0 / 3.0;
+        }
+    }
+    glm::dvec3 ng = nn > 0.0 ? n / std::sqrt(nn) : -dir;
+    glm::dvec3 ns = glm::dvec3(co.normals[c0]) * b0 + glm::dvec3(co.normals[c0 + 1]) * b1 +
+                    glm::dvec3(co.normals[c0 + 2]) * b2;
+    double nsLen = glm::length(ns);
+    ns = nsLen > 1e-12 ? ns / nsLen : ng;
+    if (obj.opposite) {
+        ng = -ng;
+        ns = -ns;
+    }
+    uint8_t flipped = 0;
+    if (glm::dot(ng, dir) > 0.0) {
+        ng = -ng;
+        ns = -ns;
+        flipped = 1;
+    }
+    b.px[i] = float(p.x), b.py[i] = float(p.y), b.pz[i] = float(p.z);
+    b.nx[i] = float(ns.x), b.ny[i] = float(ns.y), b.nz[i] = float(ns.z);
+    b.gx[i] = float(ng.x), b.gy[i] = float(ng.y), b.gz[i] = float(ng.z);
+    b.rx[i] = float(dir.x), b.ry[i] = float(dir.y), b.rz[i] = float(dir.z);
+    glm::dvec3 tu(0.0), tv(0.0);
+    if (!g.uvs.empty()) {
+        glm::dvec2 uv0(g.uvs[c0]), uv1(g.uvs[c0 + 1]), uv2(g.uvs[c0 + 2]);
+        glm::dvec2 uv = uv0 * b0 + uv1 * b1 + uv2 * b2;
+        b.u[i] = float(uv.x), b.v[i] = float(uv.y);
+        glm::dvec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+        double det = d1.x * d2.y - d2.x * d1.y;
+        if (std::fabs(det) > 1e-20) {
+            tu = (e1 * d2.y - e2 * d1.y) / det;
+            tv = (e2 * d1.x - e1 * d2.x) / det;
+        }
+    } else {
+        b.u[i] = 0.0f, b.v[i] = 0.0f;
+    }
+    b.tux[i] = float(tu.x), b.tuy[i] = float(tu.y), b.tuz[i] = float(tu.z);
+    b.tvx[i] = float(tv.x), b.tvy[i] = float(tv.y), b.tvz[i] = float(tv.z);
+    glm::dvec3 pw(m_camera.worldFromCamera * glm::dvec4(p, 1.0));
+    glm::dvec3 po(co.objectFromCamera * glm::dvec4(p, 1.0));
+    b.wx[i] = float(pw.x), b.wy[i] = float(pw.y), b.wz[i] = float(pw.z);
+    b.ox[i] = float(po.x), b.oy[i] = float(po.y), b.oz[i] = float(po.z);
+    b.pixelX[i] = float(std::floor(rx) + 0.5), b.pixelY[i] = float(std::floor(ry) + 0.5);
+    b.flipped[i] = flipped;
+}
+
+void FrameRenderer::flush(Worker& w, PendingBatch& p) {
+    shade::ShadingBatch& b = *p.batch;
+    if (b.count == 0) return;
+    const RenderObject& obj = m_scene.objects[p.object];
+    const MaterialSlot& slot = obj.materials[p.slot];
+    const auto& network = m_scene.shadingGroups[slot.shadingGroup].network;
+    shade::ShadingResult& r = *w.result;
+    network->evaluate(b, m_objects[p.object].slotLights[p.slot], w.scratch, r);
+    for (int i = 0; i < b.count; ++i) {
+        uint32_t t = p.target[size_t(i)];
+        SampleResult& s = (t & 0x80000000u) ? w.extraSamples[t & 0x7fffffffu] : w.samples[t];
+        s.color[0] = r.cr[i], s.color[1] = r.cg[i], s.color[2] = r.cb[i];
+        s.transparency[0] = r.tr[i], s.transparency[1] = r.tg[i], s.transparency[2] = r.tb[i];
+    }
+    b.count = 0;
+}
+
+void FrameRenderer::flushAll(Worker& w) {
+    for (PendingBatch& p : w.pending) flush(w, p);
+}
+
+void FrameRenderer::addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target) {
+    const RenderGeometry& g = m_scene.objects[object].geometry;
+    uint32_t slot = triangle < g.material.size() ? g.material[triangle] : 0;
+    PendingBatch* p = nullptr;
+    for (PendingBatch& q : w.pending)
+        if (q.object == object && q.slot == slot) {
+            p = &q;
+            break;
+        }
+    if (!p) {
+        w.pending.emplace_back();
+        p = &w.pending.back();
+        p->object = object;
+        p->slot = slot;
+        p->batch->objectId = object;
+    }
+    shade::ShadingBatch& b = *p->batch;
+    fillSample(b, b.count, object, triangle, rx, ry);
+    p->target[size_t(b.count)] = target;
+    if (++b.count == shade::kBatchSize) flush(w, *p);
+}
+
+// Shading positions of a surface: its visible sub-samples in the pattern's stratified order,
+// samples [first, last); a surface with no visible sub-sample (a sliver between sub-samples)
+// is shaded once at its centroid.
+void FrameRenderer::requestSamples(Worker& w, uint32_t groupIndex, int px, int py, int first, int last, bool extra,
+                                   uint32_t firstTarget) {
+    const SurfaceGroup& g = w.groups[groupIndex];
+    int k = 0;
+    uint32_t slot = firstTarget;
+    if (g.visibleMask == 0) {
+        if (first == 0 && last > 0) {
+            const Fragment* largest = &surfaceMemberAt(w.members, g, -1);
+            addSample(w, g.object, largest->triangle, px + double(largest->cu), py + double(largest->cv),
+                      extra ? (slot | 0x80000000u) : slot);
+        }
+        return;
+    }
+    for (int o = 0; o < m_pattern.count && k < last; ++o) {
+        int bit = m_pattern.order[size_t(o)];
+        if (!((g.visibleMask >> bit) & 1u)) continue;
+        if (k >= first) {
+            const Fragment* member = &surfaceMemberAt(w.members, g, bit);
+            double rx = px + ((bit % kSubsampleGrid) + 0.5) / kSubsampleGrid;
+            double ry = py + ((bit / kSubsampleGrid) + 0.5) / kSubsampleGrid;
+            addSample(w, g.object, member->triangle, rx, ry, extra ? (slot | 0x80000000u) : slot);
+            ++slot;
+        }
+        ++k;
+    }
+}
+
+void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
+    auto tRaster = Clock::now();
+    // The base region: the tile, the pixels whose surfaces the filter spreads into it, and the
+    // neighbours the contrast test of those pixels reads.
+    PixelRect base{std::max(m_region.x0, tile.x0 - m_marginLeft), std::max(m_region.y0, tile.y0 - m_marginTop),
+                   std::min(m_region.x1, tile.x1 + m_marginRight), std::min(m_region.y1, tile.y1 + m_marginBottom)};
+    PixelRect contrib{std::max(m_region.x0, tile.x0 - m_filter.reach), std::max(m_region.y0, tile.y0 - m_filter.reach),
+                      std::min(m_region.x1, tile.x1 + m_filter.reach), std::min(m_region.y1, tile.y1 + m_filter.reach)};
+    const int bw = base.width(), bh = base.height();
+    auto baseIndex = [&](int x, int y) { return size_t(y - base.y0) * bw + (x - base.x0); };
+
+    TileRasterizer& rast = w.rasterizer;
+    rast.reset(base);
+    const size_t tileIndex = size_t(&tile - m_tiles.data());
+    for (uint32_t i : m_bins[tileIndex]) rast.add(m_triangles[i]);
+    rast.finish();
+    w.stats.rasterSeconds += secondsSince(tRaster);
+
+    // Resolve every pixel of the base region and keep its surfaces.
+    auto tResolve = Clock::now();
+    w.pixelGroupStart.assign(size_t(bw) * bh + 1, 0);
+    w.groups.clear();
+    w.members.clear();
+    w.nearestDepth.assign(size_t(bw) * bh, std::numeric_limits<float>::infinity());
+    for (int y = base.y0; y < base.y1; ++y)
+        for (int x = base.x0; x < base.x1; ++x) {
+            size_t pi = baseIndex(x, y);
+            w.pixelGroupStart[pi] = uint32_t(w.groups.size());
+            std::span<const Fragment> frags = rast.fragments(x, y);
+            if (frags.empty()) continue;
+            w.resolver.resolve(frags);
+            uint32_t memberBase = uint32_t(w.members.size());
+            std::span<const Fragment> members = w.resolver.members();
+            w.members.insert(w.members.end(), members.begin(), members.end());
+            for (SurfaceGroup g : w.resolver.groups()) {
+                g.memberBegin += memberBase;
+                w.groups.push_back(g);
+            }
+            w.nearestDepth[pi] = w.resolver.nearestDepth();
+        }
+    w.pixelGroupStart[size_t(bw) * bh] = uint32_t(w.groups.size());
+    w.stats.resolveSeconds += secondsSince(tResolve);
+
+    // Base shading of every visible surface.
+    auto tShade = Clock::now();
+    const size_t groupCount = w.groups.size();
+    w.groupSampleStart.assign(groupCount + 1, 0);
+    uint32_t total = 0;
+    for (size_t gi = 0; gi < groupCount; ++gi) {
+        w.groupSampleStart[gi] = total;
+        const SurfaceGroup& g = w.groups[gi];
+        if (g.coverage <= 0.0f) continue;
+        int n = baseSamples(m_scene.objects[g.object]);
+        int avail = g.visibleMask ? std::popcount(g.visibleMask) : 1;
+        total += uint32_t(std::min(n, avail));
+    }
+    w.groupSampleStart[groupCount] = total;
+    w.samples.assign(total, SampleResult{});
+    w.pending.clear();
+    for (int y = base.y0; y < base.y1; ++y)
+        for (int x = base.x0; x < base.x1; ++x) {
+            size_t pi = baseIndex(x, y);
+            for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
+                uint32_t n = w.groupSampleStart[gi + 1] - w.groupSampleStart[gi];
+                if (n) requestSamples(w, gi, x, y, 0, int(n), false, w.groupSampleStart[gi]);
+            }
+        }
+    flushAll(w);
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        size_t p0 = baseIndex(tile.x0, y), p1 = baseIndex(tile.x1 - 1, y) + 1;
+        w.stats.shadingSamplesBase += w.groupSampleStart[w.pixelGroupStart[p1]] - w.groupSampleStart[w.pixelGroupStart[p0]];
+    }
+
+    // Surface shades from the base samples (mean in sample order).
+    w.shades.assign(groupCount, SurfaceShade{});
+    auto averageShade = [&](size_t gi) {
+        SurfaceShade s;
+        uint32_t b0 = w.groupSampleStart[gi], b1 = w.groupSampleStart[gi + 1];
+        uint32_t e0 = w.groupExtraStart.empty() ? 0 : w.groupExtraStart[gi];
+        uint32_t e1 = w.groupExtraStart.empty() ? 0 : w.groupExtraStart[gi + 1];
+        uint32_t n = (b1 - b0) + (e1 - e0);
+        if (n == 0) return s;
+        double c[3] = {0, 0, 0}, t[3] = {0, 0, 0};
+        for (uint32_t i = b0; i < b1; ++i)
+            for (int k = 0; k < 3; ++k) c[k] += w.samples[i].color[k], t[k] += w.samples[i].transparency[k];
+        for (uint32_t i = e0; i < e1; ++i)
+            for (int k = 0; k < 3; ++k) c[k] += w.extraSamples[i].color[k], t[k] += w.extraSamples[i].transparency[k];
+        for (int k = 0; k < 3; ++k) {
+            s.color[k] = float(c[k] / n);
+            s.transparency[k] = std::clamp(float(t[k] / n), 0.0f, 1.0f);
+        }
+        return s;
+    };
+    w.groupExtraStart.clear();
+    for (size_t gi = 0; gi < groupCount; ++gi) w.shades[gi] = averageShade(gi);
+
+    w.contributions.assign(groupCount, SurfaceContribution{});
+    auto compositePixel = [&](size_t pi) {
+        uint32_t g0 = w.pixelGroupStart[pi], g1 = w.pixelGroupStart[pi + 1];
+        if (g0 == g1) return;
+        compositeSurfaces(m_pattern, std::span<const SurfaceGroup>(w.groups.data() + g0, g1 - g0), w.members,
+                          std::span<const SurfaceShade>(w.shades.data() + g0, g1 - g0),
+                          std::span<SurfaceContribution>(w.contributions.data() + g0, g1 - g0));
+    };
+    for (size_t pi = 0; pi < size_t(bw) * bh; ++pi) compositePixel(pi);
+
+    // Highest quality: extra samples where the colour contrast with the already-computed
+    // neighbours (W, WW, NW, N, NE in scanline order) exceeds the per-channel thresholds.
+    w.adaptive.assign(size_t(bw) * bh, 0);
+    if (m_adaptive) {
+        const glm::vec3 bg(m_camera.backgroundColor);
+        w.baseColor.assign(size_t(bw) * bh, glm::vec3(0.0f));
+        for (size_t pi = 0; pi < size_t(bw) * bh; ++pi) {
+            glm::vec3 c(0.0f);
+            float a = 0.0f;
+            for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
+                c += glm::vec3(w.contributions[gi].color[0], w.contributions[gi].color[1], w.contributions[gi].color[2]);
+                a += w.contributions[gi].alpha;
+            }
+            if (!m_settings.composite) c += bg * std::max(0.0f, 1.0f - a);
+            w.baseColor[pi] = c;
+        }
+        const double thr[3] = {m_settings.redThreshold, m_settings.greenThreshold, m_settings.blueThreshold};
+        static constexpr int kNeighbours[5][2] = {{-1, 0}, {-2, 0}, {-1, -1}, {0, -1}, {1, -1}};
+        w.groupExtraStart.assign(groupCount + 1, 0);
+        std::vector<int> extraCount(groupCount, 0);
+        uint32_t extraTotal = 0;
+        for (int y = contrib.y0; y < contrib.y1; ++y)
+            for (int x = contrib.x0; x < contrib.x1; ++x) {
+                size_t pi = baseIndex(x, y);
+                glm::vec3 lo = w.baseColor[pi], hi = w.baseColor[pi];
+                for (const auto& d : kNeighbours) {
+                    int nx = x + d[0], ny = y + d[1];
+                    if (!m_region.contains(nx, ny)) continue;
+                    const glm::vec3& c = w.baseColor[baseIndex(nx, ny)];
+                    lo = glm::min(lo, c);
+                    hi = glm::max(hi, c);
+                }
+                double f = 0.0;
+                for (int k = 0; k < 3; ++k) {
+                    double mx = std::max(0.0f, hi[k]), mn = std::max(0.0f, lo[k]);
+                    double contrast = mx + mn > 0.0 ? (mx - mn) / (mx + mn) : 0.0;
+                    if (contrast > thr[k]) f = std::max(f, thr[k] < 1.0 ? (contrast - thr[k]) / (1.0 - thr[k]) : 1.0);
+                }
+                if (f <= 0.0) continue;
+                bool any = false;
+                for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
+                    const SurfaceGroup& g = w.groups[gi];
+                    if (g.coverage <= 0.0f || g.visibleMask == 0) continue;
+                    const RenderObject& obj = m_scene.objects[g.object];
+                    int ss = baseSamples(obj), mss = maxSamples(obj);
+                    int want = ss + int(std::ceil((mss - ss) * f - 1e-9));
+                    want = std::min(want, std::popcount(g.visibleMask));
+                    int have = int(w.groupSampleStart[gi + 1] - w.groupSampleStart[gi]);
+                    if (want > have) {
+                        extraCount[gi] = want - have;
+                        any = true;
+                    }
+                }
+                if (any) w.adaptive[pi] = 1;
+            }
+        for (size_t gi = 0; gi < groupCount; ++gi) {
+            w.groupExtraStart[gi] = extraTotal;
+            extraTotal += uint32_t(extraCount[gi]);
+        }
+        w.groupExtraStart[groupCount] = extraTotal;
+        w.extraSamples.assign(extraTotal, SampleResult{});
+        if (extraTotal) {
+            for (int y = base.y0; y < base.y1; ++y)
+                for (int x = base.x0; x < base.x1; ++x) {
+                    size_t pi = baseIndex(x, y);
+                    if (!w.adaptive[pi]) continue;
+                    for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
+                        if (!extraCount[gi]) continue;
+                        int have = int(w.groupSampleStart[gi + 1] - w.groupSampleStart[gi]);
+                        requestSamples(w, gi, x, y, have, have + extraCount[gi], true, w.groupExtraStart[gi]);
+                    }
+                }
+            flushAll(w);
+            for (int y = base.y0; y < base.y1; ++y)
+                for (int x = base.x0; x < base.x1; ++x) {
+                    size_t pi = baseIndex(x, y);
+                    if (!w.adaptive[pi]) continue;
+                    for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi)
+                        if (extraCount[gi]) w.shades[gi] = averageShade(gi);
+                    compositePixel(pi);
+                }
+        }
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                size_t pi = baseIndex(x, y);
+                if (!w.adaptive[pi]) continue;
+                ++w.stats.adaptivePixels;
+                for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi)
+                    w.stats.shadingSamplesAdaptive += w.groupExtraStart[gi + 1] - w.groupExtraStart[gi];
+            }
+    }
+    w.stats.shadeSeconds += secondsSince(tShade);
+
+    // Filter: gather into each tile pixel the surfaces of the pixels within reach.
+    auto tFilter = Clock::now();
+    const glm::vec3 bg(m_camera.backgroundColor);
+    const int reach = m_filter.reach;
+    if (reach > 0) {
+        w.contributionNorm.assign(groupCount, 0.0f);
+        for (int y = contrib.y0; y < contrib.y1; ++y)
+            for (int x = contrib.x0; x < contrib.x1; ++x) {
+                size_t pi = baseIndex(x, y);
+                for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
+                    const SurfaceContribution& c = w.contributions[gi];
+                    double sum = 0.0;
+                    for (int ty = y - reach; ty <= y + reach; ++ty)
+                        for (int tx = x - reach; tx <= x + reach; ++tx)
+                            if (m_region.contains(tx, ty))
+                                sum += m_filter.weight(tx + 0.5 - (x + c.cu), ty + 0.5 - (y + c.cv));
+                    w.contributionNorm[gi] = float(sum);
+                }
+            }
+    }
+    for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            double c[3] = {0, 0, 0}, a = 0.0;
+            if (reach == 0) {
+                size_t pi = baseIndex(x, y);
+                for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
+                    const SurfaceContribution& s = w.contributions[gi];
+                    c[0] += s.color[0], c[1] += s.color[1], c[2] += s.color[2], a += s.alpha;
+                }
+            } else {
+                for (int sy = std::max(contrib.y0, y - reach); sy <= std::min(contrib.y1 - 1, y + reach); ++sy)
+                    for (int sx = std::max(contrib.x0, x - reach); sx <= std::min(contrib.x1 - 1, x + reach); ++sx) {
+                        size_t pi = baseIndex(sx, sy);
+                        for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
+                            const SurfaceContribution& s = w.contributions[gi];
+                            float norm = w.contributionNorm[gi];
+                            double wgt;
+                            if (norm > 0.0f)
+                                wgt = m_filter.weight(x + 0.5 - (sx + s.cu), y + 0.5 - (sy + s.cv)) / norm;
+                            else
+                                wgt = (sx == x && sy == y) ? 1.0 : 0.0;
+                            if (wgt == 0.0) continue;
+                            c[0] += wgt * s.color[0], c[1] += wgt * s.color[1], c[2] += wgt * s.color[2];
+                            a += wgt * s.alpha;
+                        }
+                    }
+            }
+            a = std::clamp(a, 0.0, 1.0);
+            float* px = m_frame.pixel(x, y);
+            for (int k = 0; k < 3; ++k) px[k] = float(m_settings.composite ? c[k] : c[k] + (1.0 - a) * bg[k]);
+            px[3] = float(a);
+            if (!m_frame.depth.empty()) {
+                float key = w.nearestDepth[baseIndex(x, y)];
+                m_frame.depth[size_t(y) * m_frame.width + x] =
+                    std::isfinite(key) ? float(m_camera.distanceFromDepthKey(key)) : std::numeric_limits<float>::infinity();
+            }
+            if (m_options.adaptiveMask) (*m_options.adaptiveMask)[size_t(y) * m_frame.width + x] = w.adaptive[baseIndex(x, y)];
+        }
+    w.stats.filterSeconds += secondsSince(tFilter);
+    w.stats.apronPixels += uint64_t(base.width()) * base.height() - uint64_t(tile.width()) * tile.height();
+    ++w.stats.tiles;
+}
+
+Framebuffer FrameRenderer::run() {
+    m_frame.resize(m_camera.width, m_camera.height, m_settings.depth.value_or(false));
+    m_region = {0, 0, m_camera.width, m_camera.height};
+    if (m_settings.useRenderRegion) {
+        // Maya's region counts rows from the bottom, inclusive.
+        PixelRect r{m_settings.left, m_camera.height - 1 - m_settings.top, m_settings.rght + 1,
+                    m_camera.height - m_settings.bot};
+        m_region = {std::clamp(r.x0, 0, m_camera.width), std::clamp(r.y0, 0, m_camera.height),
+                    std::clamp(r.x1, 0, m_camera.width), std::clamp(r.y1, 0, m_camera.height)};
+    }
+    m_adaptive = m_settings.edgeAntiAliasing == 0 && m_settings.maxShadingSamples > m_settings.shadingSamples;
+    for (const RenderObject& o : m_scene.objects)
+        if (m_settings.edgeAntiAliasing == 0 && o.shadingSamplesOverride && o.maxShadingSamples > o.shadingSamples)
+            m_adaptive = true;
+    const int reach = m_filter.reach;
+    m_marginLeft = reach + (m_adaptive ? 2 : 0);
+    m_marginRight = reach + (m_adaptive ? 1 : 0);
+    m_marginTop = reach + (m_adaptive ? 1 : 0);
+    m_marginBottom = reach;
+    if (m_options.adaptiveMask) m_options.adaptiveMask->assign(size_t(m_camera.width) * m_camera.height, 0);
+    m_topology = m_scene.topology();
+
+    prepare();
+    m_stats.pixels = uint64_t(m_region.width()) * m_region.height();
+
+    auto tTiles = Clock::now();
+    tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers(
+        [&] { return std::make_unique<Worker>(m_pattern, std::span<const ObjectTopology>(m_topology)); });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, m_tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+        Worker& w = *workers.local();
+        for (size_t i = r.begin(); i != r.end(); ++i) renderTile(m_tiles[i], w);
+    });
+    m_stats.tilesSeconds += secondsSince(tTiles);
+    for (auto& wp : workers) {
+        const Worker& w = *wp;
+        m_stats.rasterSeconds += w.stats.rasterSeconds;
+        m_stats.resolveSeconds += w.stats.resolveSeconds;
+        m_stats.shadeSeconds += w.stats.shadeSeconds;
+        m_stats.filterSeconds += w.stats.filterSeconds;
+        m_stats.tiles += w.stats.tiles;
+        m_stats.shadingSamplesBase += w.stats.shadingSamplesBase;
+        m_stats.shadingSamplesAdaptive += w.stats.shadingSamplesAdaptive;
+        m_stats.adaptivePixels += w.stats.adaptivePixels;
+        m_stats.apronPixels += w.stats.apronPixels;
+        const RasterStats& rs = w.rasterizer.stats();
+        m_stats.trianglesRasterized += rs.trianglesRasterized;
+        m_stats.fragments += rs.fragments;
+        const ResolveStats& vs = w.resolver.stats();
+        m_stats.mergedFragments += vs.mergedFragments;
+        m_stats.surfaces += vs.surfaces;
+    }
+    return std::move(m_frame);
+}
+
+}  // namespace
+
+Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
+                        RenderStats& stats, const RenderOptions& options) {
+    int threads = settings.numCpusToUse > 0 ? settings.numCpusToUse : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(std::max(1, threads));
+    Framebuffer out;
+    arena.execute([&] {
+        FrameRenderer renderer(scene, camera, settings, stats, options);
+        out = renderer.run();
+    });
+    return out;
+}
+
+void writeRenderStats(util::JsonWriter& j, const RenderStats& s) {
+    j.beginObject();
+    j.key("seconds").beginObject();
+    j.field("prepare", s.prepareSeconds).field("tiles", s.tilesSeconds);
+    j.field("rasterThreadSum", s.rasterSeconds).field("resolveThreadSum", s.resolveSeconds);
+    j.field("shadeThreadSum", s.shadeSeconds).field("filterThreadSum", s.filterSeconds);
+    j.endObject();
+    j.field("tiles", s.tiles).field("pixels", s.pixels).field("apronPixels", s.apronPixels);
+    j.field("objects", s.objects).field("objectsCulledFrustum", s.objectsCulledFrustum);
+    j.field("objectsCulledFar", s.objectsCulledFar);
+    j.field("triangles", s.triangles).field("trianglesBackfacing", s.trianglesBackfacing);
+    j.field("trianglesNearClipped", s.trianglesNearClipped).field("trianglesOutside", s.trianglesOutside);
+    j.field("trianglesRasterized", s.trianglesRasterized);
+    j.field("fragments", s.fragments).field("mergedFragments", s.mergedFragments).field("surfaces", s.surfaces);
+    j.field("shadingSamplesBase", s.shadingSamplesBase).field("shadingSamplesAdaptive", s.shadingSamplesAdaptive);
+    j.field("adaptivePixels", s.adaptivePixels);
+    j.endObject();
+}
+
+}  // namespace pushpin::render

@@ -1,0 +1,516 @@
+// Whole-frame tests of the renderer: analytic shading and coverage, determinism across threads
+// and tiles, adaptive shading, culling and clipping, transparency, the default light, and every
+// public scene.
+#include "core/render/renderer.h"
+
+#include "core/render/camera.h"
+#include "core/render/frame_scene.h"
+#include "core/render/render_settings.h"
+#include "core/render/tile_plan.h"
+#include "core/scene/demo_scene.h"
+#include "core/scene/ma_reader.h"
+#include "core/scene/render_setup.h"
+#include "core/scene/scene_info.h"
+#include "tests/support/ma_corpus.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace pushpin;
+
+struct Rendered {
+    render::Framebuffer image;
+    render::RenderStats stats;
+    std::vector<uint8_t> adaptive;
+};
+
+// Everything a render needs, kept alive together.
+struct Scene {
+    scene::Graph graph;
+    double frame = 1.0;
+    scene::RenderSetup setup;
+    render::RenderSettings settings;
+
+    explicit Scene(const std::string& text, const std::string& name = "test.ma")
+        : graph(scene::MaReader::readString(text, name)) {
+        frame = scene::sceneCurrentFrame(graph);
+        setup = scene::extractRenderSetup(graph);
+        scene::Evaluator ev(graph, frame);
+        std::vector<std::string> notes;
+        settings = render::readRenderSettings(ev, setup, notes);
+    }
+
+    // Renders the first renderable camera (or the camera named).
+    Rendered render(const render::RenderSettings& s, const std::string& cameraName = {}) const {
+        scene::Evaluator ev(graph, frame);
+        render::FrameScene fs = render::buildFrameScene(ev, setup, s);
+        const scene::CameraInfo* cam = nullptr;
+        for (const scene::CameraInfo& c : setup.cameras)
+            if (cameraName.empty() ? c.renderable : c.transformName == cameraName) {
+                cam = &c;
+                break;
+            }
+        EXPECT_NE(cam, nullptr);
+        render::RenderCamera camera = render::makeRenderCamera(ev, cam->path, s.width, s.height, s.deviceAspectRatio);
+        Rendered r;
+        render::RenderOptions options;
+        options.adaptiveMask = &r.adaptive;
+        r.image = render::renderFrame(fs, camera, s, r.stats, options);
+        return r;
+    }
+};
+
+std::string header() {
+    return "//Maya ASCII 2018 scene\n"
+           "requires maya \"2018\";\n"
+           "currentUnit -l centimeter -a degree -t film;\n";
+}
+
+// An orthographic camera at z = 10 looking down −Z, `width` scene units across.
+std::string orthoCamera(double width) {
+    return "createNode transform -n \"cam\";\n"
+           "\tsetAttr \".t\" -type \"double3\" 0 0 10;\n"
+           "createNode camera -n \"camShape\" -p \"cam\";\n"
+           "\tsetAttr \".rnd\" yes;\n"
+           "\tsetAttr \".o\" yes;\n"
+           "\tsetAttr \".ow\" " + std::to_string(width) + ";\n";
+}
+
+std::string resolution(int w, int h) {
+    return "select -ne :defaultResolution;\n"
+           "\tsetAttr \".w\" " + std::to_string(w) + ";\n"
+           "\tsetAttr \".h\" " + std::to_string(h) + ";\n"
+           "\tsetAttr \".dar\" " + std::to_string(double(w) / h) + ";\n";
+}
+
+// ---------------------------------------------------------------- analytic shading
+
+TEST(Renderer, LambertSphereUnderDirectionalLightMatchesClosedForm) {
+    std::string text = header() + orthoCamera(2.5) +
+                       "createNode transform -n \"ball\";\n"
+                       "createNode mesh -n \"ballShape\" -p \"ball\";\n"
+                       "createNode polySphere -n \"polySphere1\";\n"
+                       "\tsetAttr \".r\" 1;\n"
+                       "\tsetAttr \".sa\" 160;\n"
+                       "\tsetAttr \".sh\" 80;\n"
+                       "createNode transform -n \"sun\";\n"
+                       "\tsetAttr \".r\" -type \"double3\" -35 25 0;\n"
+                       "createNode directionalLight -n \"sunShape\" -p \"sun\";\n"
+                       "\tsetAttr \".in\" 1.5;\n"
+                       "connectAttr \"polySphere1.out\" \"ballShape.i\";\n"
+                       "connectAttr \"ballShape.iog\" \":initialShadingGroup.dsm\" -na;\n" +
+                       resolution(160, 160);
+    Scene sc(text);
+    render::RenderSettings s = sc.settings;
+    s.edgeAntiAliasing = 0;
+    s.shadingSamples = 16;
+    s.maxShadingSamples = 16;
+    Rendered r = sc.render(s);
+
+    // Closed form: lambert1 (color 0.5, diffuse 0.8) under a directional light of intensity 1.5;
+    // the direction toward the light is the light's local +Z in world space.
+    scene::Evaluator ev(sc.graph, sc.frame);
+    glm::dmat4 lightWorld = ev.worldMatrix(sc.graph.dagPaths(sc.graph.find("sunShape"))[0]);
+    glm::dvec3 toLight = glm::normalize(glm::dvec3(lightWorld * glm::dvec4(0, 0, 1, 0)));
+    const double albedo = 0.5 * 0.8 * 1.5;
+    double errSum = 0.0, refSum = 0.0;
+    int pixels = 0;
+    for (int y = 0; y < 160; ++y)
+        for (int x = 0; x < 160; ++x) {
+            // Pixel footprint in camera/world space (camera at the origin in x, y).
+            double cx = (x + 0.5) / 160.0 * 2.5 - 1.25, cy = 1.25 - (y + 0.5) / 160.0 * 2.5;
+            if (cx * cx + cy * cy > 0.9 * 0.9) continue;  // interior pixels only
+            double ref = 0.0;
+            const int k = 8;
+            for (int j = 0; j < k; ++j)
+                for (int i = 0; i < k; ++i) {
+                    double px = cx + ((i + 0.5) / k - 0.5) * 2.5 / 160.0;
+                    double py = cy - ((j + 0.5) / k - 0.5) * 2.5 / 160.0;
+                    glm::dvec3 n(px, py, std::sqrt(1.0 - px * px - py * py));
+                    ref += albedo * std::max(0.0, glm::dot(n, toLight));
+                }
+            ref /= k * k;
+            const float* p = r.image.pixel(x, y);
+            for (int c = 0; c < 3; ++c) errSum += std::fabs(p[c] - ref);
+            refSum += 3 * ref;
+            ++pixels;
+            EXPECT_FLOAT_EQ(p[3], 1.0f);
+        }
+    ASSERT_GT(pixels, 10000);
+    double relativeMae = errSum / refSum;
+    EXPECT_LT(relativeMae, 0.005) << "mean absolute error relative to the mean value";
+}
+
+// ---------------------------------------------------------------- analytic coverage
+
+// Exact area of a convex polygon clipped to the unit-square pixel at (px, py).
+double clippedArea(std::vector<glm::dvec2> poly, double px, double py) {
+    auto clip = [&](auto inside, auto cross) {
+        std::vector<glm::dvec2> out;
+        for (size_t i = 0; i < poly.size(); ++i) {
+            glm::dvec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+            if (inside(a)) out.push_back(a);
+            if (inside(a) != inside(b)) out.push_back(cross(a, b));
+        }
+        poly = out;
+    };
+    auto lerpX = [](double x) {
+        return [x](glm::dvec2 a, glm::dvec2 b) { double t = (x - a.x) / (b.x - a.x); return a + (b - a) * t; };
+    };
+    auto lerpY = [](double y) {
+        return [y](glm::dvec2 a, glm::dvec2 b) { double t = (y - a.y) / (b.y - a.y); return a + (b - a) * t; };
+    };
+    clip([&](glm::dvec2 p) { return p.x >= px; }, lerpX(px));
+    clip([&](glm::dvec2 p) { return p.x <= px + 1; }, lerpX(px + 1));
+    clip([&](glm::dvec2 p) { return p.y >= py; }, lerpY(py));
+    clip([&](glm::dvec2 p) { return p.y <= py + 1; }, lerpY(py + 1));
+    double a = 0.0;
+    for (size_t i = 0; i < poly.size(); ++i) {
+        glm::dvec2 p = poly[i], q = poly[(i + 1) % poly.size()];
+        a += p.x * q.y - q.x * p.y;
+    }
+    return std::fabs(a) * 0.5;
+}
+
+TEST(Renderer, BoxFilteredAlphaOfAPolygonIsItsExactArea) {
+    // A unit square plane (one quad, two triangles of one surface), rotated about the view axis,
+    // under an orthographic camera: in raster space it stays an exact square.
+    for (double angle : {0.0, 17.0, 33.3, 45.0, 71.9}) {
+        for (double size : {0.6, 7.3}) {
+            std::string text = header() + orthoCamera(4.0) +
+                               "createNode transform -n \"card\";\n"
+                               "\tsetAttr \".t\" -type \"double3\" 0.123 -0.071 0;\n"
+                               "\tsetAttr \".r\" -type \"double3\" 90 0 " + std::to_string(angle) + ";\n"
+                               "\tsetAttr \".s\" -type \"double3\" " + std::to_string(size / 16.0) + " 1 " +
+                               std::to_string(size / 16.0) + ";\n"
+                               "createNode mesh -n \"cardShape\" -p \"card\";\n"
+                               "createNode polyPlane -n \"polyPlane1\";\n"
+                               "\tsetAttr \".sw\" 1;\n"
+                               "\tsetAttr \".sh\" 1;\n"
+                               "connectAttr \"polyPlane1.out\" \"cardShape.i\";\n"
+                               "connectAttr \"cardShape.iog\" \":initialShadingGroup.dsm\" -na;\n" +
+                               resolution(64, 64);
+            Scene sc(text);
+            for (int eaa : {3, 0}) {
+                render::RenderSettings s = sc.settings;
+                s.edgeAntiAliasing = eaa;
+                s.useMultiPixelFilter = false;
+                Rendered r = sc.render(s);
+                // The square's corners in raster space: 64 px span 4 units → 16 px per unit.
+                double half = size / 32.0, a = angle * M_PI / 180.0;  // size pixels = size/16 units
+                std::vector<glm::dvec2> square;
+                for (auto [u, v] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}}) {
+                    double wx = 0.123 + half * (u * std::cos(a) - v * std::sin(a));
+                    double wy = -0.071 + half * (u * std::sin(a) + v * std::cos(a));
+                    square.push_back({(wx + 2.0) * 16.0, (2.0 - wy) * 16.0});
+                }
+                double worst = 0.0;
+                int wx = -1, wy = -1;
+                for (int y = 0; y < 64; ++y)
+                    for (int x = 0; x < 64; ++x) {
+                        double e = std::fabs(r.image.pixel(x, y)[3] - clippedArea(square, x, y));
+                        if (e > worst) worst = e, wx = x, wy = y;
+                    }
+                if (worst >= 1e-4)
+                    ADD_FAILURE() << "pixel " << wx << "," << wy << ": alpha " << r.image.pixel(wx, wy)[3] << ", exact "
+                                  << clippedArea(square, wx, wy);
+                EXPECT_LT(worst, 1e-4) << "angle " << angle << " size " << size << " eaa " << eaa;
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------- determinism
+
+TEST(Renderer, SameImageWithOneOrTwoThreadsAndAnyTileSize) {
+    Scene sc(std::string(scene::demoSceneText()), "softSpotlight.ma");
+    for (int filter : {6, 2}) {
+        render::RenderSettings s = sc.settings;
+        s.width = 160;
+        s.height = 120;
+        s.edgeAntiAliasing = 0;
+        s.shadingSamples = 1;
+        s.maxShadingSamples = 8;
+        s.useMultiPixelFilter = true;
+        s.pixelFilterType = filter;
+        s.numCpusToUse = 1;
+        s.tileWidth = s.tileHeight = 64;
+        Rendered a = sc.render(s);
+        s.numCpusToUse = 2;
+        s.tileWidth = 16;
+        s.tileHeight = 16;
+        Rendered b = sc.render(s);
+        s.tileWidth = 37;
+        s.tileHeight = 23;
+        Rendered c = sc.render(s);
+        ASSERT_EQ(a.image.rgba.size(), b.image.rgba.size());
+        EXPECT_EQ(0, std::memcmp(a.image.rgba.data(), b.image.rgba.data(), a.image.rgba.size() * sizeof(float)));
+        EXPECT_EQ(0, std::memcmp(a.image.rgba.data(), c.image.rgba.data(), a.image.rgba.size() * sizeof(float)));
+        EXPECT_GT(a.stats.shadingSamplesAdaptive, 0u);
+        EXPECT_EQ(a.stats.shadingSamplesAdaptive > 0, b.stats.shadingSamplesAdaptive > 0);
+    }
+}
+
+// ---------------------------------------------------------------- adaptive shading
+
+TEST(Renderer, AdaptiveShadingChangesOnlyTheHighContrastPixels) {
+    Scene sc(std::string(scene::demoSceneText()), "softSpotlight.ma");
+    render::RenderSettings s = sc.settings;
+    s.width = 160;
+    s.height = 120;
+    s.edgeAntiAliasing = 0;
+    s.shadingSamples = 1;
+    s.maxShadingSamples = 8;
+    s.useMultiPixelFilter = false;
+    Rendered on = sc.render(s);
+    s.maxShadingSamples = 1;  // adaptive shading off
+    Rendered off = sc.render(s);
+    EXPECT_GT(on.stats.adaptivePixels, 0u);
+    EXPECT_GT(on.stats.shadingSamplesAdaptive, on.stats.adaptivePixels - 1);
+    EXPECT_EQ(off.stats.shadingSamplesAdaptive, 0u);
+    EXPECT_EQ(on.stats.shadingSamplesBase, off.stats.shadingSamplesBase);
+    size_t changed = 0, adaptive = 0;
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            size_t i = size_t(y) * s.width + x;
+            adaptive += on.adaptive[i];
+            bool differs = std::memcmp(on.image.pixel(x, y), off.image.pixel(x, y), 4 * sizeof(float)) != 0;
+            changed += differs;
+            if (differs) {
+                EXPECT_EQ(on.adaptive[i], 1) << "pixel " << x << "," << y << " changed without extra samples";
+            }
+        }
+    EXPECT_EQ(adaptive, on.stats.adaptivePixels);
+    EXPECT_GT(changed, 0u);
+}
+
+TEST(Renderer, FlatSceneTakesNoAdaptiveSamples) {
+    std::string text = header() + orthoCamera(1.0) +
+                       "createNode transform -n \"wall\";\n"
+                       "\tsetAttr \".r\" -type \"double3\" 90 0 0;\n"
+                       "\tsetAttr \".s\" -type \"double3\" 10 10 10;\n"
+                       "createNode mesh -n \"wallShape\" -p \"wall\";\n"
+                       "createNode polyPlane -n \"polyPlane1\";\n"
+                       "createNode surfaceShader -n \"flat\";\n"
+                       "\tsetAttr \".oc\" -type \"float3\" 0.2 0.5 0.7;\n"
+                       "createNode shadingEngine -n \"flatSG\";\n"
+                       "connectAttr \"flat.oc\" \"flatSG.ss\";\n"
+                       "connectAttr \"polyPlane1.out\" \"wallShape.i\";\n"
+                       "connectAttr \"wallShape.iog\" \"flatSG.dsm\" -na;\n" +
+                       resolution(32, 32);
+    Scene sc(text);
+    render::RenderSettings s = sc.settings;
+    s.edgeAntiAliasing = 0;
+    s.shadingSamples = 1;
+    s.maxShadingSamples = 8;
+    Rendered r = sc.render(s);
+    EXPECT_EQ(r.stats.shadingSamplesAdaptive, 0u);
+    EXPECT_EQ(r.stats.adaptivePixels, 0u);
+    EXPECT_NEAR(r.image.pixel(16, 16)[0], 0.2f, 1e-6);
+    EXPECT_NEAR(r.image.pixel(16, 16)[1], 0.5f, 1e-6);
+    EXPECT_NEAR(r.image.pixel(16, 16)[2], 0.7f, 1e-6);
+    EXPECT_FLOAT_EQ(r.image.pixel(0, 0)[3], 1.0f);
+}
+
+// ---------------------------------------------------------------- culling, clipping, sides
+
+std::string cardScene(const std::string& transform, const std::string& shapeAttrs, const std::string& camera) {
+    return header() + camera +
+           "createNode transform -n \"card\";\n" + transform +
+           "createNode mesh -n \"cardShape\" -p \"card\";\n" + shapeAttrs +
+           "createNode polyPlane -n \"polyPlane1\";\n"
+           "\tsetAttr \".w\" 4;\n"
+           "\tsetAttr \".h\" 4;\n"
+           "createNode surfaceShader -n \"white\";\n"
+           "\tsetAttr \".oc\" -type \"float3\" 1 1 1;\n"
+           "createNode shadingEngine -n \"whiteSG\";\n"
+           "connectAttr \"white.oc\" \"whiteSG.ss\";\n"
+           "connectAttr \"polyPlane1.out\" \"cardShape.i\";\n"
+           "connectAttr \"cardShape.iog\" \"whiteSG.dsm\" -na;\n" +
+           resolution(32, 32);
+}
+
+TEST(Renderer, SingleSidedBackFacesAreNotRendered) {
+    // polyPlane faces +Y; rotated −90° about X it faces −Z, away from the camera at +Z.
+    std::string away = "\tsetAttr \".r\" -type \"double3\" -90 0 0;\n";
+    Scene oneSided(cardScene(away, "\tsetAttr \".ds\" no;\n", orthoCamera(2.0)));
+    Rendered r1 = oneSided.render(oneSided.settings);
+    EXPECT_FLOAT_EQ(r1.image.pixel(16, 16)[3], 0.0f);
+    EXPECT_GT(r1.stats.trianglesBackfacing, 0u);
+    Scene twoSided(cardScene(away, "", orthoCamera(2.0)));
+    Rendered r2 = twoSided.render(twoSided.settings);
+    EXPECT_FLOAT_EQ(r2.image.pixel(16, 16)[3], 1.0f);
+}
+
+TEST(Renderer, NearPlaneClipsAndFarPlaneCullsPerObject) {
+    std::string persp = "createNode transform -n \"cam\";\n"
+                        "\tsetAttr \".t\" -type \"double3\" 0 0.5 0;\n"
+                        "createNode camera -n \"camShape\" -p \"cam\";\n"
+                        "\tsetAttr \".rnd\" yes;\n"
+                        "\tsetAttr \".ncp\" 0.1;\n"
+                        "\tsetAttr \".fcp\" 100;\n";
+    // A floor under the camera, running from behind it to far ahead: it crosses the near plane.
+    Scene floor(cardScene("\tsetAttr \".s\" -type \"double3\" 10 1 10;\n", "", persp));
+    Rendered r = floor.render(floor.settings);
+    EXPECT_GT(r.stats.trianglesNearClipped, 0u);
+    for (float v : r.image.rgba) ASSERT_TRUE(std::isfinite(v));
+    EXPECT_FLOAT_EQ(r.image.pixel(16, 31)[3], 1.0f);  // the floor fills the bottom row
+    EXPECT_FLOAT_EQ(r.image.pixel(16, 0)[3], 0.0f);   // the sky stays empty
+
+    // The same card 200 units away is past the far plane: culled as a whole object.
+    Scene far(cardScene("\tsetAttr \".t\" -type \"double3\" 0 0 -200;\n\tsetAttr \".r\" -type \"double3\" 90 0 0;\n", "",
+                        persp));
+    Rendered rf = far.render(far.settings);
+    EXPECT_EQ(rf.stats.objectsCulledFar, 1u);
+    EXPECT_EQ(rf.stats.trianglesRasterized, 0u);
+    for (size_t i = 3; i < rf.image.rgba.size(); i += 4) ASSERT_EQ(rf.image.rgba[i], 0.0f);
+
+    // Off to the side: culled by its screen-space bounds.
+    Scene aside(cardScene("\tsetAttr \".t\" -type \"double3\" 500 0 -20;\n\tsetAttr \".r\" -type \"double3\" 90 0 0;\n", "",
+                          persp));
+    Rendered ra = aside.render(aside.settings);
+    EXPECT_EQ(ra.stats.objectsCulledFrustum, 1u);
+}
+
+TEST(Renderer, TransparentSurfaceLetsTheOneBehindThrough) {
+    std::string text = header() + orthoCamera(2.0) +
+                       "createNode transform -n \"front\";\n"
+                       "\tsetAttr \".t\" -type \"double3\" 0 0 1;\n"
+                       "\tsetAttr \".r\" -type \"double3\" 90 0 0;\n"
+                       "createNode mesh -n \"frontShape\" -p \"front\";\n"
+                       "createNode transform -n \"back\";\n"
+                       "\tsetAttr \".r\" -type \"double3\" 90 0 0;\n"
+                       "createNode mesh -n \"backShape\" -p \"back\";\n"
+                       "createNode polyPlane -n \"polyPlane1\";\n"
+                       "\tsetAttr \".w\" 4;\n"
+                       "\tsetAttr \".h\" 4;\n"
+                       "createNode surfaceShader -n \"glass\";\n"
+                       "\tsetAttr \".oc\" -type \"float3\" 0.5 0 0;\n"
+                       "\tsetAttr \".ot\" -type \"float3\" 0.5 0.5 0.5;\n"
+                       "createNode shadingEngine -n \"glassSG\";\n"
+                       "createNode surfaceShader -n \"blue\";\n"
+                       "\tsetAttr \".oc\" -type \"float3\" 0 0 1;\n"
+                       "createNode shadingEngine -n \"blueSG\";\n"
+                       "connectAttr \"glass.oc\" \"glassSG.ss\";\n"
+                       "connectAttr \"blue.oc\" \"blueSG.ss\";\n"
+                       "connectAttr \"polyPlane1.out\" \"frontShape.i\";\n"
+                       "connectAttr \"polyPlane1.out\" \"backShape.i\";\n"
+                       "connectAttr \"frontShape.iog\" \"glassSG.dsm\" -na;\n"
+                       "connectAttr \"backShape.iog\" \"blueSG.dsm\" -na;\n" +
+                       resolution(16, 16);
+    Scene sc(text);
+    Rendered r = sc.render(sc.settings);
+    const float* p = r.image.pixel(8, 8);
+    EXPECT_NEAR(p[0], 0.5f, 1e-5);  // the glass's own colour
+    EXPECT_NEAR(p[1], 0.0f, 1e-5);
+    EXPECT_NEAR(p[2], 0.5f, 1e-5);  // blue seen through 50% transparency
+    EXPECT_NEAR(p[3], 1.0f, 1e-5);
+}
+
+TEST(Renderer, DefaultLightWhenTheSceneHasNone) {
+    std::string text = header() + orthoCamera(2.0) +
+                       "createNode transform -n \"wall\";\n"
+                       "\tsetAttr \".r\" -type \"double3\" 90 0 0;\n"
+                       "createNode mesh -n \"wallShape\" -p \"wall\";\n"
+                       "createNode polyPlane -n \"polyPlane1\";\n"
+                       "\tsetAttr \".w\" 4;\n"
+                       "\tsetAttr \".h\" 4;\n"
+                       "connectAttr \"polyPlane1.out\" \"wallShape.i\";\n"
+                       "connectAttr \"wallShape.iog\" \":initialShadingGroup.dsm\" -na;\n" +
+                       resolution(16, 16);
+    Scene sc(text);
+    render::RenderSettings s = sc.settings;
+    Rendered lit = sc.render(s);
+    // lambert1 facing the default light head-on: 0.5 · 0.8 · 1.
+    EXPECT_NEAR(lit.image.pixel(8, 8)[0], 0.4f, 1e-4);
+    s.enableDefaultLight = false;
+    Rendered dark = sc.render(s);
+    EXPECT_NEAR(dark.image.pixel(8, 8)[0], 0.0f, 1e-6);
+    EXPECT_NEAR(dark.image.pixel(8, 8)[3], 1.0f, 1e-6);
+}
+
+TEST(Renderer, RenderRegionLeavesTheRestEmptyAndCompositeDropsTheBackground) {
+    std::string text = cardScene("\tsetAttr \".r\" -type \"double3\" 90 0 0;\n\tsetAttr \".s\" -type \"double3\" 0.1 1 0.1;\n",
+                                 "", orthoCamera(2.0) + "\tsetAttr \".col\" -type \"float3\" 0 1 0;\n");
+    Scene sc(text);
+    render::RenderSettings s = sc.settings;
+    Rendered full = sc.render(s);
+    EXPECT_NEAR(full.image.pixel(0, 0)[1], 1.0f, 1e-6);  // the camera's background colour
+    EXPECT_NEAR(full.image.pixel(0, 0)[3], 0.0f, 1e-6);
+    s.composite = true;
+    Rendered comp = sc.render(s);
+    EXPECT_NEAR(comp.image.pixel(0, 0)[1], 0.0f, 1e-6);
+    s.composite = false;
+    s.useRenderRegion = true;
+    s.left = 4, s.rght = 11, s.bot = 20, s.top = 27;  // rows counted from the bottom
+    Rendered region = sc.render(s);
+    EXPECT_EQ(region.stats.pixels, 64u);
+    EXPECT_NEAR(region.image.pixel(4, 4)[1], 1.0f, 1e-6);   // inside: background
+    EXPECT_NEAR(region.image.pixel(3, 4)[1], 0.0f, 1e-6);   // outside: untouched
+    EXPECT_NEAR(region.image.pixel(4, 12)[1], 0.0f, 1e-6);
+}
+
+// ---------------------------------------------------------------- tile plan
+
+TEST(TilePlan, CoversTheRegionExactlyOnce) {
+    for (auto [w, h] : {std::pair{64, 64}, {16, 16}, {37, 23}, {1, 1}, {0, -3}}) {
+        render::PixelRect region{3, 5, 203, 130};
+        std::vector<render::PixelRect> tiles = render::planTiles(region, w, h);
+        std::vector<int> hits(size_t(region.width()) * region.height(), 0);
+        for (const render::PixelRect& t : tiles) {
+            EXPECT_LE(t.width(), std::max(w, 1));
+            EXPECT_LE(t.height(), std::max(h, 1));
+            for (int y = t.y0; y < t.y1; ++y)
+                for (int x = t.x0; x < t.x1; ++x) ++hits[size_t(y - region.y0) * region.width() + (x - region.x0)];
+        }
+        for (int v : hits) ASSERT_EQ(v, 1);
+    }
+    EXPECT_TRUE(render::planTiles({0, 0, 0, 10}, 64, 64).empty());
+}
+
+// ---------------------------------------------------------------- the public scenes
+
+TEST(Renderer, EveryPublicSceneWithACameraAndPolygonsRenders) {
+    PUSHPIN_REQUIRE_MA_CORPUS();
+    size_t rendered = 0;
+    for (const auto& path : pushpin::test::maCorpusFiles()) {
+        scene::Graph graph = scene::MaReader::readFile(path);
+        double frame = scene::sceneCurrentFrame(graph);
+        scene::Evaluator ev(graph, frame);
+        scene::RenderSetup setup = scene::extractRenderSetup(graph);
+        std::vector<std::string> notes;
+        render::RenderSettings s = render::readRenderSettings(ev, setup, notes);
+        s.width = 64;
+        s.height = 48;
+        s.deviceAspectRatio = 64.0 / 48.0;
+        s.edgeAntiAliasing = 0;
+        s.shadingSamples = 1;
+        s.maxShadingSamples = 4;
+        render::FrameScene fs = render::buildFrameScene(ev, setup, s);
+        bool polygons = false;
+        for (const render::RenderObject& o : fs.objects)
+            polygons |= o.geometry.triangleCount() > 0 && ev.graph().node(o.shape).type == "mesh";
+        bool anyCamera = false;
+        for (const scene::CameraInfo& c : setup.cameras) {
+            if (!c.renderable) continue;
+            anyCamera = true;
+            if (!polygons) break;
+            render::RenderCamera camera = render::makeRenderCamera(ev, c.path, s.width, s.height, s.deviceAspectRatio);
+            render::RenderStats stats;
+            render::Framebuffer image = render::renderFrame(fs, camera, s, stats);
+            for (float v : image.rgba) ASSERT_TRUE(std::isfinite(v)) << path;
+            ++rendered;
+        }
+        (void)anyCamera;
+    }
+    EXPECT_GT(rendered, 10u);
+}
+
+}  // namespace
