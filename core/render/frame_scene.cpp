@@ -314,18 +314,6 @@ int spanDivisions(scene::Evaluator& ev, NodeId shape, const char* numberAttr, co
     return std::max(1, int(divisions));
 }
 
-// Why a DAG path is not drawn, naming the first node that hides it; empty when it is visible.
-std::string hiddenReason(scene::Evaluator& ev, const std::vector<NodeId>& path) {
-    if (ev.visible(path)) return {};
-    for (size_t k = 1; k <= path.size(); ++k) {
-        std::vector<NodeId> prefix(path.begin(), path.begin() + std::ptrdiff_t(k));
-        if (!ev.visible(prefix))
-            return "hidden by '" + ev.graph().node(path[k - 1]).name +
-                   "' (visibility, a drawing override or a display layer)";
-    }
-    return "hidden";
-}
-
 // One shading-group membership of a shape instance.
 struct Membership {
     const scene::ShadingGroupInfo* group = nullptr;
@@ -436,7 +424,7 @@ void readLights(scene::Evaluator& ev, const scene::RenderSetup& setup, FrameScen
             out.notes.push_back(label + ": light type " + info.type + " is not supported; not rendered");
             continue;
         }
-        if (std::string why = hiddenReason(ev, info.path); !why.empty()) {
+        if (std::string why = ev.hiddenReason(info.path); !why.empty()) {
             out.notes.push_back(label + ": light " + why + "; not rendered");
             continue;
         }
@@ -609,7 +597,7 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                 skip("intermediate object");
                 continue;
             }
-            if (std::string why = hiddenReason(ev, path); !why.empty()) {
+            if (std::string why = ev.hiddenReason(path); !why.empty()) {
                 skip(why);
                 continue;
             }

@@ -329,4 +329,15 @@ bool Evaluator::visible(const std::vector<NodeId>& dagPath) {
     return !dagPath.empty();
 }
 
+std::string Evaluator::hiddenReason(const std::vector<NodeId>& dagPath) {
+    if (visible(dagPath)) return {};
+    for (size_t k = 1; k <= dagPath.size(); ++k) {
+        std::vector<NodeId> prefix(dagPath.begin(), dagPath.begin() + std::ptrdiff_t(k));
+        if (!visible(prefix))
+            return "hidden by '" + m_graph.node(dagPath[k - 1]).name +
+                   "' (visibility, a drawing override or a display layer)";
+    }
+    return "hidden";
+}
+
 }  // namespace pushpin::scene

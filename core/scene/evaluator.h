@@ -51,6 +51,9 @@ public:
     // object, not hidden by its drawing overrides: overrideEnabled + overrideVisibility, or a display
     // layer connected to drawOverride that is enabled and hidden). An empty path is not visible.
     bool visible(const std::vector<NodeId>& dagPath);
+    // Why a DAG path is not drawn, naming the first node on it that hides it ("hidden by 'x'
+    // (visibility, a drawing override or a display layer)"); empty when visible(dagPath).
+    std::string hiddenReason(const std::vector<NodeId>& dagPath);
 
     // Problems met while evaluating (connection cycles, each reported once), in the order found.
     const std::vector<Diagnostic>& diagnostics() const { return m_diagnostics; }

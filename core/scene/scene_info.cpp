@@ -22,18 +22,6 @@ std::string diagnosticLine(const Diagnostic& d) {
     return s + d.message;
 }
 
-// Why a DAG path is not drawn, naming the first node that hides it; empty when it is visible.
-std::string hiddenReason(Evaluator& ev, const std::vector<NodeId>& path) {
-    if (ev.visible(path)) return {};
-    for (size_t k = 1; k <= path.size(); ++k) {
-        std::vector<NodeId> prefix(path.begin(), path.begin() + std::ptrdiff_t(k));
-        if (!ev.visible(prefix))
-            return "hidden by '" + ev.graph().node(path[k - 1]).name +
-                   "' (visibility, a drawing override or a display layer)";
-    }
-    return "hidden";
-}
-
 // Object-space bounds of a shape's geometry at the evaluator's frame, or nullopt with a reason.
 std::optional<geom::Bounds3> objectBounds(Evaluator& ev, NodeId shape, size_t& vertices, size_t& faces,
                                           std::string& reason) {
@@ -130,7 +118,7 @@ SceneReport describeScene(const Graph& g, const RenderSetup& setup, double frame
 
             if (ev.getBool(n.id, "intermediateObject", false)) {
                 s.reason = "intermediate object";
-            } else if (std::string why = hiddenReason(ev, path); !why.empty()) {
+            } else if (std::string why = ev.hiddenReason(path); !why.empty()) {
                 s.reason = why;
             } else if (s.shadingGroups.empty()) {
                 s.reason = "belongs to no shading group";
