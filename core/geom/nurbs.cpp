@@ -4,6 +4,8 @@
 // (eq. 4.8 and 4.20).
 #include "core/geom/nurbs.h"
 
+#include "core/util/format.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -13,13 +15,6 @@
 namespace pushpin::geom {
 
 namespace {
-
-std::string formatNumber(double x) {
-    std::ostringstream out;
-    out.precision(17);
-    out << x;
-    return out.str();
-}
 
 // Moves t into the domain [lo, hi]: wrapped for periodic directions, clamped otherwise. Non-finite
 // parameters map to lo so that evaluation never leaves the knot vector.
@@ -42,7 +37,7 @@ std::string validateCvs(const std::vector<glm::dvec4>& cvs, int cvCountV) {
                                                std::to_string(k % size_t(cvCountV)) + "]"
                                          : "CV " + std::to_string(k);
         if (!finite) return where + " is not finite";
-        if (!(c.w > 0.0)) return where + " has weight " + formatNumber(c.w) + " (weights must be > 0)";
+        if (!(c.w > 0.0)) return where + " has weight " + util::formatNumber(c.w) + " (weights must be > 0)";
     }
     return {};
 }
@@ -106,13 +101,13 @@ std::string validateKnots(const std::vector<double>& knots, int degree, int cvCo
     for (size_t i = 0; i < knots.size(); ++i) {
         if (!std::isfinite(knots[i])) return dir + ": knot " + std::to_string(i) + " is not finite";
         if (i > 0 && knots[i] < knots[i - 1]) {
-            return dir + ": knots decrease at index " + std::to_string(i) + " (" + formatNumber(knots[i - 1]) +
-                   " > " + formatNumber(knots[i]) + ")";
+            return dir + ": knots decrease at index " + std::to_string(i) + " (" + util::formatNumber(knots[i - 1]) +
+                   " > " + util::formatNumber(knots[i]) + ")";
         }
     }
     if (!(knots[size_t(degree)] < knots[size_t(cvCount)])) {
-        return dir + ": empty parameter domain [" + formatNumber(knots[size_t(degree)]) + ", " +
-               formatNumber(knots[size_t(cvCount)]) + "]";
+        return dir + ": empty parameter domain [" + util::formatNumber(knots[size_t(degree)]) + ", " +
+               util::formatNumber(knots[size_t(cvCount)]) + "]";
     }
     return {};
 }

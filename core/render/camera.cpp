@@ -3,6 +3,8 @@
 // of the camera (projection, depth keys, primary rays) is a linear map of that window.
 #include "core/render/camera.h"
 
+#include "core/util/format.h"
+
 #include "cache/error.h"
 
 #include <glm/matrix.hpp>
@@ -19,13 +21,6 @@ constexpr double kMmPerInch = 25.4;
 // filmFit values (nodes.md §2).
 constexpr int kFill = 0, kHorizontal = 1, kVertical = 2, kOverscan = 3;
 
-std::string describe(double v) {
-    std::ostringstream os;
-    os.precision(17);
-    os << v;
-    return os.str();
-}
-
 struct CameraReader {
     scene::Evaluator& ev;
     scene::NodeId shape;
@@ -36,12 +31,12 @@ struct CameraReader {
     }
     double finite(const char* attr, double fallback) const {
         const double v = ev.getDouble(shape, attr, fallback);
-        if (!std::isfinite(v)) fail(attr, "is " + describe(v) + " (must be a finite number)");
+        if (!std::isfinite(v)) fail(attr, "is " + util::formatNumber(v) + " (must be a finite number)");
         return v;
     }
     double positive(const char* attr, double fallback) const {
         const double v = finite(attr, fallback);
-        if (!(v > 0.0)) fail(attr, "is " + describe(v) + " (must be > 0)");
+        if (!(v > 0.0)) fail(attr, "is " + util::formatNumber(v) + " (must be > 0)");
         return v;
     }
 };
@@ -93,7 +88,7 @@ RenderCamera makeRenderCamera(scene::Evaluator& ev, const std::vector<scene::Nod
         throw Error("camera '" + cam.name + "': image size " + std::to_string(width) + "x" + std::to_string(height) +
                     " has no pixels");
     if (!std::isfinite(deviceAspectRatio) || !(deviceAspectRatio > 0.0))
-        throw Error("camera '" + cam.name + "': device aspect ratio " + describe(deviceAspectRatio) +
+        throw Error("camera '" + cam.name + "': device aspect ratio " + util::formatNumber(deviceAspectRatio) +
                     " must be a positive number");
     cam.width = width;
     cam.height = height;
@@ -112,15 +107,15 @@ RenderCamera makeRenderCamera(scene::Evaluator& ev, const std::vector<scene::Nod
     const double orthoWidth = cam.orthographic ? rd.positive("orthographicWidth", 10.0) : 0.0;
     const double filmFitValue = ev.getDouble(cam.shape, "filmFit", kHorizontal);
     if (!(filmFitValue >= kFill && filmFitValue <= kOverscan) || filmFitValue != std::floor(filmFitValue))
-        rd.fail("filmFit", "is " + describe(filmFitValue) + " (must be 0 Fill, 1 Horizontal, 2 Vertical or 3 Overscan)");
+        rd.fail("filmFit", "is " + util::formatNumber(filmFitValue) + " (must be 0 Fill, 1 Horizontal, 2 Vertical or 3 Overscan)");
     const int filmFit = static_cast<int>(filmFitValue);
     cam.nearClipPlane = rd.finite("nearClipPlane", 0.1);
     cam.farClipPlane = rd.finite("farClipPlane", 10000.0);
     if (!cam.orthographic && !(cam.nearClipPlane > 0.0))
-        rd.fail("nearClipPlane", "is " + describe(cam.nearClipPlane) + " (must be > 0 for a perspective camera)");
+        rd.fail("nearClipPlane", "is " + util::formatNumber(cam.nearClipPlane) + " (must be > 0 for a perspective camera)");
     if (!(cam.nearClipPlane < cam.farClipPlane))
-        rd.fail("nearClipPlane", "(" + describe(cam.nearClipPlane) + ") is not less than farClipPlane (" +
-                                     describe(cam.farClipPlane) + ")");
+        rd.fail("nearClipPlane", "(" + util::formatNumber(cam.nearClipPlane) + ") is not less than farClipPlane (" +
+                                     util::formatNumber(cam.farClipPlane) + ")");
     cam.backgroundColor = ev.getDouble3(cam.shape, "backgroundColor", glm::dvec3(0.0));
     if (!std::isfinite(cam.backgroundColor.x) || !std::isfinite(cam.backgroundColor.y) ||
         !std::isfinite(cam.backgroundColor.z))

@@ -2,6 +2,8 @@
 // is read, and the mapping of Render's flags onto the render globals.
 #include "core/render/command_line.h"
 
+#include "core/util/format.h"
+
 #include "cache/error.h"
 #include "core/render/image_output.h"
 
@@ -52,13 +54,6 @@ std::string lower(std::string_view s) {
     return out;
 }
 
-std::string numberText(double v) {
-    std::ostringstream os;
-    os.precision(17);
-    os << v;
-    return os.str();
-}
-
 [[noreturn]] void bad(std::string_view flag, std::string_view value, const std::string& why) {
     throw Error(std::string(flag) + ": '" + std::string(value) + "' " + why);
 }
@@ -70,7 +65,7 @@ long long parseInt(std::string_view flag, std::string_view text, double lo, doub
     auto [ptr, ec] = std::from_chars(begin, text.data() + text.size(), v);
     if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) bad(flag, text, "is not an integer");
     if (v < lo || v > hi)
-        bad(flag, text, "is out of range (" + numberText(lo) + ".." + numberText(hi) + ")");
+        bad(flag, text, "is out of range (" + util::formatNumber(lo) + ".." + util::formatNumber(hi) + ")");
     return v;
 }
 
@@ -82,7 +77,7 @@ double parseFloat(std::string_view flag, std::string_view text, double lo, doubl
     if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() || !std::isfinite(v))
         bad(flag, text, "is not a finite number");
     if (v < lo || v > hi)
-        bad(flag, text, "is out of range (" + numberText(lo) + ".." + numberText(hi) + ")");
+        bad(flag, text, "is out of range (" + util::formatNumber(lo) + ".." + util::formatNumber(hi) + ")");
     return v;
 }
 
@@ -217,7 +212,7 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
                         const double x = parseFloat(a, v, spec->lo, spec->hi);
                         if (a == "-s") start = x;
                         if (a == "-e") end = x;
-                        text = numberText(x);
+                        text = util::formatNumber(x);
                         break;
                     }
                     case Kind::Bool: text = parseBool(a, v) ? "1" : "0"; break;
@@ -251,7 +246,7 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
     if (ss && mss && *mss < *ss)
         throw Error("-mss: '" + std::to_string(*mss) + "' is less than -ss " + std::to_string(*ss));
     if (start && end && *end < *start)
-        throw Error("-e: '" + numberText(*end) + "' is before -s " + numberText(*start));
+        throw Error("-e: '" + util::formatNumber(*end) + "' is before -s " + util::formatNumber(*start));
     return cl;
 }
 

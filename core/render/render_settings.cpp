@@ -2,19 +2,14 @@
 // not finite or out of its range falls back to Maya's default and leaves one note.
 #include "core/render/render_settings.h"
 
+#include "core/util/format.h"
+
 #include <cmath>
 #include <sstream>
 
 namespace pushpin::render {
 
 namespace {
-
-std::string describe(double v) {
-    std::ostringstream os;
-    os.precision(10);
-    os << v;
-    return os.str();
-}
 
 // Reads the attributes of one node; kNoNode leaves every default in place.
 class NodeReader {
@@ -37,14 +32,16 @@ public:
         if (!present()) return def;
         const double v = m_ev.getDouble(m_node, attr, def);
         if (std::isfinite(v) && v >= lo && v <= hi) return v;
-        note(attr, describe(v) + " is out of range " + describe(lo) + ".." + describe(hi), describe(def));
+        note(attr, util::formatNumber(v, 10) + " is out of range " + util::formatNumber(lo, 10) + ".." +
+                       util::formatNumber(hi, 10),
+             util::formatNumber(def, 10));
         return def;
     }
     int integer(const char* attr, int def, int lo, int hi) {
         if (!present()) return def;
         const double v = m_ev.getDouble(m_node, attr, def);
         if (std::isfinite(v) && v >= lo && v <= hi && v == std::floor(v)) return static_cast<int>(v);
-        note(attr, describe(v) + " is not an integer in " + std::to_string(lo) + ".." + std::to_string(hi),
+        note(attr, util::formatNumber(v, 10) + " is not an integer in " + std::to_string(lo) + ".." + std::to_string(hi),
              std::to_string(def));
         return def;
     }
@@ -52,7 +49,7 @@ public:
         if (!present()) return def;
         const double v = m_ev.getDouble(m_node, attr, def ? 1.0 : 0.0);
         if (std::isfinite(v)) return v != 0.0;
-        note(attr, describe(v) + " is not a boolean", def ? "on" : "off");
+        note(attr, util::formatNumber(v, 10) + " is not a boolean", def ? "on" : "off");
         return def;
     }
     std::string string(const char* attr) const {
@@ -112,7 +109,7 @@ RenderSettings readRenderSettings(scene::Evaluator& ev, const scene::RenderSetup
     s.startFrame = rg.real("startFrame", s.startFrame, -1e9, 1e9);
     s.endFrame = rg.real("endFrame", s.endFrame, -1e9, 1e9);
     if (s.endFrame < s.startFrame) {
-        rg.note("endFrame", describe(s.endFrame) + " is before startFrame", describe(s.startFrame));
+        rg.note("endFrame", util::formatNumber(s.endFrame, 10) + " is before startFrame", util::formatNumber(s.startFrame, 10));
         s.endFrame = s.startFrame;
     }
     s.byFrameStep = rg.real("byFrameStep", s.byFrameStep, 1e-6, 1e9);
