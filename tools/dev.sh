@@ -39,7 +39,7 @@ if command -v clang++ >/dev/null 2>&1; then
     corpus="$(cd "$root/.." && pwd)/shared/scenes/ma-public"
     for target in $fuzz_targets; do
       mkdir -p "$seeds/$target"
-      if [ "$target" = ma_reader_fuzz ] && [ -d "$corpus" ]; then
+      if { [ "$target" = ma_reader_fuzz ] || [ "$target" = render_fuzz ]; } && [ -d "$corpus" ]; then
         cp "$corpus"/*.ma "$seeds/$target/"
         ./build/pushpin --print-demo > "$seeds/$target/demo.ma"
       fi
