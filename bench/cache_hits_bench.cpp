@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
 
     std::printf("files            %zu\n", files.size());
     std::printf("stream           %s%s%s\n", stream.c_str(), traceFile.empty() ? "" : " ", traceFile.c_str());
-    std::printf("cache            %u pages (%.1f KiB)\n", pages, double(cache.memoryBytes()) / 1024.0);
+    std::printf("cache            %u pages (%.1f KiB)\n", pages, double(cache.slotMemoryBytes()) / 1024.0);
     std::printf("threads          %u\n", threads);
     std::printf("lookups          %llu\n", static_cast<unsigned long long>(total));
     std::printf("hit ratio        %.4f  (%llu of %llu page requests)\n", s.hitRatio(),

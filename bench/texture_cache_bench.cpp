@@ -13,6 +13,9 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/texture.h>
 #include <benchmark/benchmark.h>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -227,10 +230,12 @@ RunResult rates(const Stream& stream, const Timing& t, double hitRatio, double l
     return {n / t.wallSeconds, n / t.cpuSeconds, hitRatio, 1000.0 * loads / n};
 }
 
-RunResult runOurs(const fs::path& bot, const Stream& stream, int threads, uint32_t pages) {
+RunResult runOurs(const fs::path& bot, const Stream& stream, int threads, uint32_t pages,
+                  bool mapFiles = true) {
     TextureCacheOptions o;
     o.pageSlots = pages;
     o.maxChannels = 3;
+    o.mapFiles = mapFiles;
     TextureCache cache(o);
     const TextureHandle h = cache.registerFile(bot);
     std::vector<std::unique_ptr<TextureCache::PerThread>> per(threads);
@@ -332,25 +337,39 @@ void runTable(const Config& cfg, const Textures& tex) {
                 {"OIIO TextureSystem", "1 MB", [&] { return runOiio(tex.tx, *row.data, threads, 1.0f); }},
                 {"pushpin TextureCache", "1 MiB",
                  [&] { return runOurs(tex.bot, *row.data, threads, pagesIn1MB); }},
+                {"pushpin TextureCache, pread", "1 MiB",
+                 [&] { return runOurs(tex.bot, *row.data, threads, pagesIn1MB, false); }},
                 {"pushpin TextureCache", "256 pages", [&] { return runOurs(tex.bot, *row.data, threads, 256); }},
             };
+            // Runs are interleaved across systems (OIIO, ours, …, OIIO, ours, …), so a change in
+            // the machine's load during the table affects every system alike.
+            struct Results {
+                std::vector<double> rate, cpuRate, hit, loads;
+            };
+            std::vector<const Sys*> chosen;
             for (const Sys& sys : systems) {
                 const bool isOiio = std::strncmp(sys.name, "OIIO", 4) == 0;
                 if ((cfg.systems == "ours" && isOiio) || (cfg.systems == "oiio" && !isOiio)) continue;
-                std::vector<double> rate, cpuRate, hit, loads;
-                for (int r = 0; r < row.runs; ++r) {
-                    const RunResult res = sys.run();
-                    rate.push_back(res.lookupsPerSecond * 1e-6);
-                    cpuRate.push_back(res.lookupsPerCpuSecond * 1e-6);
-                    hit.push_back(res.hitRatio * 100.0);
-                    loads.push_back(res.loadsPer1000);
+                chosen.push_back(&sys);
+            }
+            std::vector<Results> results(chosen.size());
+            for (int r = 0; r < row.runs; ++r)
+                for (size_t k = 0; k < chosen.size(); ++k) {
+                    const RunResult res = chosen[k]->run();
+                    results[k].rate.push_back(res.lookupsPerSecond * 1e-6);
+                    results[k].cpuRate.push_back(res.lookupsPerCpuSecond * 1e-6);
+                    results[k].hit.push_back(res.hitRatio * 100.0);
+                    results[k].loads.push_back(res.loadsPer1000);
                 }
-                const Summary a = summarize(rate), c = summarize(cpuRate), b = summarize(hit);
+            for (size_t k = 0; k < chosen.size(); ++k) {
+                const Sys& sys = *chosen[k];
+                const Summary a = summarize(results[k].rate), c = summarize(results[k].cpuRate),
+                              b = summarize(results[k].hit);
                 std::printf("| %s | %d | %s | %s | %.3f / %.3f / %.3f | %.3f / %.3f / %.3f | %.2f / %.2f / %.2f | %.2f |\n",
                             row.stream, threads, sys.name, sys.memory, a.min, a.median, a.max, c.min,
-                            c.median, c.max, b.min, b.median, b.max, summarize(loads).median);
-                std::fflush(stdout);
+                            c.median, c.max, b.min, b.median, b.max, summarize(results[k].loads).median);
             }
+            std::fflush(stdout);
         }
 }
 
@@ -360,6 +379,7 @@ struct HitFixture {
     std::unique_ptr<TextureCache> cache;
     TextureHandle handle;
     Stream warmStream;  // a 480×270 render-order stream whose pages all fit in the cache
+    std::shared_ptr<const BotFile> bot;
 };
 HitFixture* g_hit = nullptr;
 
@@ -436,6 +456,40 @@ void BM_RenderOrderWarm(benchmark::State& state) {
     state.counters["hitRatio"] = double(after.hits - before.hits) / double(after.lookups - before.lookups);
 }
 
+// One page read as the cache's miss path does it, over level-0 pages in raster order: with one
+// pread per page (arg 0) or from a mapping of the whole file (arg 1). Checksum, zstd and
+// conversion to float included.
+void BM_PageRead(benchmark::State& state) {
+    const BotFile& bot = *g_hit->bot;
+    const bool mapped = state.range(0) != 0;
+    const int fd = ::open(bot.path().c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        state.SkipWithError("cannot open the BOT file");
+        return;
+    }
+    const size_t bytes = size_t(bot.fileBytes());
+    void* map = mapped ? ::mmap(nullptr, bytes, PROT_READ, MAP_SHARED, fd, 0) : nullptr;
+    if (map == MAP_FAILED) {
+        ::close(fd);
+        state.SkipWithError("mmap failed");
+        return;
+    }
+    const BotLevel& l0 = bot.header().levels[0];
+    std::vector<float> page(64 * bot.header().channels);
+    uint64_t i = 0;
+    for (auto _ : state) {
+        const uint32_t px = uint32_t(i % l0.pagesX), py = uint32_t((i / l0.pagesX) % l0.pagesY);
+        if (mapped)
+            bot.readPageFromMapping(static_cast<const uint8_t*>(map), bytes, 0, px, py, page.data());
+        else
+            bot.readPage(fd, 0, px, py, page.data());
+        benchmark::DoNotOptimize(page[0]);
+        ++i;
+    }
+    if (map) ::munmap(map, bytes);
+    ::close(fd);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -480,8 +534,9 @@ int main(int argc, char** argv) {
     TextureCacheOptions o;
     o.pageSlots = 16384;  // 12 MiB: every page the micro-benchmarks touch stays resident
     o.maxChannels = 3;
-    HitFixture fixture{std::make_unique<TextureCache>(o), {}, {}};
+    HitFixture fixture{std::make_unique<TextureCache>(o), {}, {}, {}};
     fixture.handle = fixture.cache->registerFile(tex.bot);
+    fixture.bot = BotFile::open(tex.bot);
     Config warm = cfg;
     warm.imageWidth = 480;
     warm.imageHeight = 270;
@@ -491,6 +546,7 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark("TextureCache/sharedMapHit", BM_SharedHit);
     benchmark::RegisterBenchmark("TextureCache/trilinearLookup", BM_TrilinearLookup);
     benchmark::RegisterBenchmark("TextureCache/renderOrderWarm", BM_RenderOrderWarm);
+    benchmark::RegisterBenchmark("BotFile/pageRead", BM_PageRead)->ArgName("mapped")->Arg(0)->Arg(1);
     int n = int(rest.size());
     benchmark::Initialize(&n, rest.data());
     std::printf("\n");

@@ -7,6 +7,7 @@
 #include <zstd.h>
 
 #include <new>
+#include <stdexcept>
 #include <string>
 
 #include "cache/error.h"
@@ -32,9 +33,20 @@ ZstdDictionary::ZstdDictionary(const void* bytes, size_t byteCount, int compress
     }
 }
 
+ZstdDictionary::ZstdDictionary(const void* bytes, size_t byteCount)
+    : m_bytes(static_cast<const uint8_t*>(bytes), static_cast<const uint8_t*>(bytes) + byteCount) {
+    m_ddict = ZSTD_createDDict(m_bytes.data(), m_bytes.size());
+    if (!m_ddict) throw Error("zstd rejected a dictionary of " + std::to_string(byteCount) + " bytes");
+}
+
 ZstdDictionary::~ZstdDictionary() {
     ZSTD_freeCDict(static_cast<ZSTD_CDict*>(m_cdict));
     ZSTD_freeDDict(static_cast<ZSTD_DDict*>(m_ddict));
+}
+
+size_t ZstdDictionary::memoryBytes() const {
+    return m_bytes.capacity() + ZSTD_sizeof_CDict(static_cast<const ZSTD_CDict*>(m_cdict)) +
+           ZSTD_sizeof_DDict(static_cast<const ZSTD_DDict*>(m_ddict));
 }
 
 std::vector<uint8_t> trainZstdDictionary(const void* samples, const size_t* sampleBytes, size_t count,
@@ -64,6 +76,11 @@ ZstdCompressor::ZstdCompressor(int level, std::shared_ptr<const ZstdDictionary> 
     if (!cctx) throw std::bad_alloc();
     m_cctx = cctx;
     setCompactFrame(cctx);
+    if (m_dictionary && !m_dictionary->m_cdict) {
+        ZSTD_freeCCtx(cctx);
+        m_cctx = nullptr;
+        throw std::invalid_argument("ZstdCompressor: the dictionary was digested for decompression only");
+    }
     if (m_dictionary) {
         ZSTD_CCtx_refCDict(cctx, static_cast<const ZSTD_CDict*>(m_dictionary->m_cdict));
     } else {

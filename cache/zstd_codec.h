@@ -19,12 +19,17 @@ class ZstdDictionary {
 public:
     // Digests `bytes` for `compressionLevel`. Throws pushpin::Error when zstd rejects the buffer.
     ZstdDictionary(const void* bytes, size_t byteCount, int compressionLevel);
+    // Digests `bytes` for decompression only (readers: no compression tables, a fraction of the
+    // memory). A ZstdCompressor refuses such a dictionary. Throws pushpin::Error like the above.
+    ZstdDictionary(const void* bytes, size_t byteCount);
     ~ZstdDictionary();
     ZstdDictionary(const ZstdDictionary&) = delete;
     ZstdDictionary& operator=(const ZstdDictionary&) = delete;
 
     const std::vector<uint8_t>& bytes() const { return m_bytes; }
     int compressionLevel() const { return m_level; }
+    // Heap bytes held: the raw dictionary plus zstd's digested copies for both directions.
+    size_t memoryBytes() const;
 
 private:
     friend class ZstdCompressor;
@@ -47,6 +52,7 @@ size_t zstdCompressBound(size_t srcBytes);
 class ZstdCompressor {
 public:
     // `dictionary` may be null; when given, its compression level is used instead of `level`.
+    // Throws std::invalid_argument for a dictionary digested for decompression only.
     explicit ZstdCompressor(int level = 3, std::shared_ptr<const ZstdDictionary> dictionary = nullptr);
     ~ZstdCompressor();
     ZstdCompressor(const ZstdCompressor&) = delete;

@@ -21,6 +21,7 @@
 #include "texture/detail/bot_checksum.h"
 #include "texture/detail/bot_layout.h"
 #include "texture/detail/bot_page.h"
+#include "texture/detail/mapped_file.h"
 #include "texture/mipmap.h"
 
 namespace pushpin::texture {
@@ -290,7 +291,7 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
     if (dictBytes > 0) {
         try {
             file->m_dictionary = std::make_shared<cache::ZstdDictionary>(
-                tables.data() + (dictOffset - levelTable), dictBytes, 3);
+                tables.data() + (dictOffset - levelTable), dictBytes);
         } catch (const Error& e) {
             throw fail(std::string("invalid zstd dictionary: ") + e.what());
         }
@@ -321,6 +322,26 @@ uint64_t BotFile::readPageFromMemory(const uint8_t* bytes, size_t byteCount, uin
     if (e.offsetBytes > byteCount || e.storedBytes > byteCount - e.offsetBytes)
         throw FormatError(m_path, pageName(level, pageX, pageY) + " extends past end of file");
     return decodePage(index, level, pageX, pageY, bytes + e.offsetBytes, dst);
+}
+
+uint64_t BotFile::readPageFromMapping(const uint8_t* bytes, size_t byteCount, uint32_t level, uint32_t pageX,
+                                      uint32_t pageY, float* dst) const {
+    const uint64_t index = pageIndex(level, pageX, pageY);
+    const BotPageEntry& e = m_pages[index];
+    if (e.offsetBytes > byteCount || e.storedBytes > byteCount - e.offsetBytes)
+        throw FormatError(m_path, pageName(level, pageX, pageY) + " extends past end of file");
+    PageScratch& scratch = pageScratch();
+    if (!detail::copyFromMapping(scratch.stored.data(), bytes + e.offsetBytes, e.storedBytes))
+        throw IoError(m_path, pageName(level, pageX, pageY) + " lies past the end of the file, which became "
+                              "shorter than its " + std::to_string(m_fileBytes) +
+                              " bytes while mapped (truncated in place?)");
+    return decodePage(index, level, pageX, pageY, scratch.stored.data(), dst);
+}
+
+size_t BotFile::memoryBytes() const {
+    return sizeof(BotFile) + m_path.native().capacity() + m_header.levels.capacity() * sizeof(BotLevel) +
+           m_levelFirstPage.capacity() * sizeof(uint64_t) + m_pages.capacity() * sizeof(BotPageEntry) +
+           (m_dictionary ? m_dictionary->memoryBytes() : 0);
 }
 
 uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uint32_t pageY, const uint8_t* stored,

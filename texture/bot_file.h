@@ -82,6 +82,14 @@ public:
     // The same for a file held in memory (the bytes parse() was given, or a copy of the file).
     uint64_t readPageFromMemory(const uint8_t* bytes, size_t byteCount, uint32_t level, uint32_t pageX,
                                 uint32_t pageY, float* dst) const;
+    // The same for a read-only mapping of the file (detail::mapFile) of `byteCount` bytes, which
+    // must be at least fileBytes(). The stored bytes are copied out under a SIGBUS guard, so a file
+    // truncated in place while mapped gives an IoError naming the file and page instead of a
+    // crash (see texture/detail/mapped_file.h).
+    uint64_t readPageFromMapping(const uint8_t* bytes, size_t byteCount, uint32_t level, uint32_t pageX,
+                                 uint32_t pageY, float* dst) const;
+    // Heap bytes this object holds: tables, path and the digested dictionary.
+    size_t memoryBytes() const;
 
     // Page table access (for botinfo and tests).
     uint64_t pageCount() const { return m_pages.size(); }

@@ -1,7 +1,9 @@
-// texture/texture_cache.cpp: slots, the sharded page map, LRU eviction and the descriptor pool.
+// texture/texture_cache.cpp: slots, the sharded page map, LRU eviction, the file pool and the
+// memory accounting.
 #include "texture/texture_cache.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,6 +19,8 @@
 #include <unordered_map>
 
 #include "cache/error.h"
+#include "cache/memory_budget.h"
+#include "texture/detail/mapped_file.h"
 #include "texture/detail/page_map.h"
 #include "texture/detail/page_source.h"
 
@@ -66,10 +70,15 @@ struct Texture {
     std::vector<BotLevel> pages;  // page counts per level, for range checks on the miss path
     std::atomic<bool> broken{false};
     std::atomic<bool> reported{false};
-    // Descriptor pool state, guarded by Impl::fdMutex.
+    // File pool state, guarded by Impl::fdMutex. An open file is mapped (map != nullptr, no
+    // descriptor kept) or, where mapping failed, held as a descriptor.
     int fd = -1;
+    const uint8_t* map = nullptr;
+    size_t mapBytes = 0;
     uint32_t fdUsers = 0;
     uint64_t fdLastUse = 0;
+    bool open() const { return fd >= 0 || map; }
+    detail::PageFile file() const { return detail::PageFile{fd, map, mapBytes}; }
 };
 
 enum class EntryState : uint8_t { Loading, Ready, Failed };
@@ -141,6 +150,18 @@ struct TextureCache::Impl {
     TextureCacheStats retired;
 
     std::function<void(const std::string&)> warningHandler;
+
+    // What memoryBytes() reports; every change is charged to or released from the budget.
+    std::atomic<uint64_t> accountedBytes{0};
+
+    void account(uint64_t bytes) {
+        accountedBytes.fetch_add(bytes, std::memory_order_relaxed);
+        if (options.memoryBudget) options.memoryBudget->charge(cache::MemoryCategory::Textures, bytes);
+    }
+    void unaccount(uint64_t bytes) {
+        if (options.memoryBudget) options.memoryBudget->release(cache::MemoryCategory::Textures, bytes);
+        accountedBytes.fetch_sub(bytes, std::memory_order_relaxed);
+    }
 
     Shard& shardFor(uint64_t key) {
         return shards[(key * 0xC2B2AE3D27D4EB4Full) >> 58];  // 64 shards
@@ -244,18 +265,57 @@ struct TextureCache::Impl {
         slots[s].loading.store(false, std::memory_order_release);
     }
 
-    // Returns an O_RDONLY descriptor on t's file (-1 for a memory source), opening it if needed
-    // and closing the least recently used idle descriptor to stay under maxOpenFiles. Waits when
-    // every open descriptor is in use (each thread uses at most one at a time, so one frees up).
-    // Throws IoError when open() fails.
-    int acquireFd(Texture& t) {
-        if (!t.source->needsFile()) return -1;
+    // Opens t's file for the pool: checks that it is still as long as when it was registered
+    // (so no page the tables describe lies past its end), then maps it, or keeps the descriptor
+    // when mapping is off or fails. Caller holds fdMutex. Throws IoError / FormatError.
+    void openFile(Texture& t) {
+        const int fd = ::open(t.info.path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0) throw IoError(t.info.path, "open texture", errno);
+        struct stat st {};
+        if (::fstat(fd, &st) != 0) {
+            const int e = errno;
+            ::close(fd);
+            throw IoError(t.info.path, "stat texture", e);
+        }
+        const uint64_t need = t.source->fileBytes();
+        if (uint64_t(st.st_size) < need) {
+            ::close(fd);
+            throw FormatError(t.info.path, "the file is now " + std::to_string(st.st_size) +
+                                               " bytes, shorter than the " + std::to_string(need) +
+                                               " it had when registered (truncated since?)");
+        }
+        fileOpens.fetch_add(1, std::memory_order_relaxed);
+        if (options.mapFiles) {
+            if (const uint8_t* m = detail::mapFile(fd, size_t(need))) {
+                ::close(fd);  // the mapping keeps the file (its inode) alive
+                t.map = m;
+                t.mapBytes = size_t(need);
+                return;
+            }
+        }
+        t.fd = fd;
+    }
+
+    void closeFile(Texture& t) {
+        if (t.map) detail::unmapFile(t.map, t.mapBytes);
+        if (t.fd >= 0) ::close(t.fd);
+        t.map = nullptr;
+        t.mapBytes = 0;
+        t.fd = -1;
+    }
+
+    // Returns the way to t's file (empty for a memory source), opening it if needed and closing
+    // the least recently used idle file to stay under maxOpenFiles. Waits when every open file is
+    // in use (each thread uses at most one at a time, so one frees up). Throws IoError or
+    // FormatError when the file cannot be opened.
+    detail::PageFile acquireFile(Texture& t) {
+        if (!t.source->needsFile()) return {};
         std::unique_lock lock(fdMutex);
         ++fdTick;
-        if (t.fd >= 0) {
+        if (t.open()) {
             ++t.fdUsers;
             t.fdLastUse = fdTick;
-            return t.fd;
+            return t.file();
         }
         while (openTextures.size() >= options.maxOpenFiles) {
             auto lru = openTextures.end();
@@ -264,30 +324,26 @@ struct TextureCache::Impl {
                     lru = it;
             if (lru == openTextures.end()) {
                 fdReleased.wait(lock);
-                if (t.fd >= 0) {  // another thread opened it while we waited
+                if (t.open()) {  // another thread opened it while we waited
                     ++t.fdUsers;
                     t.fdLastUse = ++fdTick;
-                    return t.fd;
+                    return t.file();
                 }
                 continue;
             }
-            ::close((*lru)->fd);
-            (*lru)->fd = -1;
+            closeFile(**lru);
             openTextures.erase(lru);
             fileCloses.fetch_add(1, std::memory_order_relaxed);
         }
-        const int fd = ::open(t.info.path.c_str(), O_RDONLY | O_CLOEXEC);
-        if (fd < 0) throw IoError(t.info.path, "open texture", errno);
-        fileOpens.fetch_add(1, std::memory_order_relaxed);
-        t.fd = fd;
+        openFile(t);
         t.fdUsers = 1;
         t.fdLastUse = fdTick;
         openTextures.push_back(&t);
         peakOpenFiles = std::max<uint64_t>(peakOpenFiles, openTextures.size());
-        return fd;
+        return t.file();
     }
 
-    void releaseFd(Texture& t) {
+    void releaseFile(Texture& t) {
         if (!t.source->needsFile()) return;
         std::lock_guard lock(fdMutex);
         if (--t.fdUsers == 0) fdReleased.notify_one();
@@ -298,12 +354,15 @@ struct TextureCache::Impl {
         const uint32_t id = uint32_t(owned.size());
         if (id >= kMaxTextures) throw std::length_error("too many textures registered");
         const uint32_t c = id >> kChunkBits;
+        size_t bytes = sizeof(Texture) + (t->source ? t->source->memoryBytes() : 0);
         if (!chunks[c].load(std::memory_order_relaxed)) {
             ownedChunks.push_back(std::make_unique<std::atomic<Texture*>[]>(kChunkSize));
             chunks[c].store(ownedChunks.back().get(), std::memory_order_release);
+            bytes += kChunkSize * sizeof(std::atomic<Texture*>);
         }
         Texture* raw = t.get();
         owned.push_back(std::move(t));
+        account(bytes);
         chunks[c].load(std::memory_order_relaxed)[id & (kChunkSize - 1)].store(
             raw, std::memory_order_release);
         return id;
@@ -336,6 +395,18 @@ struct TextureCache::Impl {
     }
 };
 
+namespace {
+
+// What the constructor allocates: slot texels and metadata, shards and the texture chunk table.
+size_t fixedMemoryBytes(uint32_t pageSlots, size_t slotFloats) {
+    return size_t(pageSlots) * (slotFloats * sizeof(float) + sizeof(SlotMeta) + sizeof(SlotStamp) +
+                                sizeof(uint32_t)) +
+           kShardCount * sizeof(Shard) +
+           (kMaxTextures / kChunkSize) * sizeof(std::atomic<std::atomic<Texture*>*>);
+}
+
+}  // namespace
+
 TextureCache::TextureCache(const TextureCacheOptions& options) : m_impl(std::make_unique<Impl>()) {
     if (options.pageSlots == 0) throw std::invalid_argument("TextureCache: pageSlots must be >= 1");
     if (options.maxChannels == 0 || options.maxChannels > 16)
@@ -356,13 +427,14 @@ TextureCache::TextureCache(const TextureCacheOptions& options) : m_impl(std::mak
     for (uint32_t s = options.pageSlots; s-- > 0;) im.freeSlots.push_back(s);
     im.shards = std::make_unique<Shard[]>(kShardCount);
     im.chunks = std::make_unique<std::atomic<std::atomic<Texture*>*>[]>(kMaxTextures / kChunkSize);
+    im.account(fixedMemoryBytes(options.pageSlots, im.slotFloats));
 }
 
 TextureCache::~TextureCache() {
     Impl& im = *m_impl;
-    for (Texture* t : im.openTextures)
-        if (t->fd >= 0) ::close(t->fd);
+    for (Texture* t : im.openTextures) im.closeFile(*t);
     ::operator delete(im.data, std::align_val_t(64));
+    im.unaccount(im.accountedBytes.load(std::memory_order_relaxed));
 }
 
 TextureCache& TextureCache::process(const TextureCacheOptions& firstUseOptions) {
@@ -456,7 +528,10 @@ TextureCacheStats TextureCache::stats() const {
 
 uint32_t TextureCache::pageSlots() const { return m_impl->options.pageSlots; }
 size_t TextureCache::bytesPerSlot() const { return m_impl->slotFloats * sizeof(float); }
-size_t TextureCache::memoryBytes() const { return bytesPerSlot() * pageSlots(); }
+size_t TextureCache::slotMemoryBytes() const { return bytesPerSlot() * pageSlots(); }
+size_t TextureCache::memoryBytes() const {
+    return size_t(m_impl->accountedBytes.load(std::memory_order_relaxed));
+}
 
 size_t TextureCache::openFileCount() const {
     std::lock_guard lock(m_impl->fdMutex);
@@ -477,15 +552,22 @@ TextureCache::PerThread::PerThread(TextureCache& cache)
       m_epoch(&cache.m_impl->epoch),
       m_micro(std::make_unique<MicroEntry[]>(size_t(1) << kMicroBits)),
       m_scratch(m_impl->slotFloats) {
+    m_impl->account(heapBytes());
     std::lock_guard lock(m_impl->threadsMutex);
     m_impl->threads.push_back(this);
 }
 
 TextureCache::PerThread::~PerThread() {
+    m_impl->unaccount(heapBytes());
     std::lock_guard lock(m_impl->threadsMutex);
     m_impl->retired.merge(stats());
     auto& v = m_impl->threads;
     v.erase(std::find(v.begin(), v.end(), this));
+}
+
+size_t TextureCache::PerThread::heapBytes() const {
+    return sizeof(PerThread) + (size_t(1) << kMicroBits) * sizeof(MicroEntry) +
+           m_scratch.capacity() * sizeof(float);
 }
 
 TextureCacheStats TextureCache::PerThread::stats() const {
@@ -555,14 +637,14 @@ bool TextureCache::PerThread::refill(uint64_t key, TextureHandle handle, uint32_
     uint64_t bytes = 0;
     const auto start = std::chrono::steady_clock::now();
     try {
-        const int fd = im.acquireFd(*t);
+        const detail::PageFile file = im.acquireFile(*t);
         try {
-            bytes = t->source->readPage(fd, level, pageX, pageY, m_scratch.data());
+            bytes = t->source->readPage(file, level, pageX, pageY, m_scratch.data());
         } catch (...) {
-            im.releaseFd(*t);
+            im.releaseFile(*t);
             throw;
         }
-        im.releaseFd(*t);
+        im.releaseFile(*t);
     } catch (const std::exception& ex) {
         im.releaseFailedSlot(slot);
         {

@@ -1,18 +1,28 @@
 // texture/texture_cache.h: the one page cache every file texture of a render shares.
 // Owns: N page slots (default 256) of 8×8 texels stored as float, a map from (texture, level,
-// page) to slot, a bounded pool of open file descriptors, the registered textures and the
-// statistics. Pages are read on demand (pread + checksum + zstd through BotFile::readPage) and the
-// least recently used page is replaced when the cache is full: exactly for up to 64 slots used
-// from one thread; beyond that, the least recently used of the 64 slots after a rotating hand
-// (see nextStamp() for how recency is recorded across threads).
+// page) to slot, a bounded pool of open BOT files (each mapped read-only, or held as a descriptor
+// where mapping fails), the registered textures and the statistics. Pages are read on demand
+// (checksum + zstd through BotFile, from the mapping or with pread) and the least recently used
+// page is replaced when the cache is full: exactly for up to 64 slots used from one thread;
+// beyond that, the least recently used of the 64 slots after a rotating hand (see nextStamp()
+// for how recency is recorded across threads).
 // Thread safety: every public method may be called from any thread. Lookups go through a
 // TextureCache::PerThread handle, one per thread: a page that the handle's microcache still
 // resolves is read with no lock and no atomic read-modify-write; other hits take one shard lock;
 // misses also take the eviction lock (one evicting thread at a time) and the file-pool lock,
 // and the thread that loads a page is the only one that does (others wait for it).
-// Memory: pageSlots × bytesPerSlot() allocated at construction and never more (memoryBytes()),
-// plus the headers and page tables of registered textures; callers charge memoryBytes() to the
-// render's MemoryBudget.
+// Memory: charged to TextureCacheOptions::memoryBudget (category textures) as it is allocated and
+// released when freed; memoryBytes() is always the amount charged: the slots and their metadata
+// (allocated at construction, reused on eviction, freed by the destructor), each registered
+// texture's header, page table and dictionary (or in-memory pyramid), and each PerThread handle.
+// Mapped files are not charged: their resident pages are the kernel's page cache, shared and
+// reclaimable, the same pages pread would have filled.
+// Files that change while open: a file shorter than when it was registered is refused when the
+// pool opens it (the texture becomes broken, with one warning). A file truncated in place while
+// it is mapped makes the next read of a page past its new end fail with an IoError naming the
+// file and page (a guarded copy turns the SIGBUS into an error; see detail/mapped_file.h): the
+// texture becomes broken, never the process. A file replaced by rename keeps being read from the
+// old inode until the pool closes it.
 #pragma once
 
 #include <atomic>
@@ -25,6 +35,10 @@
 #include <vector>
 
 #include "texture/bot_file.h"
+
+namespace pushpin::cache {
+class MemoryBudget;
+}
 
 namespace pushpin::texture {
 
@@ -54,13 +68,13 @@ struct TextureCacheStats {
     uint64_t evictions = 0;        // resident pages replaced to make room
     uint64_t pagesRead = 0;        // pages loaded successfully
     uint64_t failedPages = 0;      // page loads that failed (corrupt or unreadable page)
-    uint64_t bytesRead = 0;        // compressed bytes read from disk
+    uint64_t bytesRead = 0;        // compressed bytes read from the files (mapped or pread)
     uint64_t filteredLookups = 0;  // texture samples (each made of one or more page requests)
-    uint64_t fileOpens = 0;        // open() calls of the descriptor pool
-    uint64_t fileCloses = 0;       // descriptors closed to stay under maxOpenFiles
-    uint64_t peakOpenFiles = 0;    // most descriptors open at once (merge keeps the maximum)
+    uint64_t fileOpens = 0;        // files opened (and mapped) by the file pool
+    uint64_t fileCloses = 0;       // files closed (and unmapped) to stay under maxOpenFiles
+    uint64_t peakOpenFiles = 0;    // most files open at once (merge keeps the maximum)
     uint64_t brokenTextures = 0;   // textures marked broken (failed open or failed page)
-    double readSeconds = 0;        // wall time inside page reads: pread, checksum, decompression
+    double readSeconds = 0;        // wall time inside page reads: copy or pread, checksum, decompression
 
     void merge(const TextureCacheStats& other);
     double hitRatio() const { return lookups ? double(hits) / double(lookups) : 0.0; }
@@ -70,7 +84,14 @@ std::ostream& operator<<(std::ostream& os, const TextureCacheStats& s);
 struct TextureCacheOptions {
     uint32_t pageSlots = 256;     // pages held at once; at least 1
     uint32_t maxChannels = 4;     // widest texture the slots hold (1..16); sets bytesPerSlot()
-    uint32_t maxOpenFiles = 100;  // descriptors held open at once; at least 1
+    uint32_t maxOpenFiles = 100;  // files held open (mapped or as a descriptor) at once; at least 1
+    // Read pages from read-only mappings of the files (one memcpy per page) rather than with one
+    // pread system call per page. Files that cannot be mapped are read with pread either way.
+    bool mapFiles = true;
+    // Where the cache's memory is charged (category textures); null: nowhere. Must outlive the
+    // cache. Charged unconditionally: this memory is needed for a correct image, so the budget
+    // records it even past its cap and other consumers make room.
+    cache::MemoryBudget* memoryBudget = nullptr;
     // Receives each warning (broken texture, missing file). Default: one line on stderr.
     std::function<void(const std::string&)> warningHandler;
 };
@@ -122,7 +143,11 @@ public:
     TextureCacheStats stats() const;
     uint32_t pageSlots() const;
     size_t bytesPerSlot() const;
+    // pageSlots() × bytesPerSlot(): the texel storage alone.
+    size_t slotMemoryBytes() const;
+    // Everything the cache charges to its memory budget right now (see the header comment).
     size_t memoryBytes() const;
+    // Files held open by the pool (mapped or as a descriptor).
     size_t openFileCount() const;
 
     // When set, every filtered lookup batch is appended to `writer` (which must outlive its use).
@@ -141,7 +166,7 @@ private:
 
 // One thread's way into the cache: a direct-mapped microcache of recently used pages in front
 // of the shared map, and this thread's counters. Use from one thread only; destroy before the
-// cache. Cheap to create (about 50 KB).
+// cache. Cheap to create (about 50 KB, charged to the cache's memory budget while it lives).
 class TextureCache::PerThread {
 public:
     explicit PerThread(TextureCache& cache);
@@ -194,6 +219,7 @@ private:
         c.store(c.load(std::memory_order_relaxed) + n, std::memory_order_relaxed);
     }
     uint64_t nextStamp();
+    size_t heapBytes() const;  // what this handle charges to the cache's memory budget
     // How a page request was served; decides which counter it lands in.
     enum class Outcome : uint8_t { Microcache, SharedHit, Loaded, Rejected };
     bool refill(uint64_t key, TextureHandle texture, uint32_t level, uint32_t pageX,

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -59,6 +61,31 @@ TEST(ZstdCodec, TrainedDictionaryShrinksSmallBlocksAndRoundTrips) {
         EXPECT_EQ(back, src);
     }
     EXPECT_LT(dictTotal, plainTotal);
+}
+
+TEST(ZstdCodec, DecompressionOnlyDictionaryDecodesInLessMemory) {
+    std::vector<uint8_t> samples;
+    std::vector<size_t> sizes;
+    for (uint32_t i = 0; i < 2000; ++i) {
+        const auto b = structuredBlock(i, 192);
+        samples.insert(samples.end(), b.begin(), b.end());
+        sizes.push_back(b.size());
+    }
+    const std::vector<uint8_t> dictBytes = trainZstdDictionary(samples.data(), sizes.data(), sizes.size(), 8192);
+    ASSERT_FALSE(dictBytes.empty());
+    auto both = std::make_shared<ZstdDictionary>(dictBytes.data(), dictBytes.size(), 3);
+    auto readOnly = std::make_shared<ZstdDictionary>(dictBytes.data(), dictBytes.size());
+    EXPECT_LT(readOnly->memoryBytes(), both->memoryBytes());
+    EXPECT_GE(readOnly->memoryBytes(), dictBytes.size());
+    EXPECT_THROW(ZstdCompressor(3, readOnly), std::invalid_argument);
+    ZstdCompressor c(3, both);
+    ZstdDecompressor d(readOnly);
+    const auto src = structuredBlock(9000, 192);
+    std::vector<uint8_t> q(zstdCompressBound(192)), back(192);
+    const size_t n = c.compress(src.data(), src.size(), q.data(), q.size());
+    ASSERT_GT(n, 0u);
+    ASSERT_TRUE(d.decompress(q.data(), n, back.data(), back.size()));
+    EXPECT_EQ(back, src);
 }
 
 TEST(ZstdCodec, TrainingFailsGracefullyOnTooFewSamples) {

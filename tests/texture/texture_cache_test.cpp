@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cache/memory_budget.h"
 #include "texture/texture_sampler.h"
 #include "texture_test_support.h"
 
@@ -418,7 +419,171 @@ TEST(TextureCache, RejectsBadOptionsAndTexturesWiderThanItsSlots) {
         testing::memoryTexture("rgb", 8, 8, 3, [](uint32_t, uint32_t, uint32_t) { return 1.0f; }));
     EXPECT_TRUE(cache.broken(h));
     EXPECT_EQ(log.count(), 1u);
-    EXPECT_EQ(cache.memoryBytes(), 8u * 64u * 2u * sizeof(float));
+    EXPECT_EQ(cache.slotMemoryBytes(), 8u * 64u * 2u * sizeof(float));
+    EXPECT_GT(cache.memoryBytes(), cache.slotMemoryBytes());
+}
+
+TEST(TextureCache, ChargedBytesEqualMemoryBytesAtAllTimes) {
+    TempDir dir("tc-budget");
+    const auto paths = writeTextures(dir, 3, 128);
+    const auto lookups = randomLookups(3000, 3, 21);
+    cache::MemoryBudget budget;
+    budget.charge(cache::MemoryCategory::Tessellation, 12345);  // someone else's memory
+    auto charged = [&] { return budget.usedBytes(cache::MemoryCategory::Textures); };
+    {
+        TextureCacheOptions o;
+        o.pageSlots = 32;  // small, so the lookups below evict
+        o.memoryBudget = &budget;
+        TextureCache cache(o);
+        EXPECT_EQ(charged(), cache.memoryBytes());
+        EXPECT_GE(cache.memoryBytes(), cache.slotMemoryBytes());
+        size_t before = cache.memoryBytes();
+        std::vector<TextureHandle> handles;
+        for (const auto& p : paths) {
+            handles.push_back(cache.registerFile(p));
+            // Each texture adds at least its page table (one entry per page).
+            EXPECT_GE(cache.memoryBytes(), before + BotFile::open(p)->pageCount() * sizeof(BotPageEntry));
+            EXPECT_EQ(charged(), cache.memoryBytes());
+            before = cache.memoryBytes();
+        }
+        EXPECT_EQ(cache.registerFile(paths[0]), handles[0]);  // already registered: no new charge
+        EXPECT_EQ(charged(), before);
+        cache.registerSource(std::make_shared<ProbeSource>("probe", 16, 16));
+        EXPECT_GE(cache.memoryBytes(), before + ProbeSource::kMemoryBytes);
+        EXPECT_EQ(charged(), cache.memoryBytes());
+        const size_t registered = cache.memoryBytes();
+        {
+            TextureCache::PerThread a(cache), b(cache);
+            EXPECT_GT(cache.memoryBytes(), registered + 2 * 48 * 1024);
+            EXPECT_EQ(charged(), cache.memoryBytes());
+            std::vector<float> out(lookups.size() * 3);
+            LookupOptions opt;
+            const float fill[3] = {0, 0, 0};
+            for (size_t i = 0; i < lookups.size(); ++i) {
+                const RandomLookup& l = lookups[i];
+                sampleTexture(i % 2 ? a : b, handles[l.texture], opt, l.s, l.t, l.dsdx, l.dsdy,
+                              l.dtdx, l.dtdy, fill, 3, &out[i * 3]);
+                if (i % 500 == 0) {
+                    EXPECT_EQ(charged(), cache.memoryBytes());
+                }
+            }
+            EXPECT_GT(cache.stats().evictions, 0u);
+            EXPECT_EQ(charged(), cache.memoryBytes());  // eviction reuses slots: no change
+        }
+        EXPECT_EQ(cache.memoryBytes(), registered);
+        EXPECT_EQ(charged(), registered);
+        EXPECT_GT(budget.peakBytes(cache::MemoryCategory::Textures), registered);
+    }
+    EXPECT_EQ(charged(), 0u);
+    EXPECT_EQ(budget.usedBytes(), 12345u);
+}
+
+TEST(TextureCache, CacheWithoutBudgetStillReportsItsMemory) {
+    TextureCacheOptions o;
+    o.pageSlots = 4;
+    TextureCache cache(o);
+    const size_t empty = cache.memoryBytes();
+    EXPECT_GE(empty, cache.slotMemoryBytes());
+    cache.registerSource(std::make_shared<ProbeSource>("probe", 16, 16));
+    EXPECT_GE(cache.memoryBytes(), empty + ProbeSource::kMemoryBytes);
+}
+
+TEST(TextureCache, MappedAndPreadReadsGiveTheSameTexelsAndCounts) {
+    TempDir dir("tc-map");
+    const auto paths = writeTextures(dir, 4, 96);
+    const auto lookups = randomLookups(6000, 4, 8);
+    std::vector<float> out[2];
+    TextureCacheStats stats[2];
+    for (int mapped = 0; mapped < 2; ++mapped) {
+        TextureCacheOptions o;
+        o.pageSlots = 24;
+        o.maxOpenFiles = 2;  // files keep being closed and reopened (unmapped and mapped again)
+        o.mapFiles = mapped == 1;
+        TextureCache cache(o);
+        std::vector<TextureHandle> handles;
+        for (const auto& p : paths) handles.push_back(cache.registerFile(p));
+        out[mapped].assign(lookups.size() * 3, -1.0f);
+        runLookups(cache, handles, lookups, 0, 1, out[mapped]);
+        stats[mapped] = cache.stats();
+        EXPECT_LE(cache.openFileCount(), 2u);
+    }
+    EXPECT_EQ(out[0], out[1]);
+    EXPECT_EQ(stats[0].lookups, stats[1].lookups);
+    EXPECT_EQ(stats[0].misses, stats[1].misses);
+    EXPECT_EQ(stats[0].bytesRead, stats[1].bytesRead);
+    EXPECT_EQ(stats[0].fileOpens, stats[1].fileOpens);
+    EXPECT_EQ(stats[0].fileCloses, stats[1].fileCloses);
+    EXPECT_GT(stats[1].fileCloses, 0u);
+    expectConsistent(stats[1]);
+}
+
+// Truncates `path` to `bytes` in place (as `cp other path` or a crashed writer would).
+void truncateInPlace(const std::filesystem::path& path, off_t bytes) {
+    const int fd = ::open(path.c_str(), O_WRONLY);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::ftruncate(fd, bytes), 0);
+    ::close(fd);
+}
+
+TEST(TextureCache, FileTruncatedAfterRegistrationIsBrokenWithAClearError) {
+    for (bool mapped : {false, true}) {
+        TempDir dir("tc-trunc");
+        const auto paths = writeTextures(dir, 1, 64);
+        WarningLog log;
+        TextureCacheOptions o;
+        o.mapFiles = mapped;
+        o.warningHandler = log.handler();
+        TextureCache cache(o);
+        const TextureHandle h = cache.registerFile(paths[0]);
+        ASSERT_FALSE(cache.broken(h));
+        truncateInPlace(paths[0], off_t(std::filesystem::file_size(paths[0]) - 10));
+        TextureCache::PerThread pt(cache);
+        bool ok = true;
+        readOne(pt, h, 0, 0, 0, &ok);
+        EXPECT_FALSE(ok);
+        EXPECT_TRUE(cache.broken(h));
+        ASSERT_EQ(log.count(), 1u);
+        EXPECT_NE(log.messages[0].find(paths[0].string()), std::string::npos) << log.messages[0];
+        EXPECT_NE(log.messages[0].find("shorter"), std::string::npos) << log.messages[0];
+        EXPECT_EQ(cache.stats().failedPages, 1u);
+        EXPECT_EQ(cache.stats().fileOpens, 0u);
+    }
+}
+
+TEST(TextureCache, FileTruncatedWhileMappedBreaksTheTextureNotTheProcess) {
+    TempDir dir("tc-shrink");
+    const auto paths = writeTextures(dir, 1, 512);  // several hundred KiB, many OS pages
+    const auto bot = BotFile::open(paths[0]);
+    const BotLevel& l0 = bot->header().levels[0];
+    const BotPageEntry last = bot->pageEntry(bot->pageIndex(0, l0.pagesX - 1, l0.pagesY - 1));
+    ASSERT_GT(last.offsetBytes, 3u * 65536u);
+    WarningLog log;
+    TextureCacheOptions o;
+    o.warningHandler = log.handler();
+    TextureCache cache(o);
+    const TextureHandle h = cache.registerFile(paths[0]);
+    TextureCache::PerThread pt(cache);
+    bool ok = false;
+    readOne(pt, h, 0, 0, 0, &ok);  // maps the file
+    ASSERT_TRUE(ok);
+    ASSERT_EQ(cache.openFileCount(), 1u);
+    // Far below the last page, so reading it touches whole OS pages past the new end.
+    truncateInPlace(paths[0], off_t(65536));
+    readOne(pt, h, 0, l0.pagesX - 1, l0.pagesY - 1, &ok);
+    EXPECT_FALSE(ok);
+    EXPECT_TRUE(cache.broken(h));
+    ASSERT_EQ(log.count(), 1u);
+    EXPECT_NE(log.messages[0].find(paths[0].string()), std::string::npos) << log.messages[0];
+    EXPECT_NE(log.messages[0].find("level 0 page (" + std::to_string(l0.pagesX - 1) + ", " +
+                                   std::to_string(l0.pagesY - 1) + ")"),
+              std::string::npos)
+        << log.messages[0];
+    EXPECT_NE(log.messages[0].find("while mapped"), std::string::npos) << log.messages[0];
+    EXPECT_EQ(cache.stats().failedPages, 1u);
+    // The thread goes on working: other textures still load.
+    const TextureHandle probe = cache.registerSource(std::make_shared<ProbeSource>("probe", 16, 16));
+    EXPECT_EQ(readOne(pt, probe, 0, 1, 1, &ok), ProbeSource::pageValue(0, 1, 1));
+    EXPECT_TRUE(ok);
 }
 
 }  // namespace

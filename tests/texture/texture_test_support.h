@@ -67,7 +67,9 @@ public:
     const BotHeader& header() const override { return m_header; }
     const std::filesystem::path& path() const override { return m_name; }
     bool needsFile() const override { return false; }
-    uint64_t readPage(int, uint32_t level, uint32_t px, uint32_t py, float* dst) const override {
+    uint64_t fileBytes() const override { return 0; }
+    size_t memoryBytes() const override { return kMemoryBytes; }
+    uint64_t readPage(const detail::PageFile&, uint32_t level, uint32_t px, uint32_t py, float* dst) const override {
         reads.fetch_add(1);
         if (delayMilliseconds > 0)
             std::this_thread::sleep_for(std::chrono::milliseconds(delayMilliseconds));
@@ -79,6 +81,7 @@ public:
         return 64;
     }
 
+    static constexpr size_t kMemoryBytes = 1000;  // what the probe claims to hold
     mutable std::atomic<uint64_t> reads{0};
     int delayMilliseconds = 0;
     uint32_t failLevel = ~0u, failPageX = ~0u, failPageY = ~0u;

@@ -15,9 +15,13 @@ public:
     const BotHeader& header() const override { return m_file->header(); }
     const std::filesystem::path& path() const override { return m_file->path(); }
     bool needsFile() const override { return true; }
-    uint64_t readPage(int fd, uint32_t level, uint32_t pageX, uint32_t pageY,
+    uint64_t fileBytes() const override { return m_file->fileBytes(); }
+    size_t memoryBytes() const override { return sizeof(*this) + m_file->memoryBytes(); }
+    uint64_t readPage(const PageFile& file, uint32_t level, uint32_t pageX, uint32_t pageY,
                       float* dst) const override {
-        return m_file->readPage(fd, level, pageX, pageY, dst);
+        if (file.bytes)
+            return m_file->readPageFromMapping(file.bytes, file.byteCount, level, pageX, pageY, dst);
+        return m_file->readPage(file.fd, level, pageX, pageY, dst);
     }
 
 private:
@@ -44,7 +48,15 @@ public:
     const BotHeader& header() const override { return m_header; }
     const std::filesystem::path& path() const override { return m_name; }
     bool needsFile() const override { return false; }
-    uint64_t readPage(int, uint32_t level, uint32_t pageX, uint32_t pageY,
+    uint64_t fileBytes() const override { return 0; }
+    size_t memoryBytes() const override {
+        size_t n = sizeof(*this) + m_name.native().capacity() +
+                   m_header.levels.capacity() * sizeof(BotLevel) +
+                   m_levels.capacity() * sizeof(std::vector<float>);
+        for (const std::vector<float>& l : m_levels) n += l.capacity() * sizeof(float);
+        return n;
+    }
+    uint64_t readPage(const PageFile&, uint32_t level, uint32_t pageX, uint32_t pageY,
                       float* dst) const override {
         const BotLevel& lv = m_header.levels.at(level);
         const uint32_t c = m_header.channels;

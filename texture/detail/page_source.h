@@ -1,9 +1,10 @@
 // texture/detail/page_source.h: where TextureCache gets the texels of one page on a miss.
-// A source is either a BOT file on disk (pages read with pread through BotFile::readPage on a
-// descriptor the cache's file pool owns) or an image held in memory (the fallback when a texture
-// cannot be converted, and tests).
+// A source is either a BOT file on disk (pages read from a read-only mapping of the file, or with
+// pread where the file cannot be mapped, through the handle the cache's file pool holds) or an
+// image held in memory (the fallback when a texture cannot be converted, and tests).
 // Thread safety: every method is const and may be called from several threads at once.
-// Memory: a file source holds only the BOT header and page table; a memory source holds its pyramid.
+// Memory: a file source holds only the BOT header, page table and dictionary; a memory source
+// holds its pyramid. memoryBytes() reports either, for the cache to charge.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,14 @@
 
 namespace pushpin::texture::detail {
 
+// How a file source reaches its file, as the cache's file pool opened it: a read-only mapping of
+// at least fileBytes() bytes (bytes != nullptr) or else a descriptor for pread (fd >= 0).
+struct PageFile {
+    int fd = -1;
+    const uint8_t* bytes = nullptr;
+    size_t byteCount = 0;
+};
+
 class PageSource {
 public:
     virtual ~PageSource() = default;
@@ -22,12 +31,17 @@ public:
     virtual const BotHeader& header() const = 0;
     // Names the texture in messages; for a file source it is also the file the cache opens.
     virtual const std::filesystem::path& path() const = 0;
-    // True when readPage() needs an O_RDONLY descriptor on path().
+    // True when readPage() needs path() opened (a PageFile).
     virtual bool needsFile() const = 0;
+    // The size of the file the tables were read from (0 for a memory source). The cache maps
+    // this many bytes and refuses a file that has become shorter.
+    virtual uint64_t fileBytes() const = 0;
+    // Heap bytes the source holds (tables, dictionary, or the in-memory pyramid).
+    virtual size_t memoryBytes() const = 0;
     // Writes kPageSizeTexels² × channels floats (row-major, channels interleaved) of page
-    // (pageX, pageY) of `level` to dst. `fd` is a descriptor on path() when needsFile(), else -1.
-    // Returns the number of bytes read from disk (0 for memory). Throws FormatError or IoError.
-    virtual uint64_t readPage(int fd, uint32_t level, uint32_t pageX, uint32_t pageY,
+    // (pageX, pageY) of `level` to dst. `file` reaches path() when needsFile(); else it is empty.
+    // Returns the number of compressed bytes read (0 for memory). Throws FormatError or IoError.
+    virtual uint64_t readPage(const PageFile& file, uint32_t level, uint32_t pageX, uint32_t pageY,
                               float* dst) const = 0;
 };
 
