@@ -21,6 +21,7 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <unordered_map>
 
 namespace pushpin::render {
 
@@ -135,7 +136,11 @@ struct Worker {
     PixelResolver resolver;
     shade::ShadingScratch scratch;
     std::unique_ptr<shade::ShadingResult> result = std::make_unique<shade::ShadingResult>();
+    // Open batches, one per (object, material slot) met in the tile. Entries are reused across
+    // tiles (a batch is several kilobytes); `pendingCount` are in use.
     std::vector<PendingBatch> pending;
+    size_t pendingCount = 0;
+    std::unordered_map<uint64_t, uint32_t> pendingIndex;  // (object << 32 | slot) → entry
     // tile storage
     std::vector<uint32_t> pixelGroupStart;   // base region pixel → first group (+1 end)
     std::vector<SurfaceGroup> groups;        // memberBegin rebased into `members`
@@ -464,25 +469,22 @@ void FrameRenderer::flush(Worker& w, PendingBatch& p) {
 }
 
 void FrameRenderer::flushAll(Worker& w) {
-    for (PendingBatch& p : w.pending) flush(w, p);
+    for (size_t i = 0; i < w.pendingCount; ++i) flush(w, w.pending[i]);
 }
 
 void FrameRenderer::addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target) {
     const RenderGeometry& g = m_scene.objects[object].geometry;
     uint32_t slot = triangle < g.material.size() ? g.material[triangle] : 0;
-    PendingBatch* p = nullptr;
-    for (PendingBatch& q : w.pending)
-        if (q.object == object && q.slot == slot) {
-            p = &q;
-            break;
-        }
-    if (!p) {
-        w.pending.emplace_back();
-        p = &w.pending.back();
-        p->object = object;
-        p->slot = slot;
-        p->batch->objectId = object;
+    auto [it, inserted] = w.pendingIndex.try_emplace((uint64_t(object) << 32) | slot, uint32_t(w.pendingCount));
+    if (inserted) {
+        if (w.pendingCount == w.pending.size()) w.pending.emplace_back();
+        PendingBatch& fresh = w.pending[w.pendingCount++];
+        fresh.object = object;
+        fresh.slot = slot;
+        fresh.batch->count = 0;
+        fresh.batch->objectId = object;
     }
+    PendingBatch* p = &w.pending[it->second];
     shade::ShadingBatch& b = *p->batch;
     fillSample(b, b.count, object, triangle, rx, ry);
     p->target[size_t(b.count)] = target;
@@ -577,7 +579,8 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
     }
     w.groupSampleStart[groupCount] = total;
     w.samples.assign(total, SampleResult{});
-    w.pending.clear();
+    w.pendingCount = 0;
+    w.pendingIndex.clear();
     for (int y = base.y0; y < base.y1; ++y)
         for (int x = base.x0; x < base.x1; ++x) {
             size_t pi = baseIndex(x, y);
