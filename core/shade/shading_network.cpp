@@ -15,6 +15,7 @@
 #include "core/shade/shading_network.h"
 
 #include "core/shade/node_library.h"
+#include "core/util/format.h"
 
 #include <algorithm>
 #include <array>
@@ -116,12 +117,6 @@ uint32_t inputOffset(const NodeType& t, int port) {
     return off;
 }
 
-std::string formatNumber(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 class Compiler {
 public:
     Compiler(scene::Evaluator& ev, std::vector<std::string>& notes, ShadingNetwork::Program& program)
@@ -146,7 +141,7 @@ public:
         if (std::isfinite(value) && std::abs(value) <= double(std::numeric_limits<float>::max()))
             return float(value);
         note("'" + m_graph.node(id).name + "." + attr + "' is " + (std::isnan(value) ? "NaN" : "infinite") +
-             "; using its default " + formatNumber(fallback));
+             "; using its default " + util::formatNumber(fallback));
         return fallback;
     }
 
