@@ -205,22 +205,18 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
     const size_t before = m_fragments.size();
 
     for (int py = by0; py < by1; ++py) {
-        // Edge values at the top and bottom corners of the row's first pixel, then stepped by a
-        // per pixel. Only the coverage class depends on these; masks are computed exactly below.
-        double top[3], bot[3];
-        for (int k = 0; k < 3; ++k) {
-            top[k] = edge[k].a * (bx0 - edge[k].ox) + edge[k].b * (py - edge[k].oy);
-            bot[k] = edge[k].a * (bx0 - edge[k].ox) + edge[k].b * (py + 1 - edge[k].oy);
-        }
-        const double rowZ = z[0] + dzdx * (bx0 - x[0]) + dzdy * (py - y[0]);
+        // Every value of a fragment is a fixed expression of its pixel's coordinates and the
+        // triangle (never stepped from the region's first pixel), so a pixel's fragments are the
+        // same bits whatever tile or region rendered them.
         for (int px = bx0; px < bx1; ++px) {
-            const int step = px - bx0;
             bool outside = false, full = true;
             double e00[3];
             int crossing[3], nCrossing = 0;
             for (int k = 0; k < 3; ++k) {
-                const double c00 = top[k], c10 = top[k] + edge[k].a;
-                const double c01 = bot[k], c11 = bot[k] + edge[k].a;
+                const double c00 = edge[k].a * (px - edge[k].ox) + edge[k].b * (py - edge[k].oy);
+                const double c10 = edge[k].a * (px + 1 - edge[k].ox) + edge[k].b * (py - edge[k].oy);
+                const double c01 = edge[k].a * (px - edge[k].ox) + edge[k].b * (py + 1 - edge[k].oy);
+                const double c11 = edge[k].a * (px + 1 - edge[k].ox) + edge[k].b * (py + 1 - edge[k].oy);
                 e00[k] = c00;
                 const double lo = std::min(std::min(c00, c10), std::min(c01, c11));
                 const double hi = std::max(std::max(c00, c10), std::max(c01, c11));
@@ -229,8 +225,6 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
                     full = false;
                     crossing[nCrossing++] = k;
                 }
-                top[k] = c10;
-                bot[k] = c11;
             }
             if (outside) continue;
 
@@ -240,7 +234,7 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
             f.flags = flags;
             f.dzdu = fdzdu;
             f.dzdv = fdzdv;
-            f.z0 = toFloat(rowZ + dzdx * step);
+            f.z0 = toFloat(z[0] + dzdx * (px - x[0]) + dzdy * (py - y[0]));
             if (full) {
                 f.mask = active;
                 f.area = 1.0f;
