@@ -9,6 +9,7 @@
 // Caches: OIIO at max_memory_MB = 1 (its smallest), ours with the pages that fit in 1 MiB, and
 // ours at the default 256 pages. Each configuration is run several times from a cold cache;
 // the table gives min / median / max. After the table, Google Benchmark times the hit paths.
+#include "bench/bench_support.h"
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/texture.h>
@@ -185,11 +186,7 @@ struct RunResult {
     double loadsPer1000 = 0;  // pages (ours) or tiles (OIIO) read per thousand lookups
 };
 
-double threadCpuSeconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
+using pushpin::bench::threadCpuSeconds;
 
 struct Timing {
     double wallSeconds = 0, cpuSeconds = 0;

@@ -15,6 +15,7 @@
 // Micro-benchmarks (Google Benchmark): TileRasterizer::add + finish and PixelResolver::resolve
 // on random mixed-size triangles (10k, 100k) and on a connected 100k-triangle mesh in 512×512,
 // for each edgeAntiAliasing level, with triangles/s and fragments/s counters.
+#include "bench/bench_support.h"
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
@@ -444,11 +445,7 @@ Image exactReference(const LayerScene& s, ReferenceStats& stats) {
 // ---------------------------------------------------------------------------------------------
 // Timing and error
 
-double threadCpuSeconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
+using pushpin::bench::threadCpuSeconds;
 
 struct Timing {
     double wallMs = 0, cpuMs = 0;

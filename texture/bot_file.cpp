@@ -315,21 +315,25 @@ uint64_t BotFile::readPage(int fd, uint32_t level, uint32_t pageX, uint32_t page
     return decodePage(index, level, pageX, pageY, scratch.stored.data(), dst);
 }
 
-uint64_t BotFile::readPageFromMemory(const uint8_t* bytes, size_t byteCount, uint32_t level, uint32_t pageX,
-                                     uint32_t pageY, float* dst) const {
-    const uint64_t index = pageIndex(level, pageX, pageY);
+const BotPageEntry& BotFile::entryWithin(uint64_t index, size_t byteCount, uint32_t level, uint32_t pageX,
+                                         uint32_t pageY) const {
     const BotPageEntry& e = m_pages[index];
     if (e.offsetBytes > byteCount || e.storedBytes > byteCount - e.offsetBytes)
         throw FormatError(m_path, pageName(level, pageX, pageY) + " extends past end of file");
+    return e;
+}
+
+uint64_t BotFile::readPageFromMemory(const uint8_t* bytes, size_t byteCount, uint32_t level, uint32_t pageX,
+                                     uint32_t pageY, float* dst) const {
+    const uint64_t index = pageIndex(level, pageX, pageY);
+    const BotPageEntry& e = entryWithin(index, byteCount, level, pageX, pageY);
     return decodePage(index, level, pageX, pageY, bytes + e.offsetBytes, dst);
 }
 
 uint64_t BotFile::readPageFromMapping(const uint8_t* bytes, size_t byteCount, uint32_t level, uint32_t pageX,
                                       uint32_t pageY, float* dst) const {
     const uint64_t index = pageIndex(level, pageX, pageY);
-    const BotPageEntry& e = m_pages[index];
-    if (e.offsetBytes > byteCount || e.storedBytes > byteCount - e.offsetBytes)
-        throw FormatError(m_path, pageName(level, pageX, pageY) + " extends past end of file");
+    const BotPageEntry& e = entryWithin(index, byteCount, level, pageX, pageY);
     PageScratch& scratch = pageScratch();
     if (!detail::copyFromMapping(scratch.stored.data(), bytes + e.offsetBytes, e.storedBytes))
         throw IoError(m_path, pageName(level, pageX, pageY) + " lies past the end of the file, which became "

@@ -103,6 +103,10 @@ private:
     struct Source;  // where parseImpl reads from: a file descriptor or a memory buffer
     BotFile() = default;
     static std::shared_ptr<const BotFile> parseImpl(const std::filesystem::path& path, const Source& source);
+    // The entry of page `index`, checked to lie within the first `byteCount` bytes of the file;
+    // throws FormatError naming the page otherwise.
+    const BotPageEntry& entryWithin(uint64_t index, size_t byteCount, uint32_t level, uint32_t pageX,
+                                    uint32_t pageY) const;
     uint64_t decodePage(uint64_t index, uint32_t level, uint32_t pageX, uint32_t pageY,
                         const uint8_t* stored, float* dst) const;
 
