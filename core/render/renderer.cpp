@@ -221,11 +221,7 @@ void FrameRenderer::prepareObject(uint32_t index) {
     // Far-plane culling per object, and objects wholly behind the near plane.
     geom::Bounds3 cb = obj.geometry.bounds.transformed(co.cameraFromObject);
     if (cb.empty() || !std::isfinite(cb.lo.x) || !std::isfinite(cb.hi.x)) return;
-    if (-cb.hi.z > m_camera.farClipPlane) {
-        co.kept = false;
-        m_objectTriangles[index].clear();
-        return;
-    }
+    if (-cb.hi.z > m_camera.farClipPlane) return;  // wholly past the far plane (counted in prepare())
     if (-cb.lo.z < m_camera.nearClipPlane) return;  // wholly between the eye and the near plane, or behind
     // Frustum culling by screen-space bounds: exact for boxes wholly past the near plane;
     // a box that crosses it is kept.
