@@ -2,7 +2,7 @@
 # The two quick-start jobs. Each installs what pushpin needs (tools/setup.sh, idempotent), builds
 # in ./build (Release, -O2) and then:
 #   tools/dev.sh demo   runs the main job on the built-in demo scene
-#   tools/dev.sh test   fuzzes the readers under ASan/UBSan for a bounded time, then runs every test
+#   tools/dev.sh test   fuzzes the readers and the whole frame under ASan/UBSan for a bounded time, then runs every test
 set -euo pipefail
 
 job="${1:-}"
