@@ -104,6 +104,17 @@ Textures makeTextures(const Config& cfg) {
 // A stream is a list of tiles; each tile is a struct-of-arrays batch.
 struct Tile {
     std::vector<float> s, t, dsdx, dsdy, dtdx, dtdy;
+    LookupBatch batch() const {
+        LookupBatch b;
+        b.count = s.size();
+        b.s = s.data();
+        b.t = t.data();
+        b.dsdx = dsdx.data();
+        b.dsdy = dsdy.data();
+        b.dtdx = dtdx.data();
+        b.dtdy = dtdy.data();
+        return b;
+    }
 };
 using Stream = std::vector<Tile>;
 
@@ -241,14 +252,7 @@ RunResult runOurs(const fs::path& bot, const Stream& stream, int threads, uint32
     const Timing timing = runTiles(
         stream, threads,
         [&](int i, const Tile& tile) {
-            LookupBatch b;
-            b.count = tile.s.size();
-            b.s = tile.s.data();
-            b.t = tile.t.data();
-            b.dsdx = tile.dsdx.data();
-            b.dsdy = tile.dsdy.data();
-            b.dtdx = tile.dtdx.data();
-            b.dtdy = tile.dtdy.data();
+            const LookupBatch b = tile.batch();
             float* outs[3] = {out[i * 3].data(), out[i * 3 + 1].data(), out[i * 3 + 2].data()};
             sampleTexture(*per[i], h, opt, b, nullptr, 3, outs);
             benchmark::DoNotOptimize(outs[0][0]);
@@ -434,14 +438,7 @@ void BM_RenderOrderWarm(benchmark::State& state) {
     float* outs[3] = {out.data(), out.data() + 1024, out.data() + 2048};
     auto pass = [&] {
         for (const Tile& tile : g_hit->warmStream) {
-            LookupBatch b;
-            b.count = tile.s.size();
-            b.s = tile.s.data();
-            b.t = tile.t.data();
-            b.dsdx = tile.dsdx.data();
-            b.dsdy = tile.dsdy.data();
-            b.dtdx = tile.dtdx.data();
-            b.dtdy = tile.dtdy.data();
+            const LookupBatch b = tile.batch();
             sampleTexture(pt, g_hit->handle, LookupOptions{}, b, nullptr, 3, outs);
         }
     };

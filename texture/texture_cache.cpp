@@ -369,6 +369,18 @@ struct TextureCache::Impl {
     }
 
     // Fills t.info from the source, or returns why the texture cannot be used.
+    // A texture that cannot be used from the start: no source, its path kept, reported once;
+    // its lookups return the default colour.
+    void markBroken(Texture& t, const std::filesystem::path& path, const std::string& why) {
+        t.source.reset();
+        t.info = TextureInfo{};
+        t.info.path = path;
+        t.broken.store(true);
+        t.reported.store(true);
+        brokenTextures.fetch_add(1, std::memory_order_relaxed);
+        warn("cannot use texture '" + path.string() + "': " + why + "; its lookups return the default colour");
+    }
+
     std::string describe(Texture& t) {
         const BotHeader& h = t.source->header();
         if (h.channels == 0 || h.channels > options.maxChannels)
@@ -457,16 +469,7 @@ TextureHandle TextureCache::registerFile(const std::filesystem::path& path) {
     } catch (const std::exception& ex) {
         why = ex.what();
     }
-    if (!why.empty()) {
-        t->source.reset();
-        t->info = TextureInfo{};
-        t->info.path = normal;
-        t->broken.store(true);
-        t->reported.store(true);
-        im.brokenTextures.fetch_add(1, std::memory_order_relaxed);
-        im.warn("cannot use texture '" + normal.string() + "': " + why +
-                "; its lookups return the default colour");
-    }
+    if (!why.empty()) im.markBroken(*t, normal, why);
     const uint32_t id = im.addTexture(std::move(t));
     im.byPath.emplace(normal.string(), id);
     return TextureHandle{id};
@@ -481,14 +484,7 @@ TextureHandle TextureCache::registerSource(std::shared_ptr<const detail::PageSou
     t->source = std::move(source);
     if (const std::string why = im.describe(*t); !why.empty()) {
         const std::filesystem::path name = t->info.path;
-        t->source.reset();
-        t->info = TextureInfo{};
-        t->info.path = name;
-        t->broken.store(true);
-        t->reported.store(true);
-        im.brokenTextures.fetch_add(1, std::memory_order_relaxed);
-        im.warn("cannot use texture '" + name.string() + "': " + why +
-                "; its lookups return the default colour");
+        im.markBroken(*t, name, why);
     }
     return TextureHandle{im.addTexture(std::move(t))};
 }
