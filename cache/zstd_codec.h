@@ -46,8 +46,32 @@ private:
 std::vector<uint8_t> trainZstdDictionary(const void* samples, const size_t* sampleBytes, size_t count,
                                          size_t capacityBytes);
 
+// Builds a dictionary for blocks that are almost all literals, such as prediction residuals: the
+// literal Huffman table is fitted to the byte histogram of the samples, and bytes the samples never
+// hold get no code at all (a block that holds one codes its literals with a table of its own).
+// zstd's own builders give every one of the 256 byte values a code of at most 11 bits, which costs
+// blocks of a few hundred residual bytes several percent. The content is `maxBlockBytes` + 64 bytes
+// of 0xff and the repeat offsets point past any block of up to `maxBlockBytes`, so that matches
+// come only from real repeats. Returns an empty vector when zstd cannot build it (too few samples);
+// that is an expected outcome, not an error.
+std::vector<uint8_t> buildZstdLiteralDictionary(const void* samples, const size_t* sampleBytes, size_t count,
+                                                size_t maxBlockBytes, int compressionLevel);
+
 // Largest compressed size of `srcBytes` input bytes (for sizing destination buffers).
 size_t zstdCompressBound(size_t srcBytes);
+
+// How much of a compact frame a container stores. The headers left out are the RFC 8878 fields whose
+// values the container already knows: the content size and the stored size. The decompressor
+// rebuilds them, so the stored bytes are always decoded by zstd itself.
+enum class ZstdForm : uint8_t {
+    Frame = 0,     // the whole compact frame
+    Block = 1,     // the body of the frame's single compressed block (frame and block header implied)
+    Literals = 2,  // the Huffman stream of a block that holds only literals, in one stream, coded with
+                   // the dictionary's table (frame, block, literals section and sequences headers implied)
+};
+const char* zstdFormName(ZstdForm form);
+// Bytes the rebuilt headers of `form` add to `storedBytes` stored bytes of a `contentBytes` frame.
+size_t zstdFormOverheadBytes(ZstdForm form, size_t contentBytes);
 
 class ZstdCompressor {
 public:
@@ -61,9 +85,19 @@ public:
     // Compresses src into dst (capacity dstCapacity). Returns the compressed size, or 0 when the
     // result does not fit in dstCapacity or zstd fails. Never throws.
     size_t compress(const void* src, size_t srcBytes, void* dst, size_t dstCapacity);
+    // Compresses src and stores the smallest form of the frame that ZstdDecompressor can rebuild:
+    // writes the stored bytes to dst and their form to `form`. Returns the stored size, or 0 when
+    // it does not fit in dstCapacity or zstd fails. srcBytes must be at most 128 KiB (one block).
+    // Never throws.
+    size_t compressCompact(const void* src, size_t srcBytes, void* dst, size_t dstCapacity, ZstdForm& form);
+
+    // zstd's shortest match length (3..7; 0: the level's default). Matches shorter than the
+    // default are rarely worth their sequence codes in small blocks of residuals.
+    void setMinMatch(int bytes);
 
 private:
     void* m_cctx = nullptr;  // ZSTD_CCtx*
+    std::vector<uint8_t> m_frame;  // compressCompact's whole frame before its headers are cut
     std::shared_ptr<const ZstdDictionary> m_dictionary;
 };
 
@@ -74,6 +108,10 @@ public:
     ZstdDecompressor(const ZstdDecompressor&) = delete;
     ZstdDecompressor& operator=(const ZstdDecompressor&) = delete;
 
+    // Sizes the buffer that decompress(form, ...) rebuilds frames in for stored blocks of up to
+    // `storedBytes`, so that later calls do not allocate.
+    void reserve(size_t storedBytes);
+
     // Replaces the dictionary used by later calls (null for none).
     void setDictionary(std::shared_ptr<const ZstdDictionary> dictionary);
 
@@ -81,9 +119,15 @@ public:
     // when the frame is valid and decodes to exactly expectedBytes bytes; corrupt input returns
     // false and never writes past dst + expectedBytes. Never throws.
     bool decompress(const void* src, size_t srcBytes, void* dst, size_t expectedBytes);
+    // The same for bytes that ZstdCompressor::compressCompact stored in `form`: rebuilds the
+    // headers that were left out (copying the stored bytes once) and decompresses. Corrupt input,
+    // and stored bytes too long for `form`, return false. Never throws and never allocates after
+    // the first call with the largest size.
+    bool decompress(ZstdForm form, const void* src, size_t srcBytes, void* dst, size_t expectedBytes);
 
 private:
     void* m_dctx = nullptr;  // ZSTD_DCtx*
+    std::vector<uint8_t> m_frame;  // rebuilt frames
     std::shared_ptr<const ZstdDictionary> m_dictionary;
 };
 

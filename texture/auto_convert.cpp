@@ -124,7 +124,7 @@ uint64_t conversionKey(const std::filesystem::path& image, const AutoConvertOpti
     h.addWord(uint64_t(b.colorSpace) | uint64_t(b.wrapS) << 8 | uint64_t(b.wrapT) << 16);
     h.add(reinterpret_cast<const uint8_t*>(b.filter.data()), b.filter.size());
     h.addWord(uint64_t(int64_t(b.alphaChannel)) ^ uint64_t(b.compressionLevel) << 32);
-    h.addWord(uint64_t(b.trainDictionary) | uint64_t(b.predictPages) << 1);
+    h.addWord(uint64_t(b.dictionary) | uint64_t(b.pageFilter ? 1 + unsigned(*b.pageFilter) : 0) << 8);
     h.addWord(options.maxChannels);
     return h.finish();
 }

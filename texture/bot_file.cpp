@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
@@ -26,6 +27,7 @@
 
 namespace pushpin::texture {
 
+using detail::get16;
 using detail::get32;
 using detail::get64;
 using detail::kPageTexels;
@@ -62,14 +64,75 @@ const char* wrapModeName(WrapMode mode) {
 
 const char* colorSpaceName(ColorSpace space) { return space == ColorSpace::SRGB ? "srgb" : "linear"; }
 
+const char* pageFilterName(PageFilter filter) {
+    switch (filter) {
+        case PageFilter::None: return "none";
+        case PageFilter::Med: return "med";
+        case PageFilter::Mean: return "mean";
+    }
+    return "?";
+}
+
+std::optional<PageFilter> parsePageFilter(const std::string& name) {
+    if (name == "none") return PageFilter::None;
+    if (name == "med") return PageFilter::Med;
+    if (name == "mean") return PageFilter::Mean;
+    return std::nullopt;
+}
+
+const char* botDictionaryName(BotDictionary kind) {
+    switch (kind) {
+        case BotDictionary::Auto: return "auto";
+        case BotDictionary::None: return "none";
+        case BotDictionary::Trained: return "trained";
+        case BotDictionary::Literal: return "literal";
+    }
+    return "?";
+}
+
+std::optional<BotDictionary> parseBotDictionary(const std::string& name) {
+    for (BotDictionary k : {BotDictionary::Auto, BotDictionary::None, BotDictionary::Trained, BotDictionary::Literal})
+        if (name == botDictionaryName(k)) return k;
+    return std::nullopt;
+}
+
+const char* pageKindName(BotPageKind kind) {
+    switch (kind) {
+        case BotPageKind::Raw: return "raw";
+        case BotPageKind::Frame: return "frame";
+        case BotPageKind::Block: return "block";
+        case BotPageKind::Literals: return "literals";
+    }
+    return "?";
+}
+
 namespace {
 
 std::string pageName(uint32_t level, uint32_t pageX, uint32_t pageY) {
     return "level " + std::to_string(level) + " page (" + std::to_string(pageX) + ", " + std::to_string(pageY) + ")";
 }
 
-uint32_t pageChecksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex) {
-    return uint32_t(detail::xxh64(stored, bytes, pageIndex));
+// Seeded with the page's index and kind, so that a page table pointing at another valid page, or
+// naming the wrong kind, fails like damaged bytes.
+uint32_t pageChecksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex, BotPageKind kind) {
+    return uint32_t(detail::xxh64(stored, bytes, pageIndex | uint64_t(kind) << 56));
+}
+
+cache::ZstdForm zstdFormOf(BotPageKind kind) {
+    switch (kind) {
+        case BotPageKind::Block: return cache::ZstdForm::Block;
+        case BotPageKind::Literals: return cache::ZstdForm::Literals;
+        default: return cache::ZstdForm::Frame;
+    }
+}
+
+BotPageKind pageKindOf(cache::ZstdForm form) {
+    switch (form) {
+        case cache::ZstdForm::Block: return BotPageKind::Block;
+        case cache::ZstdForm::Literals: return BotPageKind::Literals;
+        case cache::ZstdForm::Frame: break;
+    }
+    return BotPageKind::Frame;
 }
 
 uint64_t pagesOf(uint32_t texels) { return (uint64_t(texels) + kPageSizeTexels - 1) / kPageSizeTexels; }
@@ -121,6 +184,17 @@ struct PageScratch {
     std::optional<cache::ZstdDecompressor> decompressor;
     const cache::ZstdDictionary* dictionary = nullptr;
     PageScratch() : stored(cache::zstdCompressBound(kMaxRawBytes)), packed(kMaxRawBytes) {}
+    cache::ZstdDecompressor& decompressorFor(const std::shared_ptr<const cache::ZstdDictionary>& d) {
+        if (!decompressor) {
+            decompressor.emplace();
+            decompressor->reserve(kMaxRawBytes);
+        }
+        if (dictionary != d.get()) {
+            decompressor->setDictionary(d);
+            dictionary = d.get();
+        }
+        return *decompressor;
+    }
 };
 
 PageScratch& pageScratch() {
@@ -211,13 +285,13 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
     if (h[kFieldPixelType] > 3) throw fail("bad pixel type " + std::to_string(h[kFieldPixelType]));
     if (h[kFieldColorSpace] > 1) throw fail("bad colour space " + std::to_string(h[kFieldColorSpace]));
     if (h[kFieldWrapS] > 3 || h[kFieldWrapT] > 3) throw fail("bad wrap mode");
-    if (h[kFieldPageFilter] > 1) throw fail("bad page filter " + std::to_string(h[kFieldPageFilter]));
+    if (h[kFieldPageFilter] > 2) throw fail("bad page filter " + std::to_string(h[kFieldPageFilter]));
     if (h[kFieldMipFilter] > 2) throw fail("bad mip filter " + std::to_string(h[kFieldMipFilter]));
     hd.pixelType = PixelType(h[kFieldPixelType]);
     hd.colorSpace = ColorSpace(h[kFieldColorSpace]);
     hd.wrapS = WrapMode(h[kFieldWrapS]);
     hd.wrapT = WrapMode(h[kFieldWrapT]);
-    file->m_pageFilter = h[kFieldPageFilter];
+    file->m_pageFilter = PageFilter(h[kFieldPageFilter]);
     file->m_pageRawBytes = detail::pageRawBytes(hd.channels, hd.pixelType);
 
     const uint32_t levelCount = get32(h + kFieldLevelCount);
@@ -263,7 +337,8 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
     }
     const uint8_t* rt = tables.data() + (rowTable - levelTable);
     const uint8_t* pt = tables.data() + (pageTable - levelTable);
-    const uint32_t maxStored = uint32_t(cache::zstdCompressBound(file->m_pageRawBytes));
+    const uint32_t rawBytes = file->m_pageRawBytes;
+    const uint32_t prefixBytes = detail::pagePrefixBytes(hd.channels, hd.pixelType);
     file->m_pages.resize(size_t(pageCount));
     uint64_t row = 0, index = 0;
     for (uint32_t l = 0; l < levelCount; ++l) {
@@ -272,13 +347,23 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
             uint64_t offset = get64(rt + row * 8);
             for (uint32_t px = 0; px < lv.pagesX; ++px, ++index) {
                 BotPageEntry& e = file->m_pages[index];
-                const uint32_t sizeField = get32(pt + index * 8);
-                e.checksum = get32(pt + index * 8 + 4);
-                e.raw = (sizeField & kBotRawPageBit) != 0;
-                e.storedBytes = sizeField & ~kBotRawPageBit;
+                const uint8_t* entry = pt + index * kBotPageEntryBytes;
+                const uint32_t sizeField = get16(entry);
+                e.checksum = get32(entry + 2);
+                e.kind = BotPageKind(sizeField >> kBotPageKindShift);
+                e.storedBytes = sizeField & kBotMaxStoredBytes;
                 e.offsetBytes = offset;
-                if (e.raw ? e.storedBytes != file->m_pageRawBytes : (e.storedBytes == 0 || e.storedBytes > maxStored))
-                    throw fail("bad stored size " + std::to_string(e.storedBytes) + " of " + pageName(l, px, py));
+                // A raw page has the packed page's size; any other holds the prefix, then at least one
+                // byte of zstd data, and is smaller than the raw page.
+                if (e.kind == BotPageKind::Raw) {
+                    if (e.storedBytes != 0)
+                        throw fail("bad size field " + std::to_string(sizeField) + " of raw " + pageName(l, px, py));
+                    e.storedBytes = rawBytes;
+                } else if (e.storedBytes <= prefixBytes || e.storedBytes >= rawBytes) {
+                    throw fail("bad stored size " + std::to_string(e.storedBytes) + " of " + pageName(l, px, py) +
+                               " (" + pageKindName(e.kind) + " pages hold " + std::to_string(prefixBytes + 1) +
+                               " to " + std::to_string(rawBytes - 1) + " bytes)");
+                }
                 if (offset < dataStart || offset > fileBytes || e.storedBytes > fileBytes - offset)
                     throw fail(pageName(l, px, py) + " lies outside the file (offset " + std::to_string(offset) +
                                ", " + std::to_string(e.storedBytes) + " bytes, file has " +
@@ -351,21 +436,23 @@ size_t BotFile::memoryBytes() const {
 uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uint32_t pageY, const uint8_t* stored,
                              float* dst) const {
     const BotPageEntry& e = m_pages[index];
-    if (pageChecksum(stored, e.storedBytes, index) != e.checksum)
+    if (pageChecksum(stored, e.storedBytes, index, e.kind) != e.checksum)
         throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
     PageScratch& scratch = pageScratch();
     const uint8_t* packed = stored;
-    if (!e.raw) {
-        if (!scratch.decompressor) scratch.decompressor.emplace();
-        if (scratch.dictionary != m_dictionary.get()) {
-            scratch.decompressor->setDictionary(m_dictionary);
-            scratch.dictionary = m_dictionary.get();
-        }
-        if (!scratch.decompressor->decompress(stored, e.storedBytes, scratch.packed.data(), m_pageRawBytes))
-            throw FormatError(m_path, "corrupt compressed data in " + pageName(level, pageX, pageY));
-        packed = scratch.packed.data();
+    if (e.kind != BotPageKind::Raw) {
+        // The prefix (texel 0 of every channel) is stored as it is; zstd codes the rest.
+        const uint32_t prefix = detail::pagePrefixBytes(m_header.channels, m_header.pixelType);
+        uint8_t* out = scratch.packed.data();
+        std::memcpy(out, stored, prefix);
+        if (!scratch.decompressorFor(m_dictionary)
+                 .decompress(zstdFormOf(e.kind), stored + prefix, e.storedBytes - prefix, out + prefix,
+                             m_pageRawBytes - prefix))
+            throw FormatError(m_path, std::string("corrupt compressed data (") + pageKindName(e.kind) + " page) in " +
+                                          pageName(level, pageX, pageY));
+        packed = out;
     }
-    detail::unpackPageToFloat(packed, m_header.channels, m_header.pixelType, m_pageFilter != 0, dst);
+    detail::unpackPageToFloat(packed, m_header.channels, m_header.pixelType, m_pageFilter, dst);
     return e.storedBytes;
 }
 
@@ -392,12 +479,17 @@ struct BotWriter::Impl {
     };
     std::vector<LevelRows> levels;
 
-    // Dictionary training: page rows are kept packed (uncompressed) until enough samples exist.
-    bool dictionaryDecided = false;
+    // The page coding (filter, dictionary) is settled from the first pages: their rows are kept as
+    // quantised samples until kDictionarySampleBytes of them exist (or the image ends).
+    bool codingDecided = false;
+    PageFilter pageFilter = PageFilter::None;
+    uint32_t prefixBytes = 0;
     std::shared_ptr<const cache::ZstdDictionary> dictionary;
+    BotDictionary dictionaryKind = BotDictionary::None;
+    int minMatch = 0;  // 0: the level's own
     struct PendingRow {
         uint32_t level, pageY;
-        std::vector<uint8_t> packed;  // pagesX * rawBytes
+        std::vector<uint8_t> samples;  // pagesX pages of rawBytes bytes of host-order samples
     };
     std::vector<PendingRow> pending;
     size_t pendingBytes = 0;
@@ -405,12 +497,13 @@ struct BotWriter::Impl {
     std::vector<uint8_t> rowBuffer;
     std::vector<uint32_t> rowSizes;
 
-    // Gathers page (px) of a row band (nRows rows of level `level`) into a padded 8x8 block and packs it.
-    void packPage(uint32_t level, const float* rows, uint32_t nRows, uint32_t px, bool linear, uint8_t* out) const {
+    // Gathers page (px) of a row band (nRows rows of level `level`) into a padded 8x8 block and
+    // quantises it to host-order samples (rawBytes bytes).
+    void quantizePage(uint32_t level, const float* rows, uint32_t nRows, uint32_t px, bool linear,
+                      uint8_t* samples) const {
         const uint32_t ch = header.channels;
         const uint32_t w = header.levels[level].width;
         float texels[kPageTexels * kMaxChannels];
-        alignas(16) uint8_t samples[kPageTexels * kMaxChannels * 4];
         for (uint32_t y = 0; y < kPageSizeTexels; ++y) {
             const float* src = rows + size_t(std::min(y, nRows - 1)) * w * ch;
             for (uint32_t x = 0; x < kPageSizeTexels; ++x) {
@@ -419,22 +512,36 @@ struct BotWriter::Impl {
             }
         }
         detail::quantizePage(texels, ch, header.pixelType, header.colorSpace, options.alphaChannel, linear, samples);
-        detail::packPage(samples, ch, header.pixelType, options.predictPages, out);
     }
 
-    // Compresses one packed page into dst (capacity >= rawBytes); returns stored size with raw bit.
-    uint32_t compressPage(const uint8_t* packed, uint8_t* dst) {
+    cache::ZstdCompressor& compressor() {
         auto& slot = compressors->local();
-        if (!slot) slot = std::make_unique<cache::ZstdCompressor>(options.compressionLevel, dictionary);
-        const size_t n = slot->compress(packed, rawBytes, dst, rawBytes - 1);
+        if (!slot) {
+            slot = std::make_unique<cache::ZstdCompressor>(options.compressionLevel, dictionary);
+            if (minMatch) slot->setMinMatch(minMatch);
+        }
+        return *slot;
+    }
+
+    // Stores one packed page into dst (capacity >= rawBytes): the prefix as it is, then zstd's output
+    // in its smallest form; the raw page when that is not smaller. Returns the page-table size field
+    // and sets `storedBytes`.
+    static uint32_t storePage(cache::ZstdCompressor& z, const uint8_t* packed, uint32_t rawBytes, uint32_t prefixBytes,
+                              uint8_t* dst, uint32_t& storedBytes) {
+        std::memcpy(dst, packed, prefixBytes);
+        cache::ZstdForm form = cache::ZstdForm::Frame;
+        const size_t n = z.compressCompact(packed + prefixBytes, rawBytes - prefixBytes, dst + prefixBytes,
+                                           rawBytes - 1 - prefixBytes, form);
         if (n == 0) {
             std::memcpy(dst, packed, rawBytes);
-            return rawBytes | detail::kBotRawPageBit;
+            storedBytes = rawBytes;
+            return uint32_t(BotPageKind::Raw) << detail::kBotPageKindShift;
         }
-        return uint32_t(n);
+        storedBytes = prefixBytes + uint32_t(n);
+        return uint32_t(pageKindOf(form)) << detail::kBotPageKindShift | storedBytes;
     }
 
-    // Writes nRowsOfPages page rows whose packed pages are in `packed` (page-row-major).
+    // Writes page rows whose packed pages are in `packedRows` (each pagesX * rawBytes).
     void writeRows(const std::vector<std::pair<uint32_t, uint32_t>>& rowsToWrite,
                    const std::vector<const uint8_t*>& packedRows) {
         // Index every page of every row, compress them all in parallel, then write row by row.
@@ -446,18 +553,20 @@ struct BotWriter::Impl {
         rowBuffer.resize(size_t(total) * slotBytes);
         rowSizes.resize(size_t(total));
         tbb::parallel_for(tbb::blocked_range<uint64_t>(0, total, 16), [&](const tbb::blocked_range<uint64_t>& rg) {
+            cache::ZstdCompressor& z = compressor();
             for (uint64_t k = rg.begin(); k != rg.end(); ++k) {
                 const size_t r = size_t(std::upper_bound(firstPageOfRow.begin(), firstPageOfRow.end(), k) -
                                         firstPageOfRow.begin() - 1);
                 const uint64_t px = k - firstPageOfRow[r];
                 const uint8_t* packed = packedRows[r] + px * rawBytes;
                 uint8_t* dst = rowBuffer.data() + k * slotBytes;
-                const uint32_t sizeField = compressPage(packed, dst);
+                uint32_t stored = 0;
+                const uint32_t sizeField = storePage(z, packed, rawBytes, prefixBytes, dst, stored);
                 const auto [level, pageY] = rowsToWrite[r];
                 const uint64_t index = levelFirstPage[level] + uint64_t(pageY) * header.levels[level].pagesX + px;
-                rowSizes[k] = sizeField;
+                rowSizes[k] = stored;
                 pageSizes[index] = sizeField;
-                pageChecksums[index] = pageChecksum(dst, sizeField & ~detail::kBotRawPageBit, index);
+                pageChecksums[index] = pageChecksum(dst, stored, index, BotPageKind(sizeField >> detail::kBotPageKindShift));
             }
         });
         // Close the gaps between slots and write everything with one call.
@@ -466,7 +575,7 @@ struct BotWriter::Impl {
             const auto [level, pageY] = rowsToWrite[r];
             rowOffsets[levelFirstRow[level] + pageY] = cursor + packedEnd;
             for (uint64_t k = firstPageOfRow[r]; k < firstPageOfRow[r + 1]; ++k) {
-                const uint32_t n = rowSizes[k] & ~detail::kBotRawPageBit;
+                const uint32_t n = rowSizes[k];
                 std::memmove(rowBuffer.data() + packedEnd, rowBuffer.data() + k * slotBytes, n);
                 packedEnd += n;
             }
@@ -477,43 +586,152 @@ struct BotWriter::Impl {
 
     void emitPageRow(uint32_t level, uint32_t pageY, const float* rows, uint32_t nRows, bool linear) {
         const uint32_t pagesX = header.levels[level].pagesX;
-        std::vector<uint8_t> packed(size_t(pagesX) * rawBytes);
-        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, pagesX, 8), [&](const tbb::blocked_range<uint32_t>& rg) {
-            for (uint32_t px = rg.begin(); px != rg.end(); ++px)
-                packPage(level, rows, nRows, px, linear, packed.data() + size_t(px) * rawBytes);
-        });
-        if (!dictionaryDecided) {
-            pendingBytes += packed.size();
-            pending.push_back({level, pageY, std::move(packed)});
-            if (pendingBytes >= kDictionarySampleBytes) decideDictionary();
+        std::vector<uint8_t> buffer(size_t(pagesX) * rawBytes);
+        if (!codingDecided) {
+            tbb::parallel_for(tbb::blocked_range<uint32_t>(0, pagesX, 8), [&](const tbb::blocked_range<uint32_t>& rg) {
+                for (uint32_t px = rg.begin(); px != rg.end(); ++px)
+                    quantizePage(level, rows, nRows, px, linear, buffer.data() + size_t(px) * rawBytes);
+            });
+            pendingBytes += buffer.size();
+            pending.push_back({level, pageY, std::move(buffer)});
+            if (pendingBytes >= kDictionarySampleBytes) decideCoding();
             return;
         }
-        writeRows({{level, pageY}}, {packed.data()});
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, pagesX, 8), [&](const tbb::blocked_range<uint32_t>& rg) {
+            alignas(16) uint8_t samples[kPageTexels * kMaxChannels * 4];
+            for (uint32_t px = rg.begin(); px != rg.end(); ++px) {
+                quantizePage(level, rows, nRows, px, linear, samples);
+                detail::packPage(samples, header.channels, header.pixelType, pageFilter,
+                                 buffer.data() + size_t(px) * rawBytes);
+            }
+        });
+        writeRows({{level, pageY}}, {buffer.data()});
     }
 
-    void decideDictionary() {
-        dictionaryDecided = true;
-        size_t pageCount = pendingBytes / rawBytes;
-        // Too few samples make zstd's trainer fail or produce a dictionary that costs more than it saves.
-        if (options.trainDictionary && pageCount >= 64 && pendingBytes >= 16 * 1024) {
-            std::vector<uint8_t> samples;
-            samples.reserve(pendingBytes);
-            for (const PendingRow& r : pending) samples.insert(samples.end(), r.packed.begin(), r.packed.end());
-            std::vector<size_t> sizes(pageCount, rawBytes);
-            const size_t capacity = std::clamp<size_t>(pendingBytes / 32, 2048, 16384);
-            std::vector<uint8_t> dict = cache::trainZstdDictionary(samples.data(), sizes.data(), sizes.size(), capacity);
-            if (!dict.empty()) {
-                dictionary = std::make_shared<cache::ZstdDictionary>(dict.data(), dict.size(), options.compressionLevel);
-                pwriteAll(fd, dict.data(), dict.size(), cursor, target);
-                cursor += dict.size();
+    // Every pending page packed with `filter`, back to back.
+    std::vector<uint8_t> packPending(PageFilter filter) const {
+        std::vector<uint8_t> out(pendingBytes);
+        size_t at = 0;
+        for (const PendingRow& row : pending) {
+            const uint32_t pagesX = header.levels[row.level].pagesX;
+            tbb::parallel_for(tbb::blocked_range<uint32_t>(0, pagesX, 8), [&](const tbb::blocked_range<uint32_t>& rg) {
+                for (uint32_t px = rg.begin(); px != rg.end(); ++px)
+                    detail::packPage(row.samples.data() + size_t(px) * rawBytes, header.channels, header.pixelType,
+                                     filter, out.data() + at + size_t(px) * rawBytes);
+            });
+            at += row.samples.size();
+        }
+        return out;
+    }
+
+    // A dictionary of `kind` (Trained: zstd's trainer; Literal: cache::buildZstdLiteralDictionary)
+    // built from the zstd-coded part of every `step`-th page of `pages`. Empty when zstd cannot build it.
+    std::vector<uint8_t> buildDictionary(BotDictionary kind, const std::vector<uint8_t>& pages, size_t step) const {
+        const size_t bodyBytes = rawBytes - prefixBytes;
+        std::vector<uint8_t> bodies;
+        for (size_t off = 0; off + rawBytes <= pages.size(); off += step * rawBytes)
+            bodies.insert(bodies.end(), pages.begin() + ptrdiff_t(off + prefixBytes), pages.begin() + ptrdiff_t(off + rawBytes));
+        const std::vector<size_t> sizes(bodies.size() / bodyBytes, bodyBytes);
+        if (kind == BotDictionary::Trained)
+            return cache::trainZstdDictionary(bodies.data(), sizes.data(), sizes.size(),
+                                              std::clamp<size_t>(pendingBytes / 32, 2048, 16384));
+        return cache::buildZstdLiteralDictionary(bodies.data(), sizes.data(), sizes.size(), bodyBytes,
+                                                 options.compressionLevel);
+    }
+
+    // Residual bytes rarely repeat: with the literal dictionary, short matches cost more in sequence
+    // codes than they save.
+    static int minMatchFor(BotDictionary kind) { return kind == BotDictionary::Literal ? 7 : 0; }
+
+    std::shared_ptr<const cache::ZstdDictionary> digest(const std::vector<uint8_t>& bytes) const {
+        if (bytes.empty()) return nullptr;
+        try {
+            return std::make_shared<cache::ZstdDictionary>(bytes.data(), bytes.size(), options.compressionLevel);
+        } catch (const Error&) {
+            return nullptr;  // zstd refused it: coded without
+        }
+    }
+
+    // The file's expected page bytes when coded with `candidate` (or no dictionary) and
+    // `candidateMinMatch`: the dictionary, plus the bytes stored for every `step`-th page of `pages`
+    // from page `first`, scaled to the file's page count.
+    double expectedBytesWith(const std::shared_ptr<const cache::ZstdDictionary>& candidate, int candidateMinMatch,
+                             const std::vector<uint8_t>& pages, size_t first, size_t step) const {
+        cache::ZstdCompressor z(options.compressionLevel, candidate);
+        if (candidateMinMatch) z.setMinMatch(candidateMinMatch);
+        std::vector<uint8_t> dst(rawBytes);
+        uint64_t stored = 0, count = 0;
+        for (size_t off = first * rawBytes; off + rawBytes <= pages.size(); off += step * rawBytes, ++count) {
+            uint32_t n = 0;
+            storePage(z, pages.data() + off, rawBytes, prefixBytes, dst.data(), n);
+            stored += n;
+        }
+        const double perPage = count ? double(stored) / double(count) : 0.0;
+        return double(candidate ? candidate->bytes().size() : 0) + perPage * double(pageSizes.size());
+    }
+
+    // Settles the page filter and the dictionary from the pending pages by coding them. Filters:
+    // MED and the mean (unless the options name one). Dictionaries: none, zstd's trained one, or one
+    // whose literal table is fitted to the residuals (cache::buildZstdLiteralDictionary), which
+    // codes noisy 8-bit pages smaller. Each candidate dictionary is built from the even pages and
+    // measured on the odd ones, so that one holding copies of its training pages is not credited
+    // with matching them; the winner is then built again from all pending pages.
+    void decideCoding() {
+        codingDecided = true;
+        const size_t pageCount = pendingBytes / rawBytes;
+        std::vector<PageFilter> filters = {PageFilter::Med, PageFilter::Mean};
+        if (options.pageFilter) filters = {*options.pageFilter};
+        // Too few samples make a dictionary cost more than it saves.
+        const bool enoughPages = pageCount >= 64 && pendingBytes >= 16 * 1024;
+        std::vector<BotDictionary> kinds = {BotDictionary::None};
+        if (enoughPages && options.dictionary == BotDictionary::Auto)
+            kinds = {BotDictionary::None, BotDictionary::Trained, BotDictionary::Literal};
+        else if (enoughPages && options.dictionary != BotDictionary::None)
+            kinds = {options.dictionary};
+        const bool heldOut = kinds.size() > 1 || kinds[0] != BotDictionary::None;
+        std::vector<uint8_t> bestPages;
+        double best = HUGE_VAL;
+        BotDictionary bestKind = kinds[0];
+        for (PageFilter filter : filters) {
+            std::vector<uint8_t> pages = packPending(filter);
+            if (filters.size() == 1 && kinds.size() == 1) {  // nothing to choose
+                pageFilter = filter;
+                bestPages = std::move(pages);
+                break;
+            }
+            bool better = false;
+            for (BotDictionary kind : kinds) {
+                const bool none = kind == BotDictionary::None;
+                const auto candidate = none ? nullptr : digest(buildDictionary(kind, pages, 2));
+                if (!none && !candidate) continue;
+                const double bytes = heldOut ? expectedBytesWith(candidate, minMatchFor(kind), pages, 1, 2)
+                                             : expectedBytesWith(candidate, minMatchFor(kind), pages, 0, 1);
+                if (bytes < best) {
+                    best = bytes;
+                    bestKind = kind;
+                    pageFilter = filter;
+                    better = true;
+                }
+            }
+            if (better) bestPages = std::move(pages);
+        }
+        if (bestKind != BotDictionary::None) {
+            dictionary = digest(buildDictionary(bestKind, bestPages, 1));
+            if (dictionary) {
+                dictionaryKind = bestKind;
+                minMatch = minMatchFor(bestKind);
+                pwriteAll(fd, dictionary->bytes().data(), dictionary->bytes().size(), cursor, target);
+                cursor += dictionary->bytes().size();
             }
         }
         compressors.emplace();
         std::vector<std::pair<uint32_t, uint32_t>> rows;
         std::vector<const uint8_t*> packed;
+        size_t at = 0;
         for (const PendingRow& r : pending) {
             rows.emplace_back(r.level, r.pageY);
-            packed.push_back(r.packed.data());
+            packed.push_back(bestPages.data() + at);
+            at += r.samples.size();
         }
         if (!rows.empty()) writeRows(rows, packed);
         pending.clear();
@@ -535,8 +753,8 @@ struct BotWriter::Impl {
         for (size_t r = 0; r < rowOffsets.size(); ++r) put64(rt + r * 8, rowOffsets[r]);
         uint8_t* pt = tables.data() + (pageTableOffset - kBotHeaderBytes);
         for (size_t p = 0; p < pageSizes.size(); ++p) {
-            put32(pt + p * 8, pageSizes[p]);
-            put32(pt + p * 8 + 4, pageChecksums[p]);
+            put16(pt + p * kBotPageEntryBytes, uint16_t(pageSizes[p]));
+            put32(pt + p * kBotPageEntryBytes + 2, pageChecksums[p]);
         }
         if (dictBytes) std::memcpy(tables.data() + (dictOffset - kBotHeaderBytes), dictionary->bytes().data(), dictBytes);
 
@@ -551,7 +769,7 @@ struct BotWriter::Impl {
         h[kFieldColorSpace] = uint8_t(header.colorSpace);
         h[kFieldWrapS] = uint8_t(header.wrapS);
         h[kFieldWrapT] = uint8_t(header.wrapT);
-        h[kFieldPageFilter] = options.predictPages ? 1 : 0;
+        h[kFieldPageFilter] = uint8_t(pageFilter);
         h[kFieldMipFilter] = uint8_t(mipFilter);
         put32(h + kFieldLevelCount, levelCount);
         put64(h + kFieldLevelTable, kBotHeaderBytes);
@@ -592,6 +810,7 @@ BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t
     m.header.wrapT = options.wrapT;
     m.header.levels = levelsFor(width, height);
     m.rawBytes = detail::pageRawBytes(channels, options.pixelType);
+    m.prefixBytes = detail::pagePrefixBytes(channels, options.pixelType);
     uint64_t pages = 0, rows = 0;
     for (const BotLevel& l : m.header.levels) {
         m.levelFirstPage.push_back(pages);
@@ -670,7 +889,7 @@ BotWriteStats BotWriter::finish() {
             throw std::logic_error("BotWriter::finish: level " + std::to_string(l) + " has " +
                                    std::to_string(m.levels[l].nextRow) + " of " +
                                    std::to_string(m.header.levels[l].height) + " rows");
-    if (!m.dictionaryDecided) m.decideDictionary();
+    if (!m.codingDecided) m.decideCoding();
     m.writeTables();
     const int fd = m.fd;
     m.fd = -1;
@@ -683,6 +902,9 @@ BotWriteStats BotWriter::finish() {
     stats.rawBytes = stats.pages * m.rawBytes;
     stats.fileBytes = m.cursor;
     stats.dictionaryBytes = m.dictionary ? uint32_t(m.dictionary->bytes().size()) : 0;
+    stats.pageFilter = m.pageFilter;
+    stats.dictionary = m.dictionaryKind;
+    for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[field >> detail::kBotPageKindShift];
     return stats;
 }
 

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,21 @@ namespace pushpin::texture {
 enum class PixelType : uint8_t { U8 = 0, U16 = 1, Half = 2, Float = 3 };
 enum class WrapMode : uint8_t { Black = 0, Clamp = 1, Periodic = 2, Mirror = 3 };
 enum class ColorSpace : uint8_t { Linear = 0, SRGB = 1 };
+// How the samples of a page are predicted before zstd codes them (BOT_FORMAT.md "Pages").
+enum class PageFilter : uint8_t {
+    None = 0,  // samples as they are
+    Med = 1,   // LOCO-I median edge detector: best where edges are sharp
+    Mean = 2,  // mean of the left, upper, upper-left and upper-right samples: best where texels are noisy
+};
+// Which zstd dictionary a writer builds from the first pages (BOT_FORMAT.md "Compression").
+enum class BotDictionary : uint8_t { Auto = 0, None = 1, Trained = 2, Literal = 3 };
+// How a page is stored (the top two bits of its page-table size field).
+enum class BotPageKind : uint8_t {
+    Raw = 0,       // the packed page as it is (incompressible)
+    Frame = 1,     // prefix, then a whole compact zstd frame
+    Block = 2,     // prefix, then the body of the frame's one compressed block
+    Literals = 3,  // prefix, then the Huffman stream of a literals-only block
+};
 
 constexpr uint32_t kPageSizeTexels = 8;  // pages are 8x8 texels
 constexpr uint32_t kMaxChannels = 64;
@@ -47,13 +63,18 @@ uint32_t bytesPerSample(PixelType type);
 const char* pixelTypeName(PixelType type);
 const char* wrapModeName(WrapMode mode);
 const char* colorSpaceName(ColorSpace space);
+const char* pageFilterName(PageFilter filter);
+const char* pageKindName(BotPageKind kind);
+const char* botDictionaryName(BotDictionary kind);
+std::optional<BotDictionary> parseBotDictionary(const std::string& name);  // auto, none, trained, literal
+std::optional<PageFilter> parsePageFilter(const std::string& name);  // none, med, mean
 
 // Where one page lives in the file (plain data).
 struct BotPageEntry {
     uint64_t offsetBytes = 0;
     uint32_t storedBytes = 0;  // bytes on disk
     uint32_t checksum = 0;     // low 32 bits of XXH64(stored bytes, seed = global page index)
-    bool raw = false;          // stored without zstd (incompressible page)
+    BotPageKind kind = BotPageKind::Raw;
 };
 
 // A parsed BOT file: header, level table and page table in memory; no file descriptor is kept open.
@@ -97,7 +118,7 @@ public:
     const BotPageEntry& pageEntry(uint64_t index) const { return m_pages[index]; }
     uint32_t pageRawBytes() const { return m_pageRawBytes; }  // decompressed bytes of one page
     uint32_t dictionaryBytes() const { return m_dictionaryBytes; }
-    bool pagesPredicted() const { return m_pageFilter != 0; }
+    PageFilter pageFilter() const { return m_pageFilter; }
 
 private:
     struct Source;  // where parseImpl reads from: a file descriptor or a memory buffer
@@ -115,7 +136,7 @@ private:
     uint64_t m_fileBytes = 0;
     uint32_t m_pageRawBytes = 0;
     uint32_t m_dictionaryBytes = 0;
-    uint8_t m_pageFilter = 0;
+    PageFilter m_pageFilter = PageFilter::None;
     std::vector<uint64_t> m_levelFirstPage;
     std::vector<BotPageEntry> m_pages;
     std::shared_ptr<const cache::ZstdDictionary> m_dictionary;
@@ -130,8 +151,11 @@ struct BotWriteOptions {
     int threads = 0;             // 0: all hardware threads
     int alphaChannel = -2;       // -2: last channel of 2- and 4-channel images; -1: none
     int compressionLevel = 1;    // zstd level for pages (1 measured best on 8x8 pages, see BOT_FORMAT.md)
-    bool trainDictionary = true; // train a per-file zstd dictionary from the first pages
-    bool predictPages = true;    // MED prediction + byte planes before zstd (BOT_FORMAT.md)
+    // The per-file zstd dictionary: auto (the smallest of none, trained and literal on the first
+    // pages), none, trained (zstd's trainer) or literal (a literal table fitted to the residuals).
+    BotDictionary dictionary = BotDictionary::Auto;
+    // Page prediction; unset: the filter whose residuals of the first pages have the lower entropy.
+    std::optional<PageFilter> pageFilter;
 };
 
 // Figures about one written file.
@@ -140,6 +164,9 @@ struct BotWriteStats {
     uint64_t rawBytes = 0;    // decompressed page bytes
     uint64_t fileBytes = 0;   // whole file
     uint32_t dictionaryBytes = 0;
+    PageFilter pageFilter = PageFilter::None;
+    BotDictionary dictionary = BotDictionary::None;  // the kind used: None, Trained or Literal
+    uint64_t pagesOfKind[4] = {};         // indexed by BotPageKind
 };
 
 // Writes a BOT file from a float image already in memory (used by tests and by makebot's

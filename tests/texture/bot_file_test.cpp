@@ -11,13 +11,17 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "cache/error.h"
 #include "texture/detail/bot_checksum.h"
+#include "cache/zstd_codec.h"
 #include "texture/detail/bot_layout.h"
+#include "texture/detail/bot_page.h"
+#include "texture/mipmap.h"
 
 namespace pushpin::texture {
 namespace {
@@ -39,6 +43,8 @@ void writeBytes(const fs::path& p, const std::vector<uint8_t>& bytes) {
     std::ofstream out(p, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
 }
+
+void reseal(std::vector<uint8_t>& b);  // below, with the damaged-file tests
 
 // Values exactly representable in `type`, so level 0 must come back bit for bit.
 std::vector<float> makeImage(uint32_t w, uint32_t h, uint32_t ch, PixelType type, uint32_t seed) {
@@ -119,17 +125,173 @@ INSTANTIATE_TEST_SUITE_P(AllPixelTypes, BotRoundTrip,
                          ::testing::Values(PixelType::U8, PixelType::U16, PixelType::Half, PixelType::Float),
                          [](const auto& p) { return std::string(pixelTypeName(p.param)); });
 
-TEST(BotFile, RoundTripsWithoutPredictionOrDictionary) {
-    const std::vector<float> src = makeImage(64, 48, 3, PixelType::U8, 5);
-    const fs::path path = tempDir() / "plain.bot";
+// Smooth content with per-texel noise, as in scanned and painted textures: the mean filter and the
+// literal dictionary are made for it. Values are exact in every pixel type.
+std::vector<float> noisyImage(uint32_t w, uint32_t h, uint32_t ch, uint32_t seed, int noiseCodes = 7) {
+    std::mt19937 rng(seed);
+    std::vector<float> px(size_t(w) * h * ch);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            for (uint32_t c = 0; c < ch; ++c) {
+                const float v = 0.45f + 0.3f * std::sin(0.021f * x * float(c + 1)) * std::cos(0.017f * y) + 0.1f * (c == 3);
+                const int code = std::clamp(int(v * 255.0f) + int(rng() % uint32_t(noiseCodes)) - noiseCodes / 2, 0, 255);
+                px[(size_t(y) * w + x) * ch + c] = float(code) / 255.0f;
+            }
+    return px;
+}
+
+// Every page filter with every dictionary kind, for every pixel type, reproduces level 0 exactly.
+class BotCodings : public ::testing::TestWithParam<std::tuple<PixelType, PageFilter, BotDictionary>> {};
+
+TEST_P(BotCodings, LevelZeroRoundTrips) {
+    const auto [type, filter, dictionary] = GetParam();
+    const uint32_t w = 160, h = 136, ch = type == PixelType::U8 ? 3 : 4;  // 460 pages: enough for a dictionary
+    std::vector<float> src = noisyImage(w, h, ch, 11);
+    if (type == PixelType::Half)
+        for (float& v : src) v = float(Imath::half(v));  // exact in the stored type
+    const fs::path path = tempDir() / ("coding_" + std::string(pixelTypeName(type)) + "_" + pageFilterName(filter) +
+                                       "_" + botDictionaryName(dictionary) + ".bot");
     BotWriteOptions opt;
-    opt.predictPages = false;
-    opt.trainDictionary = false;
-    writeBot(path, src.data(), 64, 48, 3, opt);
+    opt.pixelType = type;
+    opt.pageFilter = filter;
+    opt.dictionary = dictionary;
+    writeBot(path, src.data(), w, h, ch, opt);
     const auto file = BotFile::open(path);
-    EXPECT_FALSE(file->pagesPredicted());
-    EXPECT_EQ(file->dictionaryBytes(), 0u);
+    EXPECT_EQ(file->pageFilter(), filter);
+    if (dictionary == BotDictionary::None) {
+        EXPECT_EQ(file->dictionaryBytes(), 0u);
+    } else {
+        EXPECT_GT(file->dictionaryBytes(), 0u);
+    }
     EXPECT_EQ(readLevel(*file, 0), src);
+    for (uint32_t l = 1; l < file->header().levels.size(); ++l) {
+        const std::vector<float> level = readLevel(*file, l);  // every page decodes
+        for (float v : level) ASSERT_TRUE(std::isfinite(v)) << "level " << l;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    All, BotCodings,
+    ::testing::Combine(::testing::Values(PixelType::U8, PixelType::U16, PixelType::Half, PixelType::Float),
+                       ::testing::Values(PageFilter::None, PageFilter::Med, PageFilter::Mean),
+                       ::testing::Values(BotDictionary::None, BotDictionary::Trained, BotDictionary::Literal)),
+    [](const auto& p) {
+        return std::string(pixelTypeName(std::get<0>(p.param))) + "_" + pageFilterName(std::get<1>(p.param)) + "_" +
+               botDictionaryName(std::get<2>(p.param));
+    });
+
+// Constant areas (runs: blocks with sequences), white noise (incompressible: raw) and smooth noisy
+// areas (literals) in one file. Whole frames are what a zstd that writes other headers would leave;
+// FramePagesAreRead covers them.
+TEST(BotFile, EveryPageKindIsWrittenAndReadBack) {
+    const uint32_t w = 256, h = 192, ch = 3;
+    std::vector<float> src = noisyImage(w, h, ch, 21);
+    std::mt19937 rng(4);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            for (uint32_t c = 0; c < ch; ++c) {
+                float& v = src[(size_t(y) * w + x) * ch + c];
+                if (y < 48 && x < 64) v = 0.0f;                              // constant
+                if (y >= 144 && x >= 192) v = float(rng() % 256) / 255.0f;  // white noise
+            }
+    const fs::path path = tempDir() / "kinds.bot";
+    BotWriteOptions opt;
+    opt.pageFilter = PageFilter::Med;
+    writeBot(path, src.data(), w, h, ch, opt);
+    const auto file = BotFile::open(path);
+    uint64_t kinds[4] = {};
+    for (uint64_t i = 0; i < file->pageCount(); ++i) ++kinds[unsigned(file->pageEntry(i).kind)];
+    for (BotPageKind k : {BotPageKind::Raw, BotPageKind::Block, BotPageKind::Literals})
+        EXPECT_GT(kinds[unsigned(k)], 0u) << pageKindName(k) << " pages";
+    EXPECT_EQ(readLevel(*file, 0), src);
+}
+
+// A page stored as a whole compact frame (the form kept when zstd's output has headers the reader
+// would not rebuild) reads back like the others. The test rewrites a one-page row of a file that
+// way: the page goes to the end of the file, its row offset and entry are updated and resealed.
+TEST(BotFile, FramePagesAreRead) {
+    using namespace detail;
+    const uint32_t w = 64, h = 64, ch = 3;
+    const std::vector<float> src = noisyImage(w, h, ch, 51);
+    const fs::path path = tempDir() / "frame_src.bot";
+    BotWriteOptions opt;
+    opt.dictionary = BotDictionary::Literal;
+    writeBot(path, src.data(), w, h, ch, opt);
+    std::vector<uint8_t> b = readBytes(path);
+    const auto file = BotFile::parse(b.data(), b.size(), "frame.bot");
+    ASSERT_GT(file->dictionaryBytes(), 0u);
+    const uint32_t level = 3;  // 8x8 texels: one page, alone in its row
+    const uint64_t index = file->pageIndex(level, 0, 0);
+    std::vector<float> expected(64 * ch);
+    file->readPageFromMemory(b.data(), b.size(), level, 0, 0, expected.data());
+
+    // The packed page, from its texels, and its zstd part as a plain compact frame.
+    uint8_t samples[64 * 3], packed[64 * 3];
+    for (size_t i = 0; i < sizeof samples; ++i) samples[i] = uint8_t(std::lround(expected[i] * 255.0f));
+    packPage(samples, ch, PixelType::U8, file->pageFilter(), packed);
+    const uint32_t prefix = pagePrefixBytes(ch, PixelType::U8), raw = pageRawBytes(ch, PixelType::U8);
+    const uint64_t dictOffset = get64(&b[kFieldDictionary]);
+    auto dict = std::make_shared<cache::ZstdDictionary>(&b[dictOffset], get32(&b[kFieldDictionaryBytes]), 1);
+    cache::ZstdCompressor z(1, dict);
+    std::vector<uint8_t> stored(packed, packed + prefix);
+    std::vector<uint8_t> frame(cache::zstdCompressBound(raw));
+    const size_t n = z.compress(packed + prefix, raw - prefix, frame.data(), frame.size());
+    ASSERT_GT(n, 0u);
+    stored.insert(stored.end(), frame.begin(), frame.begin() + ptrdiff_t(n));
+    ASSERT_LT(stored.size(), raw);
+
+    const uint64_t newOffset = b.size();
+    b.insert(b.end(), stored.begin(), stored.end());
+    uint64_t row = 0;
+    for (uint32_t l = 0; l < level; ++l) row += file->header().levels[l].pagesY;
+    put64(&b[get64(&b[kFieldRowTable]) + row * 8], newOffset);
+    const uint64_t entry = get64(&b[kFieldPageTable]) + index * kBotPageEntryBytes;
+    put16(&b[entry], uint16_t(uint32_t(BotPageKind::Frame) << kBotPageKindShift | uint32_t(stored.size())));
+    put32(&b[entry + 2], uint32_t(xxh64(stored.data(), stored.size(), index | uint64_t(BotPageKind::Frame) << 56)));
+    reseal(b);
+
+    const auto rewritten = BotFile::parse(b.data(), b.size(), "frame.bot");
+    ASSERT_EQ(rewritten->pageEntry(index).kind, BotPageKind::Frame);
+    std::vector<float> back(64 * ch);
+    rewritten->readPageFromMemory(b.data(), b.size(), level, 0, 0, back.data());
+    EXPECT_EQ(back, expected);
+}
+
+// The automatic choice picks the coding that stores the file smallest, within what estimating from
+// the first pages allows, and the writer's figures describe the file.
+TEST(BotWriter, AutomaticCodingIsAsSmallAsTheBestForcedOne) {
+    const uint32_t w = 512, h = 384, ch = 3;
+    const std::vector<float> src = noisyImage(w, h, ch, 31, 9);
+    auto sizeWith = [&](std::optional<PageFilter> filter, BotDictionary dictionary, BotWriteStats* stats) {
+        const fs::path path = tempDir() / "auto_coding.bot";
+        BotWriteOptions opt;
+        opt.pageFilter = filter;
+        opt.dictionary = dictionary;
+        BotWriter writer(path, w, h, ch, opt);
+        MipCascade cascade(w, h, ch, MipFilter::Box, opt.colorSpace, opt.alphaChannel,
+                           [&](uint32_t level, uint32_t first, uint32_t count, const float* rows, bool linear) {
+                               writer.addRows(level, first, count, rows, linear);
+                           });
+        cascade.pushRows(src.data(), h);
+        const BotWriteStats s = writer.finish();
+        if (stats) *stats = s;
+        EXPECT_EQ(s.fileBytes, fs::file_size(path));
+        return s.fileBytes;
+    };
+    BotWriteStats chosen;
+    const uint64_t automatic = sizeWith(std::nullopt, BotDictionary::Auto, &chosen);
+    uint64_t best = ~uint64_t(0);
+    for (PageFilter f : {PageFilter::Med, PageFilter::Mean})
+        for (BotDictionary d : {BotDictionary::None, BotDictionary::Trained, BotDictionary::Literal})
+            best = std::min(best, sizeWith(f, d, nullptr));
+    EXPECT_LE(double(automatic), 1.01 * double(best));
+    // On noisy 8-bit content the mean filter and the literal table win.
+    EXPECT_EQ(chosen.pageFilter, PageFilter::Mean);
+    EXPECT_EQ(chosen.dictionary, BotDictionary::Literal);
+    uint64_t pages = 0;
+    for (uint64_t n : chosen.pagesOfKind) pages += n;
+    EXPECT_EQ(pages, chosen.pages);
+    EXPECT_GT(chosen.pagesOfKind[unsigned(BotPageKind::Literals)], chosen.pages / 2);
 }
 
 TEST(BotFile, LargeImageTrainsDictionaryAndRoundTrips) {
@@ -382,6 +544,45 @@ TEST(BotFileErrors, FlippedPageByteNamesThePage) {
     ::close(fd);
 }
 
+TEST(BotFileErrors, PageTableNamingTheWrongKindFailsTheChecksum) {
+    using namespace detail;
+    const uint32_t w = 160, h = 136;
+    const std::vector<float> src = noisyImage(w, h, 3, 41);
+    const fs::path path = tempDir() / "kind_src.bot";
+    writeBot(path, src.data(), w, h, 3, BotWriteOptions{});
+    const auto file = BotFile::open(path);
+    const uint64_t pageTable = get64(&readBytes(path)[kFieldPageTable]);
+    // Rewrite each compressed page's kind as every other compressed kind, seal the tables again:
+    // the page's own checksum still catches it.
+    int tried = 0;
+    for (uint64_t index : {uint64_t(0), file->pageIndex(0, 7, 5), file->pageIndex(1, 2, 3)}) {
+        const BotPageEntry e = file->pageEntry(index);
+        ASSERT_NE(e.kind, BotPageKind::Raw);
+        for (BotPageKind other : {BotPageKind::Frame, BotPageKind::Block, BotPageKind::Literals}) {
+            if (other == e.kind) continue;
+            std::vector<uint8_t> b = readBytes(path);
+            put16(&b[pageTable + index * kBotPageEntryBytes], uint16_t(uint32_t(other) << kBotPageKindShift | e.storedBytes));
+            reseal(b);
+            const auto damaged = BotFile::parse(b.data(), b.size(), "kind.bot");
+            std::vector<float> page(64 * 3);
+            uint32_t level = 0, px = 0, py = 0;
+            for (uint32_t l = 0; l < damaged->header().levels.size(); ++l)
+                if (index >= damaged->pageIndex(l, 0, 0)) level = l;
+            const uint64_t inLevel = index - damaged->pageIndex(level, 0, 0);
+            px = uint32_t(inLevel % damaged->header().levels[level].pagesX);
+            py = uint32_t(inLevel / damaged->header().levels[level].pagesX);
+            try {
+                damaged->readPageFromMemory(b.data(), b.size(), level, px, py, page.data());
+                ADD_FAILURE() << "no exception for " << pageKindName(other);
+            } catch (const FormatError& err) {
+                EXPECT_NE(std::string(err.what()).find("checksum mismatch"), std::string::npos) << err.what();
+            }
+            ++tried;
+        }
+    }
+    EXPECT_EQ(tried, 6);
+}
+
 TEST(BotFileErrors, FileTruncatedAfterOpenNamesThePage) {
     std::vector<uint8_t> bytes = validFile(40, 30, 3, "late_src.bot");
     const fs::path path = tempDir() / "late.bot";
@@ -427,19 +628,36 @@ TEST(BotFileErrors, BadOffsetsAndSizesPastEndNameThePage) {
     }
     {
         std::vector<uint8_t> b = good;
-        const uint64_t lastRow = rowTable + 8 * 3;  // level 0 has 4 page rows
-        const uint64_t lastPage = 5 * 4 - 1;
-        put32(&b[pageTable + lastPage * 8], uint32_t(b.size()));  // size past end of file
-        (void)lastRow;
+        const uint64_t lastRow = rowTable + 8 * 3;  // level 0 has 4 page rows; move the last one to the end
+        put64(&b[lastRow], b.size() - 100);
         reseal(b);
         const std::string msg = openError(b, path);
-        EXPECT_NE(msg.find("level 0 page (4, 3)"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("level 0 page (0, 3) lies outside the file"), std::string::npos) << msg;
+    }
+    const uint32_t frame = uint32_t(BotPageKind::Frame) << kBotPageKindShift;
+    {
+        std::vector<uint8_t> b = good;
+        put16(&b[pageTable], uint16_t(frame | 0));
+        reseal(b);
+        EXPECT_NE(openError(b, path).find("bad stored size 0 of level 0 page (0, 0)"), std::string::npos);
     }
     {
         std::vector<uint8_t> b = good;
-        put32(&b[pageTable], 0);
+        put16(&b[pageTable + kBotPageEntryBytes], uint16_t(frame | 3));  // no more than the prefix
         reseal(b);
-        EXPECT_NE(openError(b, path).find("bad stored size 0 of level 0 page (0, 0)"), std::string::npos);
+        EXPECT_NE(openError(b, path).find("bad stored size 3 of level 0 page (1, 0)"), std::string::npos);
+    }
+    {
+        std::vector<uint8_t> b = good;
+        put16(&b[pageTable + 2 * kBotPageEntryBytes], uint16_t(frame | 192));  // not smaller than raw
+        reseal(b);
+        EXPECT_NE(openError(b, path).find("bad stored size 192 of level 0 page (2, 0)"), std::string::npos);
+    }
+    {
+        std::vector<uint8_t> b = good;
+        put16(&b[pageTable], 5);  // raw, with a size
+        reseal(b);
+        EXPECT_NE(openError(b, path).find("bad size field 5 of raw level 0 page (0, 0)"), std::string::npos);
     }
     {
         std::vector<uint8_t> b = good;
@@ -466,7 +684,9 @@ TEST(BotFileErrors, AbsurdHeaderValuesAreRejectedWithoutAllocating) {
     EXPECT_NE(with([](auto& b) { put32(&b[kFieldLevelCount], 1000); }).find("bad level count 1000"), std::string::npos);
     EXPECT_NE(with([](auto& b) { b[kFieldPixelType] = 9; }).find("bad pixel type 9"), std::string::npos);
     EXPECT_NE(with([](auto& b) { b[0] = 'X'; }).find("bad magic"), std::string::npos);
-    EXPECT_NE(with([](auto& b) { put32(&b[kFieldVersion], 2); }).find("unsupported BOT version 2"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldVersion], 1); }).find("unsupported BOT version 1"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldVersion], 3); }).find("unsupported BOT version 3"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { b[kFieldPageFilter] = 3; }).find("bad page filter 3"), std::string::npos);
     // Largest legal dimensions, but the page table they imply does not fit in the file.
     EXPECT_NE(with([](auto& b) {
                   put32(&b[kFieldWidth], kMaxDimension);

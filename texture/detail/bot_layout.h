@@ -8,12 +8,13 @@
 namespace pushpin::texture::detail {
 
 constexpr uint8_t kBotMagic[8] = {'P', 'P', 'B', 'O', 'T', '\r', '\n', 0x1a};
-constexpr uint32_t kBotVersion = 1;
+constexpr uint32_t kBotVersion = 2;
 constexpr uint32_t kBotHeaderBytes = 96;
 constexpr uint32_t kBotLevelEntryBytes = 8;   // u32 width, u32 height
 constexpr uint32_t kBotRowEntryBytes = 8;     // u64 offset of a row of pages
-constexpr uint32_t kBotPageEntryBytes = 8;    // u32 stored size (bit 31: raw), u32 checksum
-constexpr uint32_t kBotRawPageBit = 0x80000000u;
+constexpr uint32_t kBotPageEntryBytes = 6;    // u16 kind and stored size, u32 checksum
+constexpr uint32_t kBotPageKindShift = 14;    // kind in bits 14-15, stored size in bits 0-13
+constexpr uint32_t kBotMaxStoredBytes = (1u << kBotPageKindShift) - 1;
 constexpr uint32_t kBotMaxDictionaryBytes = 1u << 20;
 
 // Header field offsets.

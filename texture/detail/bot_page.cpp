@@ -93,37 +93,67 @@ inline T medPredict(T a, T b, T d) {
     return T(g);
 }
 
+constexpr uint32_t kCodedTexels = kPageTexels - 1;  // texels 1..63 of a grid; texel 0 is the prefix
+
 template <typename T>
-void packT(const T* samples, uint32_t channels, bool predict, uint8_t* out) {
+inline T zigzag(T cur, T pred) {
     using S = std::make_signed_t<T>;
     constexpr int kBits = int(sizeof(T)) * 8;
+    const S r = S(T(cur - pred));
+    return T(T(T(r) << 1) ^ T(r >> (kBits - 1)));
+}
+
+// MED prediction of texel (x, y) > (0, 0) from the samples before it in the grid: the left
+// neighbour in row 0, the upper one in column 0.
+template <typename T>
+inline T medPredictAt(const T* s, uint32_t x, uint32_t y) {
+    constexpr uint32_t n = kPageSizeTexels;
+    if (y == 0) return s[x - 1];
+    if (x == 0) return s[(y - 1) * n];
+    return medPredict(s[y * n + x - 1], s[(y - 1) * n + x], s[(y - 1) * n + x - 1]);
+}
+
+// Mean prediction (PageFilter::Mean) of texel (x, y) > (0, 0): the rounded mean of the left,
+// upper, upper-left and upper-right samples (the upper one twice in the last column); row 0 and
+// column 0 average the two samples before them along the edge (the one sample next to texel 0).
+// On noisy texels this halves MED's residual variance, because MED extrapolates a + b - c, which
+// adds up the noise of three neighbours. Sums are formed in a wider unsigned type, so the mean of
+// bit patterns is exact for every pixel type.
+template <typename T>
+inline T meanPredictAt(const T* s, uint32_t x, uint32_t y) {
+    using U = std::conditional_t<(sizeof(T) < 4), uint32_t, uint64_t>;
+    constexpr uint32_t n = kPageSizeTexels;
+    if (y == 0) return x == 1 ? s[0] : T((U(s[x - 1]) + U(s[x - 2]) + 1) >> 1);
+    if (x == 0) return y == 1 ? s[0] : T((U(s[(y - 1) * n]) + U(s[(y - 2) * n]) + 1) >> 1);
+    const T* up = s + (y - 1) * n;
+    const U d = x + 1 < n ? U(up[x + 1]) : U(up[x]);
+    return T((U(s[y * n + x - 1]) + U(up[x]) + U(up[x - 1]) + d + 2) >> 2);
+}
+
+template <typename T>
+void packT(const T* samples, uint32_t channels, PageFilter filter, uint8_t* out) {
     constexpr uint32_t kBytes = sizeof(T);
     constexpr uint32_t n = kPageSizeTexels;
+    uint8_t* body = out + size_t(channels) * kBytes;
     T s[kPageTexels], z[kPageTexels];
     for (uint32_t c = 0; c < channels; ++c) {
         for (uint32_t i = 0; i < kPageTexels; ++i) s[i] = samples[i * channels + c];
-        if (predict) {
-            // Residuals against the MED prediction (row 0: left neighbour, column 0: upper one),
-            // zigzagged so that small magnitudes of either sign become small codes. Every
-            // prediction reads original samples, so the texels are independent of each other.
-            auto zigzag = [](T cur, T pred) {
-                const S r = S(T(cur - pred));
-                return T((T(r) << 1) ^ T(r >> (kBits - 1)));
-            };
-            z[0] = zigzag(s[0], T(0));
-            for (uint32_t x = 1; x < n; ++x) z[x] = zigzag(s[x], s[x - 1]);
-            for (uint32_t y = 1; y < n; ++y) {
-                const T* up = s + (y - 1) * n;
-                const T* row = s + y * n;
-                z[y * n] = zigzag(row[0], up[0]);
-                for (uint32_t x = 1; x < n; ++x) z[y * n + x] = zigzag(row[x], medPredict(row[x - 1], up[x], up[x - 1]));
-            }
-        } else {
-            std::memcpy(z, s, sizeof z);
+        for (uint32_t b = 0; b < kBytes; ++b) out[c * kBytes + b] = uint8_t(s[0] >> (8 * b));
+        // Every prediction reads original samples, so the residuals are independent of each other.
+        switch (filter) {
+            case PageFilter::None: std::memcpy(z, s, sizeof z); break;
+            case PageFilter::Med:
+                for (uint32_t y = 0; y < n; ++y)
+                    for (uint32_t x = y == 0 ? 1 : 0; x < n; ++x) z[y * n + x] = zigzag(s[y * n + x], medPredictAt(s, x, y));
+                break;
+            case PageFilter::Mean:
+                for (uint32_t y = 0; y < n; ++y)
+                    for (uint32_t x = y == 0 ? 1 : 0; x < n; ++x) z[y * n + x] = zigzag(s[y * n + x], meanPredictAt(s, x, y));
+                break;
         }
         for (uint32_t b = 0; b < kBytes; ++b) {
-            uint8_t* plane = out + (size_t(c) * kBytes + b) * kPageTexels;
-            for (uint32_t i = 0; i < kPageTexels; ++i) plane[i] = uint8_t(z[i] >> (8 * b));
+            uint8_t* plane = body + (size_t(c) * kBytes + b) * kCodedTexels;
+            for (uint32_t i = 1; i < kPageTexels; ++i) plane[i - 1] = uint8_t(z[i] >> (8 * b));
         }
     }
 }
@@ -186,46 +216,33 @@ void unpredictU8(uint8_t* const* planes) {
     }(std::make_index_sequence<2 * n - 1>());
 }
 
-// Reconstructs `channels` planar 8-bit grids (64 bytes apart in `planes`) in groups of up to four.
-void unpredictU8Planes(uint8_t* planes, uint32_t channels) {
-    for (uint32_t c = 0; c < channels;) {
-        // Pointers past the last channel are never used; they are clamped so that they stay valid.
-        uint8_t* p[4];
-        for (uint32_t k = 0; k < 4; ++k) p[k] = planes + size_t(std::min(c + k, channels - 1)) * kPageTexels;
-        switch (std::min<uint32_t>(channels - c, 4)) {
-            case 1: unpredictU8<1>(p); c += 1; break;
-            case 2: unpredictU8<2>(p); c += 2; break;
-            case 3: unpredictU8<3>(p); c += 3; break;
-            default: unpredictU8<4>(p); c += 4; break;
+#endif
+
+// Loads channel c of a packed page into grid g: texel 0 from the prefix, texels 1..63 (residuals
+// when predicted) merged from their byte planes.
+template <typename T>
+inline void loadGrid(const uint8_t* in, uint32_t channels, uint32_t c, T* g) {
+    constexpr uint32_t kBytes = sizeof(T);
+    T first = 0;
+    for (uint32_t b = 0; b < kBytes; ++b) first = T(first | T(T(in[c * kBytes + b]) << (8 * b)));
+    g[0] = first;
+    const uint8_t* planes = in + size_t(channels) * kBytes + size_t(c) * kBytes * kCodedTexels;
+    if constexpr (kBytes == 1) {
+        std::memcpy(g + 1, planes, kCodedTexels);
+    } else {
+        for (uint32_t i = 0; i < kCodedTexels; ++i) {
+            T v = 0;
+            for (uint32_t b = 0; b < kBytes; ++b) v = T(v | T(T(planes[b * kCodedTexels + i]) << (8 * b)));
+            g[i + 1] = v;
         }
     }
 }
-#endif
 
-// Rebuilds channel `c` of a page from its byte planes into the planar grid `s` (kPageTexels
-// samples, row-major): merges the planes, then undoes the zigzagged MED residuals when `predict`.
+// Undoes MED on one grid whose texel 0 is a sample and texels 1..63 zigzagged residuals.
 template <typename T>
-inline void unpackChannel(const uint8_t* in, uint32_t c, bool predict, T* s) {
-    constexpr uint32_t kBytes = sizeof(T);
-    const uint8_t* planes = in + size_t(c) * kBytes * kPageTexels;
-    if constexpr (kBytes == 1) {
-        std::memcpy(s, planes, kPageTexels);
-    } else {
-        for (uint32_t i = 0; i < kPageTexels; ++i) {
-            T v = 0;
-            for (uint32_t b = 0; b < kBytes; ++b) v = T(v | T(T(planes[b * kPageTexels + i]) << (8 * b)));
-            s[i] = v;
-        }
-    }
-    if (!predict) return;
+void unpredictMed(T* s) {
     constexpr uint32_t n = kPageSizeTexels;
-    // Row 0 predicts from the left neighbour (0 for the first texel).
-    T left = 0;
-    for (uint32_t x = 0; x < n; ++x) {
-        left = T(left + unzigzag(s[x]));
-        s[x] = left;
-    }
-    // Other rows: the first texel predicts from above, the rest with MED.
+    for (uint32_t x = 1; x < n; ++x) s[x] = T(s[x - 1] + unzigzag(s[x]));
     for (uint32_t y = 1; y < n; ++y) {
         const T* up = s + (y - 1) * n;
         T* row = s + y * n;
@@ -238,33 +255,83 @@ inline void unpackChannel(const uint8_t* in, uint32_t c, bool predict, T* s) {
     }
 }
 
-#if defined(__SSE2__)
-// The 8-bit planes of a page are its channels' grids; all are reconstructed together.
-// Returns a pointer to channel 0's samples (channel c at + 64 c).
-inline const uint8_t* unpackU8Planes(const uint8_t* in, uint32_t channels, bool predict, uint8_t* planes) {
-    if (!predict) return in;
-    std::memcpy(planes, in, size_t(channels) * kPageTexels);
-    unpredictU8Planes(planes, channels);
-    return planes;
+// Undoes the mean prediction on K grids at once. Each grid is one chain of dependent texels (each
+// needs its left neighbour); interleaving K independent chains lets them overlap in the pipeline.
+template <typename T, uint32_t K>
+void unpredictMean(T (*g)[kPageTexels]) {
+    using U = std::conditional_t<(sizeof(T) < 4), uint32_t, uint64_t>;
+    constexpr uint32_t n = kPageSizeTexels;
+    for (uint32_t k = 0; k < K; ++k)
+        for (uint32_t i = 1; i < kPageTexels; ++i) g[k][i] = unzigzag(g[k][i]);
+    for (uint32_t k = 0; k < K; ++k) g[k][1] = T(g[k][1] + g[k][0]);
+    for (uint32_t x = 2; x < n; ++x)
+        for (uint32_t k = 0; k < K; ++k) g[k][x] = T(g[k][x] + T((U(g[k][x - 1]) + U(g[k][x - 2]) + 1) >> 1));
+    for (uint32_t y = 1; y < n; ++y) {
+        for (uint32_t k = 0; k < K; ++k) {
+            T* row = g[k] + y * n;
+            const T* up = row - n;
+            row[0] = T(row[0] + (y == 1 ? up[0] : T((U(up[0]) + U(up[-int(n)]) + 1) >> 1)));
+        }
+        // The upper row's part of each sum does not depend on the chain.
+        U above[K][n];
+        for (uint32_t k = 0; k < K; ++k) {
+            const T* up = g[k] + (y - 1) * n;
+            for (uint32_t x = 1; x + 1 < n; ++x) above[k][x] = U(up[x - 1]) + U(up[x]) + U(up[x + 1]) + 2;
+            above[k][n - 1] = U(up[n - 2]) + 2 * U(up[n - 1]) + 2;
+        }
+        for (uint32_t x = 1; x < n; ++x)
+            for (uint32_t k = 0; k < K; ++k) {
+                T* row = g[k] + y * n;
+                row[x] = T(row[x] + T((U(row[x - 1]) + above[k][x]) >> 2));
+            }
+    }
 }
+
+// Reconstructs the channels of a packed page in groups of up to four and hands each finished grid
+// (64 samples, row-major) to sink(channel, grid).
+template <typename T, typename Sink>
+void unpackGrids(const uint8_t* in, uint32_t channels, PageFilter filter, Sink&& sink) {
+    alignas(16) T g[4][kPageTexels];
+    for (uint32_t c0 = 0; c0 < channels; c0 += 4) {
+        const uint32_t k = std::min<uint32_t>(4, channels - c0);
+        for (uint32_t j = 0; j < k; ++j) loadGrid(in, channels, c0 + j, g[j]);
+        switch (filter) {
+            case PageFilter::None: break;
+            case PageFilter::Med:
+#if defined(__SSE2__)
+                if constexpr (sizeof(T) == 1) {
+                    // The vector reconstruction takes texel 0 as a residual against 0.
+                    for (uint32_t j = 0; j < k; ++j) g[j][0] = zigzag<T>(g[j][0], 0);
+                    uint8_t* p[4] = {g[0], g[1], g[2], g[3]};
+                    switch (k) {
+                        case 1: unpredictU8<1>(p); break;
+                        case 2: unpredictU8<2>(p); break;
+                        case 3: unpredictU8<3>(p); break;
+                        default: unpredictU8<4>(p); break;
+                    }
+                    break;
+                }
 #endif
+                for (uint32_t j = 0; j < k; ++j) unpredictMed(g[j]);
+                break;
+            case PageFilter::Mean:
+                switch (k) {
+                    case 1: unpredictMean<T, 1>(g); break;
+                    case 2: unpredictMean<T, 2>(g); break;
+                    case 3: unpredictMean<T, 3>(g); break;
+                    default: unpredictMean<T, 4>(g); break;
+                }
+                break;
+        }
+        for (uint32_t j = 0; j < k; ++j) sink(c0 + j, static_cast<const T*>(g[j]));
+    }
+}
 
 template <typename T>
-void unpackT(const uint8_t* in, uint32_t channels, bool predict, T* samples) {
-#if defined(__SSE2__)
-    if constexpr (sizeof(T) == 1) {
-        uint8_t planes[kPageTexels * kMaxChannels];
-        const uint8_t* s = unpackU8Planes(in, channels, predict, planes);
-        for (uint32_t c = 0; c < channels; ++c)
-            for (uint32_t i = 0; i < kPageTexels; ++i) samples[i * channels + c] = s[c * kPageTexels + i];
-        return;
-    }
-#endif
-    T s[kPageTexels];
-    for (uint32_t c = 0; c < channels; ++c) {
-        unpackChannel(in, c, predict, s);
-        for (uint32_t i = 0; i < kPageTexels; ++i) samples[i * channels + c] = s[i];
-    }
+void unpackT(const uint8_t* in, uint32_t channels, PageFilter filter, T* samples) {
+    unpackGrids<T>(in, channels, filter, [&](uint32_t c, const T* grid) {
+        for (uint32_t i = 0; i < kPageTexels; ++i) samples[i * channels + c] = grid[i];
+    });
 }
 
 // Scatters one planar channel into interleaved floats through `convert`. The channel counts of
@@ -288,20 +355,9 @@ inline void scatter(const T* s, uint32_t c, uint32_t channels, float* texels, Co
 }
 
 template <typename T, typename Convert>
-void unpackToFloatT(const uint8_t* in, uint32_t channels, bool predict, float* texels, Convert convert) {
-#if defined(__SSE2__)
-    if constexpr (sizeof(T) == 1) {
-        uint8_t planes[kPageTexels * kMaxChannels];
-        const uint8_t* s = unpackU8Planes(in, channels, predict, planes);
-        for (uint32_t c = 0; c < channels; ++c) scatter(s + c * kPageTexels, c, channels, texels, convert);
-        return;
-    }
-#endif
-    T s[kPageTexels];
-    for (uint32_t c = 0; c < channels; ++c) {
-        unpackChannel(in, c, predict, s);
-        scatter(s, c, channels, texels, convert);
-    }
+void unpackToFloatT(const uint8_t* in, uint32_t channels, PageFilter filter, float* texels, Convert convert) {
+    unpackGrids<T>(in, channels, filter,
+                   [&](uint32_t c, const T* grid) { scatter(grid, c, channels, texels, convert); });
 }
 
 float halfBitsToFloat(uint16_t bits) {
@@ -313,6 +369,7 @@ float halfBitsToFloat(uint16_t bits) {
 }  // namespace
 
 const float* srgbU8ToLinearTable() { return tables().toLinear.data(); }
+
 
 void quantizePage(const float* texels, uint32_t channels, PixelType type, ColorSpace space,
                   int alphaChannel, bool linearLight, void* samples) {
@@ -365,21 +422,21 @@ void quantizePage(const float* texels, uint32_t channels, PixelType type, ColorS
     }
 }
 
-void packPage(const void* samples, uint32_t channels, PixelType type, bool predict, uint8_t* out) {
+void packPage(const void* samples, uint32_t channels, PixelType type, PageFilter filter, uint8_t* out) {
     switch (type) {
-        case PixelType::U8: packT(static_cast<const uint8_t*>(samples), channels, predict, out); break;
+        case PixelType::U8: packT(static_cast<const uint8_t*>(samples), channels, filter, out); break;
         case PixelType::U16:
-        case PixelType::Half: packT(static_cast<const uint16_t*>(samples), channels, predict, out); break;
-        case PixelType::Float: packT(static_cast<const uint32_t*>(samples), channels, predict, out); break;
+        case PixelType::Half: packT(static_cast<const uint16_t*>(samples), channels, filter, out); break;
+        case PixelType::Float: packT(static_cast<const uint32_t*>(samples), channels, filter, out); break;
     }
 }
 
-void unpackPage(const uint8_t* in, uint32_t channels, PixelType type, bool predict, void* samples) {
+void unpackPage(const uint8_t* in, uint32_t channels, PixelType type, PageFilter filter, void* samples) {
     switch (type) {
-        case PixelType::U8: unpackT(in, channels, predict, static_cast<uint8_t*>(samples)); break;
+        case PixelType::U8: unpackT(in, channels, filter, static_cast<uint8_t*>(samples)); break;
         case PixelType::U16:
-        case PixelType::Half: unpackT(in, channels, predict, static_cast<uint16_t*>(samples)); break;
-        case PixelType::Float: unpackT(in, channels, predict, static_cast<uint32_t*>(samples)); break;
+        case PixelType::Half: unpackT(in, channels, filter, static_cast<uint16_t*>(samples)); break;
+        case PixelType::Float: unpackT(in, channels, filter, static_cast<uint32_t*>(samples)); break;
     }
 }
 
@@ -406,21 +463,21 @@ void samplesToFloat(const void* samples, uint32_t channels, PixelType type, floa
     }
 }
 
-void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, bool predict, float* texels) {
+void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, PageFilter filter, float* texels) {
     switch (type) {
         case PixelType::U8: {
             const float* unorm = tables().unorm.data();
-            unpackToFloatT<uint8_t>(in, channels, predict, texels, [unorm](uint8_t v) { return unorm[v]; });
+            unpackToFloatT<uint8_t>(in, channels, filter, texels, [unorm](uint8_t v) { return unorm[v]; });
             break;
         }
         case PixelType::U16:
-            unpackToFloatT<uint16_t>(in, channels, predict, texels, [](uint16_t v) { return float(v) / 65535.0f; });
+            unpackToFloatT<uint16_t>(in, channels, filter, texels, [](uint16_t v) { return float(v) / 65535.0f; });
             break;
         case PixelType::Half:
-            unpackToFloatT<uint16_t>(in, channels, predict, texels, halfBitsToFloat);
+            unpackToFloatT<uint16_t>(in, channels, filter, texels, halfBitsToFloat);
             break;
         case PixelType::Float:
-            unpackToFloatT<uint32_t>(in, channels, predict, texels, [](uint32_t v) {
+            unpackToFloatT<uint32_t>(in, channels, filter, texels, [](uint32_t v) {
                 float f;
                 std::memcpy(&f, &v, 4);
                 return f;

@@ -1,5 +1,6 @@
 // texture/detail/bot_page.h: converting one 8x8 page between float texels and the stored bytes of a
-// BOT file (sample quantisation, sRGB encoding of linear values, MED prediction and byte planes).
+// BOT file (sample quantisation, sRGB encoding of linear values, prediction, the first-texel prefix
+// and byte planes; texture/BOT_FORMAT.md "Pages").
 // Pure functions on caller-owned buffers: thread-safe, no allocation.
 #pragma once
 
@@ -15,6 +16,8 @@ constexpr uint32_t kPageTexels = kPageSizeTexels * kPageSizeTexels;
 inline uint32_t pageRawBytes(uint32_t channels, PixelType type) {
     return kPageTexels * channels * bytesPerSample(type);
 }
+// The packed page starts with the first texel's samples, stored as they are; zstd codes the rest.
+inline uint32_t pagePrefixBytes(uint32_t channels, PixelType type) { return channels * bytesPerSample(type); }
 
 // sRGB transfer functions (IEC 61966-2-1), exact formulas.
 float srgbToLinear(float v);
@@ -29,15 +32,16 @@ const float* srgbU8ToLinearTable();
 void quantizePage(const float* texels, uint32_t channels, PixelType type, ColorSpace space,
                   int alphaChannel, bool linearLight, void* samples);
 
-// Turns host-order samples into the stored byte layout: with `predict`, each channel's 8x8 grid is
-// replaced by zigzagged MED-prediction residuals; then bytes are laid out plane by plane (channel
-// major, then byte significance from low to high, then texel). Writes pageRawBytes bytes.
-void packPage(const void* samples, uint32_t channels, PixelType type, bool predict, uint8_t* out);
+// Turns host-order samples into the stored byte layout (pageRawBytes bytes): the prefix (texel 0 of
+// every channel, little-endian), then texels 1..63 of each channel's 8x8 grid as zigzagged
+// residuals of `filter`, laid out plane by plane (channel major, then byte significance from low to
+// high, then texel).
+void packPage(const void* samples, uint32_t channels, PixelType type, PageFilter filter, uint8_t* out);
 // Inverse of packPage.
-void unpackPage(const uint8_t* in, uint32_t channels, PixelType type, bool predict, void* samples);
+void unpackPage(const uint8_t* in, uint32_t channels, PixelType type, PageFilter filter, void* samples);
 
 // unpackPage followed by samplesToFloat in one pass, without the intermediate sample buffer.
-void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, bool predict, float* texels);
+void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, PageFilter filter, float* texels);
 
 // Converts host-order samples to floats (u8/u16 normalised to [0,1], half widened, float as is).
 void samplesToFloat(const void* samples, uint32_t channels, PixelType type, float* texels);

@@ -34,8 +34,8 @@ struct Options {
     int threads = 0;
     bool verbose = false;
     int compressionLevel = 1;
-    bool dictionary = true;
-    bool predict = true;
+    BotDictionary dictionary = BotDictionary::Auto;
+    std::optional<PageFilter> pageFilter;  // unset: chosen from the first pages
 };
 
 const char* kUsage =
@@ -47,8 +47,13 @@ const char* kUsage =
     "                                   metadata, else linear\n"
     "  --threads N                      worker threads (default: all)\n"
     "  --zstd-level N                   zstd level for pages (default 1)\n"
-    "  --no-dictionary                  do not train a zstd dictionary\n"
-    "  --no-predict                     store pages without MED prediction\n"
+    "  --dictionary auto|none|trained|literal\n"
+    "                                   per-file zstd dictionary (default auto: the kind that codes\n"
+    "                                   the first pages smallest)\n"
+    "  --no-dictionary                  the same as --dictionary none\n"
+    "  --page-filter auto|med|mean|none page prediction (default auto: the one whose residuals of\n"
+    "                                   the first pages code smaller)\n"
+    "  --no-predict                     the same as --page-filter none\n"
     "  -v                               print levels, sizes, time and compression ratio\n";
 
 [[noreturn]] void usageError(const std::string& msg) {
@@ -110,10 +115,24 @@ Options parseArgs(int argc, char** argv) {
             const long n = std::strtol(v.c_str(), &end, 10);
             if (v.empty() || *end || n < 1 || n > 22) usageError("bad zstd level '" + v + "'");
             o.compressionLevel = int(n);
+        } else if (a == "--dictionary") {
+            const std::string v = value();
+            const auto kind = parseBotDictionary(v);
+            if (!kind) usageError("bad dictionary kind '" + v + "'");
+            o.dictionary = *kind;
         } else if (a == "--no-dictionary") {
-            o.dictionary = false;
+            o.dictionary = BotDictionary::None;
+        } else if (a == "--page-filter") {
+            const std::string v = value();
+            if (v == "auto") {
+                o.pageFilter.reset();
+            } else if (auto f = parsePageFilter(v)) {
+                o.pageFilter = *f;
+            } else {
+                usageError("bad page filter '" + v + "'");
+            }
         } else if (a == "--no-predict") {
-            o.predict = false;
+            o.pageFilter = PageFilter::None;
         } else if (a == "-v" || a == "--verbose") {
             o.verbose = true;
         } else if (a == "-h" || a == "--help") {
@@ -176,8 +195,8 @@ int run(const Options& o) {
     wo.threads = o.threads;
     wo.alphaChannel = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
     wo.compressionLevel = o.compressionLevel;
-    wo.trainDictionary = o.dictionary;
-    wo.predictPages = o.predict;
+    wo.dictionary = o.dictionary;
+    wo.pageFilter = o.pageFilter;
 
     // Band height: whole tile rows for tiled files, otherwise 64 scanlines.
     const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
@@ -246,6 +265,11 @@ int run(const Options& o) {
                     o.output.c_str(), (unsigned long long)stats.pages, (unsigned long long)stats.rawBytes,
                     (unsigned long long)stats.fileBytes, double(stats.fileBytes) / double(std::max<uint64_t>(1, stats.rawBytes)),
                     stats.dictionaryBytes, seconds);
+        std::printf("%s: page filter %s, %s dictionary; pages stored as", o.output.c_str(),
+                    pageFilterName(stats.pageFilter), botDictionaryName(stats.dictionary));
+        for (int k = 0; k < 4; ++k)
+            std::printf(" %s %llu%s", pageKindName(BotPageKind(k)), (unsigned long long)stats.pagesOfKind[k],
+                        k < 3 ? "," : "\n");
     }
     return 0;
 }
