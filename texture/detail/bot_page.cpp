@@ -238,6 +238,26 @@ inline void loadGrid(const uint8_t* in, uint32_t channels, uint32_t c, T* g) {
     }
 }
 
+// Undoes the zigzag mapping of texels 1..63 of a grid (texel 0 is a sample).
+template <typename T>
+inline void unzigzagGrid(T* g) {
+#if defined(__SSE2__)
+    if constexpr (sizeof(T) == 1) {
+        const T first = g[0];
+        const __m128i one = _mm_set1_epi8(1), low7 = _mm_set1_epi8(0x7f), zero = _mm_setzero_si128();
+        for (uint32_t i = 0; i < kPageTexels; i += 16) {
+            __m128i* p = reinterpret_cast<__m128i*>(g + i);
+            const __m128i z = _mm_loadu_si128(p);
+            const __m128i half = _mm_and_si128(_mm_srli_epi16(z, 1), low7);
+            _mm_storeu_si128(p, _mm_xor_si128(half, _mm_sub_epi8(zero, _mm_and_si128(z, one))));
+        }
+        g[0] = first;
+        return;
+    }
+#endif
+    for (uint32_t i = 1; i < kPageTexels; ++i) g[i] = unzigzag(g[i]);
+}
+
 // Undoes MED on one grid whose texel 0 is a sample and texels 1..63 zigzagged residuals.
 template <typename T>
 void unpredictMed(T* s) {
@@ -256,33 +276,47 @@ void unpredictMed(T* s) {
 }
 
 // Undoes the mean prediction on K grids at once. Each grid is one chain of dependent texels (each
-// needs its left neighbour); interleaving K independent chains lets them overlap in the pipeline.
+// needs its left neighbour); the K independent chains overlap in the pipeline, and each chain's
+// last value stays in a register rather than going through memory.
 template <typename T, uint32_t K>
 void unpredictMean(T (*g)[kPageTexels]) {
     using U = std::conditional_t<(sizeof(T) < 4), uint32_t, uint64_t>;
     constexpr uint32_t n = kPageSizeTexels;
-    for (uint32_t k = 0; k < K; ++k)
-        for (uint32_t i = 1; i < kPageTexels; ++i) g[k][i] = unzigzag(g[k][i]);
-    for (uint32_t k = 0; k < K; ++k) g[k][1] = T(g[k][1] + g[k][0]);
+    for (uint32_t k = 0; k < K; ++k) unzigzagGrid(g[k]);
+    T left[K], left2[K];
+    // Row 0: texel 1 from texel 0, then the mean of the two texels before.
+    for (uint32_t k = 0; k < K; ++k) {
+        left2[k] = g[k][0];
+        left[k] = g[k][1] = T(g[k][1] + g[k][0]);
+    }
+#pragma GCC unroll 8
     for (uint32_t x = 2; x < n; ++x)
-        for (uint32_t k = 0; k < K; ++k) g[k][x] = T(g[k][x] + T((U(g[k][x - 1]) + U(g[k][x - 2]) + 1) >> 1));
-    for (uint32_t y = 1; y < n; ++y) {
+#pragma GCC unroll 4
         for (uint32_t k = 0; k < K; ++k) {
-            T* row = g[k] + y * n;
-            const T* up = row - n;
-            row[0] = T(row[0] + (y == 1 ? up[0] : T((U(up[0]) + U(up[-int(n)]) + 1) >> 1)));
+            const T v = T(g[k][x] + T((U(left[k]) + U(left2[k]) + 1) >> 1));
+            g[k][x] = v;
+            left2[k] = left[k];
+            left[k] = v;
         }
-        // The upper row's part of each sum does not depend on the chain.
+    for (uint32_t y = 1; y < n; ++y) {
+        // The upper row's part of each sum, which does not depend on the chain.
         U above[K][n];
+#pragma GCC unroll 4
         for (uint32_t k = 0; k < K; ++k) {
             const T* up = g[k] + (y - 1) * n;
             for (uint32_t x = 1; x + 1 < n; ++x) above[k][x] = U(up[x - 1]) + U(up[x]) + U(up[x + 1]) + 2;
             above[k][n - 1] = U(up[n - 2]) + 2 * U(up[n - 1]) + 2;
+            // Column 0: the texel above, or the mean of the two above.
+            const T pred = y == 1 ? up[0] : T((U(up[0]) + U(up[-int(n)]) + 1) >> 1);
+            left[k] = g[k][y * n] = T(g[k][y * n] + pred);
         }
+#pragma GCC unroll 8
         for (uint32_t x = 1; x < n; ++x)
+#pragma GCC unroll 4
             for (uint32_t k = 0; k < K; ++k) {
-                T* row = g[k] + y * n;
-                row[x] = T(row[x] + T((U(row[x - 1]) + above[k][x]) >> 2));
+                const T v = T(g[k][y * n + x] + T((U(left[k]) + above[k][x]) >> 2));
+                g[k][y * n + x] = v;
+                left[k] = v;
             }
     }
 }
