@@ -351,14 +351,14 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
                 const uint32_t sizeField = get16(entry);
                 e.checksum = get32(entry + 2);
                 e.kind = BotPageKind(sizeField >> kBotPageKindShift);
-                e.storedBytes = sizeField & kBotMaxStoredBytes;
+                e.storedBytes = uint16_t(sizeField & kBotMaxStoredBytes);
                 e.offsetBytes = offset;
                 // A raw page has the packed page's size; any other holds the prefix, then at least one
                 // byte of zstd data, and is smaller than the raw page.
                 if (e.kind == BotPageKind::Raw) {
                     if (e.storedBytes != 0)
                         throw fail("bad size field " + std::to_string(sizeField) + " of raw " + pageName(l, px, py));
-                    e.storedBytes = rawBytes;
+                    e.storedBytes = uint16_t(rawBytes);
                 } else if (e.storedBytes <= prefixBytes || e.storedBytes >= rawBytes) {
                     throw fail("bad stored size " + std::to_string(e.storedBytes) + " of " + pageName(l, px, py) +
                                " (" + pageKindName(e.kind) + " pages hold " + std::to_string(prefixBytes + 1) +

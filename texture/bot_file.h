@@ -69,13 +69,15 @@ const char* botDictionaryName(BotDictionary kind);
 std::optional<BotDictionary> parseBotDictionary(const std::string& name);  // auto, none, trained, literal
 std::optional<PageFilter> parsePageFilter(const std::string& name);  // none, med, mean
 
-// Where one page lives in the file (plain data).
+// Where one page lives in the file (plain data). 16 bytes: a texture of 16384^2 texels has 5.6
+// million pages, and every registered texture keeps its table in memory.
 struct BotPageEntry {
     uint64_t offsetBytes = 0;
-    uint32_t storedBytes = 0;  // bytes on disk
-    uint32_t checksum = 0;     // low 32 bits of XXH64(stored bytes, seed = global page index)
+    uint32_t checksum = 0;     // low 32 bits of XXH64(stored bytes, seed = page index | kind << 56)
+    uint16_t storedBytes = 0;  // bytes on disk (at most 16384)
     BotPageKind kind = BotPageKind::Raw;
 };
+static_assert(sizeof(BotPageEntry) == 16);
 
 // A parsed BOT file: header, level table and page table in memory; no file descriptor is kept open.
 // Thread safety: all const methods may be called concurrently.

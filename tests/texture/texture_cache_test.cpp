@@ -24,10 +24,11 @@ using testing::WarningLog;
 float readOne(TextureCache::PerThread& pt, TextureHandle h, uint32_t level, uint32_t px,
               uint32_t py, bool* ok = nullptr) {
     const uint8_t off = 9;
-    float v = -1.0f;
-    const bool r = pt.readTexels(h, level, px, py, &off, 1, &v);
+    float v[kMaxChannels];  // one texel of as many channels as the texture has; channel 0 returned
+    v[0] = -1.0f;
+    const bool r = pt.readTexels(h, level, px, py, &off, 1, v);
     if (ok) *ok = r;
-    return v;
+    return v[0];
 }
 
 void expectConsistent(const TextureCacheStats& s) {
