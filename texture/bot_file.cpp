@@ -675,7 +675,8 @@ struct BotWriter::Impl {
     // whose literal table is fitted to the residuals (cache::buildZstdLiteralDictionary), which
     // codes noisy 8-bit pages smaller. Each candidate dictionary is built from the even pages and
     // measured on the odd ones, so that one holding copies of its training pages is not credited
-    // with matching them; the winner is then built again from all pending pages.
+    // with matching them; the winner is used as measured. The trials run in parallel; each is a
+    // pure function of the pending pages, so the choice does not depend on the thread count.
     void decideCoding() {
         codingDecided = true;
         const size_t pageCount = pendingBytes / rawBytes;
@@ -688,41 +689,45 @@ struct BotWriter::Impl {
             kinds = {BotDictionary::None, BotDictionary::Trained, BotDictionary::Literal};
         else if (enoughPages && options.dictionary != BotDictionary::None)
             kinds = {options.dictionary};
-        const bool heldOut = kinds.size() > 1 || kinds[0] != BotDictionary::None;
-        std::vector<uint8_t> bestPages;
-        double best = HUGE_VAL;
-        BotDictionary bestKind = kinds[0];
-        for (PageFilter filter : filters) {
-            std::vector<uint8_t> pages = packPending(filter);
-            if (filters.size() == 1 && kinds.size() == 1) {  // nothing to choose
-                pageFilter = filter;
-                bestPages = std::move(pages);
-                break;
-            }
-            bool better = false;
-            for (BotDictionary kind : kinds) {
-                const bool none = kind == BotDictionary::None;
-                const auto candidate = none ? nullptr : digest(buildDictionary(kind, pages, 2));
-                if (!none && !candidate) continue;
-                const double bytes = heldOut ? expectedBytesWith(candidate, minMatchFor(kind), pages, 1, 2)
-                                             : expectedBytesWith(candidate, minMatchFor(kind), pages, 0, 1);
-                if (bytes < best) {
-                    best = bytes;
-                    bestKind = kind;
-                    pageFilter = filter;
-                    better = true;
+
+        std::vector<std::vector<uint8_t>> packedByFilter(filters.size());
+        tbb::parallel_for(size_t(0), filters.size(),
+                          [&](size_t f) { packedByFilter[f] = packPending(filters[f]); });
+        struct Trial {
+            size_t filter;
+            BotDictionary kind;
+            std::shared_ptr<const cache::ZstdDictionary> dictionary;
+            double bytes = HUGE_VAL;
+        };
+        std::vector<Trial> trials;
+        for (size_t f = 0; f < filters.size(); ++f)
+            for (BotDictionary kind : kinds) trials.push_back({f, kind, nullptr});
+        if (trials.size() > 1) {
+            const bool heldOut = kinds.size() > 1 || kinds[0] != BotDictionary::None;
+            tbb::parallel_for(size_t(0), trials.size(), [&](size_t t) {
+                Trial& trial = trials[t];
+                const std::vector<uint8_t>& pages = packedByFilter[trial.filter];
+                if (trial.kind != BotDictionary::None) {
+                    trial.dictionary = digest(buildDictionary(trial.kind, pages, 2));
+                    if (!trial.dictionary) return;  // zstd could not build it: not a candidate
                 }
-            }
-            if (better) bestPages = std::move(pages);
+                trial.bytes = heldOut ? expectedBytesWith(trial.dictionary, minMatchFor(trial.kind), pages, 1, 2)
+                                      : expectedBytesWith(trial.dictionary, minMatchFor(trial.kind), pages, 0, 1);
+            });
+        } else if (trials[0].kind != BotDictionary::None) {
+            trials[0].dictionary = digest(buildDictionary(trials[0].kind, packedByFilter[0], 1));
         }
-        if (bestKind != BotDictionary::None) {
-            dictionary = digest(buildDictionary(bestKind, bestPages, 1));
-            if (dictionary) {
-                dictionaryKind = bestKind;
-                minMatch = minMatchFor(bestKind);
-                pwriteAll(fd, dictionary->bytes().data(), dictionary->bytes().size(), cursor, target);
-                cursor += dictionary->bytes().size();
-            }
+        size_t best = 0;
+        for (size_t t = 1; t < trials.size(); ++t)
+            if (trials[t].bytes < trials[best].bytes) best = t;
+        pageFilter = filters[trials[best].filter];
+        const std::vector<uint8_t> bestPages = std::move(packedByFilter[trials[best].filter]);
+        dictionary = trials[best].dictionary;
+        if (dictionary) {
+            dictionaryKind = trials[best].kind;
+            minMatch = minMatchFor(dictionaryKind);
+            pwriteAll(fd, dictionary->bytes().data(), dictionary->bytes().size(), cursor, target);
+            cursor += dictionary->bytes().size();
         }
         compressors.emplace();
         std::vector<std::pair<uint32_t, uint32_t>> rows;
