@@ -1,7 +1,8 @@
 #include "cache/zstd_codec.h"
 
-// The compact frame format (no magic number) is an experimental zstd parameter; only its enum value
-// is needed here, every function called is part of the stable API.
+// The compact frame format (no magic number) and the literal compression mode are experimental zstd
+// parameters; only their enum values are needed here, every function called is part of the stable
+// API.
 #define ZSTD_STATIC_LINKING_ONLY
 #include <zdict.h>
 #include <zstd.h>
@@ -231,7 +232,7 @@ static void setCompactFrame(ZSTD_CCtx* cctx) {
 }
 
 ZstdCompressor::ZstdCompressor(int level, std::shared_ptr<const ZstdDictionary> dictionary)
-    : m_dictionary(std::move(dictionary)) {
+    : m_dictionary(std::move(dictionary)), m_level(level) {
     ZSTD_CCtx* cctx = ZSTD_createCCtx();
     if (!cctx) throw std::bad_alloc();
     m_cctx = cctx;
@@ -256,15 +257,16 @@ size_t ZstdCompressor::compress(const void* src, size_t srcBytes, void* dst, siz
     return r;
 }
 
-void ZstdCompressor::setMinMatch(int bytes) {
+void ZstdCompressor::tune(const ZstdTuning& tuning) {
     ZSTD_CCtx* cctx = cctxOf(m_cctx);
-    ZSTD_CCtx_setParameter(cctx, ZSTD_c_minMatch, bytes);
-    // A referenced CDict brings the parameters it was digested with, which would override this one;
+    const int level = tuning.level ? tuning.level : m_dictionary ? m_dictionary->compressionLevel() : m_level;
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, level);
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_minMatch, tuning.minMatch);
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_literalCompressionMode,
+                           tuning.huffmanLiterals ? ZSTD_ps_enable : ZSTD_ps_auto);
+    // A referenced CDict brings the parameters it was digested with, which would override these;
     // loading the dictionary's bytes instead digests them once more with the context's parameters.
-    if (m_dictionary) {
-        ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, m_dictionary->compressionLevel());
-        ZSTD_CCtx_loadDictionary(cctx, m_dictionary->bytes().data(), m_dictionary->bytes().size());
-    }
+    if (m_dictionary) ZSTD_CCtx_loadDictionary(cctx, m_dictionary->bytes().data(), m_dictionary->bytes().size());
 }
 
 size_t ZstdCompressor::compressCompact(const void* src, size_t srcBytes, void* dst, size_t dstCapacity,

@@ -73,6 +73,14 @@ const char* zstdFormName(ZstdForm form);
 // Bytes the rebuilt headers of `form` add to `storedBytes` stored bytes of a `contentBytes` frame.
 size_t zstdFormOverheadBytes(ZstdForm form, size_t contentBytes);
 
+// Compression parameters beyond the level, for small blocks that are mostly literals (prediction
+// residuals), where zstd's match finder costs time and rarely finds anything worth coding.
+struct ZstdTuning {
+    int level = 0;         // 0: the dictionary's level (or the constructor's); negative: zstd's fast levels
+    int minMatch = 0;      // zstd's shortest match, 3..7 (0: the level's own)
+    bool huffmanLiterals = false;  // code literals with Huffman even at negative levels, which skip it
+};
+
 class ZstdCompressor {
 public:
     // `dictionary` may be null; when given, its compression level is used instead of `level`.
@@ -91,14 +99,14 @@ public:
     // Never throws.
     size_t compressCompact(const void* src, size_t srcBytes, void* dst, size_t dstCapacity, ZstdForm& form);
 
-    // zstd's shortest match length (3..7; 0: the level's default). Matches shorter than the
-    // default are rarely worth their sequence codes in small blocks of residuals.
-    void setMinMatch(int bytes);
+    // Retunes later calls for small blocks (see ZstdTuning).
+    void tune(const ZstdTuning& tuning);
 
 private:
     void* m_cctx = nullptr;  // ZSTD_CCtx*
-    std::vector<uint8_t> m_frame;  // compressCompact's whole frame before its headers are cut
     std::shared_ptr<const ZstdDictionary> m_dictionary;
+    int m_level = 3;
+    std::vector<uint8_t> m_frame;  // compressCompact's whole frame before its headers are cut
 };
 
 class ZstdDecompressor {

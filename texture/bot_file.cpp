@@ -486,7 +486,7 @@ struct BotWriter::Impl {
     uint32_t prefixBytes = 0;
     std::shared_ptr<const cache::ZstdDictionary> dictionary;
     BotDictionary dictionaryKind = BotDictionary::None;
-    int minMatch = 0;  // 0: the level's own
+    cache::ZstdTuning tuning;  // how pages are compressed with `dictionary`
     struct PendingRow {
         uint32_t level, pageY;
         std::vector<uint8_t> samples;  // pagesX pages of rawBytes bytes of host-order samples
@@ -518,7 +518,7 @@ struct BotWriter::Impl {
         auto& slot = compressors->local();
         if (!slot) {
             slot = std::make_unique<cache::ZstdCompressor>(options.compressionLevel, dictionary);
-            if (minMatch) slot->setMinMatch(minMatch);
+            slot->tune(tuning);
         }
         return *slot;
     }
@@ -639,9 +639,13 @@ struct BotWriter::Impl {
                                                  options.compressionLevel);
     }
 
-    // Residual bytes rarely repeat: with the literal dictionary, short matches cost more in sequence
-    // codes than they save.
-    static int minMatchFor(BotDictionary kind) { return kind == BotDictionary::Literal ? 7 : 0; }
+    // With the literal dictionary pages are residuals, which rarely repeat: short matches cost more
+    // in sequence codes than they save, and zstd's fast level -7 with Huffman-coded literals codes
+    // them as small as level 1 in half the time (BOT_FORMAT.md "Compression").
+    cache::ZstdTuning tuningFor(BotDictionary kind) const {
+        if (kind == BotDictionary::Literal) return {-7, 7, true};
+        return {options.compressionLevel, 0, false};
+    }
 
     std::shared_ptr<const cache::ZstdDictionary> digest(const std::vector<uint8_t>& bytes) const {
         if (bytes.empty()) return nullptr;
@@ -653,12 +657,13 @@ struct BotWriter::Impl {
     }
 
     // The file's expected page bytes when coded with `candidate` (or no dictionary) and
-    // `candidateMinMatch`: the dictionary, plus the bytes stored for every `step`-th page of `pages`
+    // `candidateTuning`: the dictionary, plus the bytes stored for every `step`-th page of `pages`
     // from page `first`, scaled to the file's page count.
-    double expectedBytesWith(const std::shared_ptr<const cache::ZstdDictionary>& candidate, int candidateMinMatch,
-                             const std::vector<uint8_t>& pages, size_t first, size_t step) const {
+    double expectedBytesWith(const std::shared_ptr<const cache::ZstdDictionary>& candidate,
+                             const cache::ZstdTuning& candidateTuning, const std::vector<uint8_t>& pages, size_t first,
+                             size_t step) const {
         cache::ZstdCompressor z(options.compressionLevel, candidate);
-        if (candidateMinMatch) z.setMinMatch(candidateMinMatch);
+        z.tune(candidateTuning);
         std::vector<uint8_t> dst(rawBytes);
         uint64_t stored = 0, count = 0;
         for (size_t off = first * rawBytes; off + rawBytes <= pages.size(); off += step * rawBytes, ++count) {
@@ -711,8 +716,8 @@ struct BotWriter::Impl {
                     trial.dictionary = digest(buildDictionary(trial.kind, pages, 2));
                     if (!trial.dictionary) return;  // zstd could not build it: not a candidate
                 }
-                trial.bytes = heldOut ? expectedBytesWith(trial.dictionary, minMatchFor(trial.kind), pages, 1, 2)
-                                      : expectedBytesWith(trial.dictionary, minMatchFor(trial.kind), pages, 0, 1);
+                trial.bytes = heldOut ? expectedBytesWith(trial.dictionary, tuningFor(trial.kind), pages, 1, 2)
+                                      : expectedBytesWith(trial.dictionary, tuningFor(trial.kind), pages, 0, 1);
             });
         } else if (trials[0].kind != BotDictionary::None) {
             trials[0].dictionary = digest(buildDictionary(trials[0].kind, packedByFilter[0], 1));
@@ -725,7 +730,7 @@ struct BotWriter::Impl {
         dictionary = trials[best].dictionary;
         if (dictionary) {
             dictionaryKind = trials[best].kind;
-            minMatch = minMatchFor(dictionaryKind);
+            tuning = tuningFor(dictionaryKind);
             pwriteAll(fd, dictionary->bytes().data(), dictionary->bytes().size(), cursor, target);
             cursor += dictionary->bytes().size();
         }

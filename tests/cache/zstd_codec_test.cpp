@@ -202,7 +202,7 @@ TEST(ZstdCodec, CompactFormsDropOnlyTheHeadersTheDecompressorRebuilds) {
     ASSERT_FALSE(dictBytes.empty());
     auto dict = std::make_shared<ZstdDictionary>(dictBytes.data(), dictBytes.size(), 1);
     ZstdCompressor c(1, dict);
-    c.setMinMatch(7);
+    c.tune({-7, 7, true});
     ZstdDecompressor d(dict);
     int forms[3] = {};
     for (uint32_t i = 10000; i < 10200; ++i) {
@@ -273,16 +273,20 @@ TEST(ZstdCodec, LiteralDictionaryCodesResidualsSmallerThanTrainedOne) {
     ASSERT_FALSE(literal.empty());
     ASSERT_FALSE(trained.empty());
     EXPECT_LT(literal.size(), 189u + 64u + 1024u);  // content of maxBlockBytes + 64, small tables
-    auto total = [&](const std::vector<uint8_t>& bytes, int minMatch) {
+    auto total = [&](const std::vector<uint8_t>& bytes, const ZstdTuning& tuning) {
         auto dict = std::make_shared<ZstdDictionary>(bytes.data(), bytes.size(), 1);
         ZstdCompressor c(1, dict);
-        if (minMatch) c.setMinMatch(minMatch);
+        c.tune(tuning);
         ZstdDecompressor d(dict);
         size_t sum = 0;
         for (uint32_t i = 50000; i < 50500; ++i) sum += compactRoundTrip(c, d, residualBlock(i, 189), nullptr);
         return sum;
     };
-    const size_t withLiteral = total(literal, 7), withTrained = total(trained, 0);
+    const size_t withLiteral = total(literal, {-7, 7, true}), withTrained = total(trained, {});
+    // Level 1 and the fast level with Huffman literals code residuals to the same size.
+    EXPECT_LT(double(total(literal, {1, 7, false})), 1.01 * double(withLiteral));
+    // At a fast level zstd stores literals raw unless told otherwise.
+    EXPECT_GT(double(total(literal, {-7, 7, false})), 1.5 * double(withLiteral));
     // Order-0 entropy of the blocks, in bytes per block.
     double histogram[256] = {};
     for (uint8_t v : s.bytes) histogram[v] += 1;

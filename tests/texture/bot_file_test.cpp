@@ -8,6 +8,7 @@
 
 #include <Imath/half.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -92,6 +93,35 @@ std::vector<float> readLevel(const BotFile& file, uint32_t level) {
     }
     ::close(fd);
     return out;
+}
+
+// 8-bit sRGB quantisation of linear values is the nearest code: the number of code midpoints (in
+// sRGB space, mapped to linear) at or below the value, counted here by brute force.
+TEST(BotPage, SrgbQuantisationIsTheNearestCode) {
+    std::vector<float> midpoints(255);
+    for (int k = 0; k < 255; ++k) {
+        const double s = (k + 0.5) / 255.0;
+        midpoints[size_t(k)] = float(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
+    }
+    std::vector<float> values;
+    for (uint32_t bits = 0; bits <= 0x3f800000u; bits += 4093) {
+        float v;
+        std::memcpy(&v, &bits, 4);
+        values.push_back(v);
+    }
+    for (float m : midpoints) values.insert(values.end(), {m, std::nextafter(m, 0.0f), std::nextafter(m, 2.0f)});
+    values.insert(values.end(), {-1.0f, 0.0f, 1.0f, 1.5f, INFINITY, -INFINITY, NAN});
+    while (values.size() % 64) values.push_back(0.5f);
+    for (size_t b = 0; b < values.size(); b += 64) {
+        uint8_t out[64];
+        detail::quantizePage(values.data() + b, 1, PixelType::U8, ColorSpace::SRGB, -1, true, out);
+        for (size_t i = 0; i < 64; ++i) {
+            const float v = values[b + i];
+            int expected = 0;
+            if (v > 0.0f) expected = int(std::upper_bound(midpoints.begin(), midpoints.end(), v) - midpoints.begin());
+            ASSERT_EQ(int(out[i]), expected) << "linear value " << v;
+        }
+    }
 }
 
 TEST(BotChecksum, MatchesPublishedXxh64Values) {

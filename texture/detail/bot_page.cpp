@@ -26,13 +26,22 @@ float linearToSrgb(float v) {
 
 namespace {
 
+// Linear values from 2^-14 up to 1 fall into kSrgbBuckets buckets by their top 16 float bits (the
+// exponent and 7 mantissa bits); every 8-bit code below 2^-14 is 0.
+constexpr uint32_t kSrgbBucketBase = 0x38800000u;  // bits of 2^-14
+constexpr uint32_t kSrgbBuckets = (0x3f800000u - kSrgbBucketBase) >> 16;
+
 struct SrgbTables {
     std::array<float, 256> toLinear;
     // thresholds[k] is the linear value halfway (in sRGB code space) between codes k and k+1, so the
     // nearest 8-bit code of a linear value v is the number of thresholds <= v. Entry 255 is +inf so
-    // that a branchless binary search over 256 entries stays inside the table.
+    // that a scan over the table stops inside it.
     std::array<float, 256> thresholds;
     std::array<float, 256> unorm;  // k / 255
+    // The code of each bucket's lowest value. A bucket is 1/128 of an octave wide, narrower than
+    // the gap between two thresholds almost everywhere, so the code of a value is its bucket's code
+    // or one of the next few.
+    std::array<uint8_t, kSrgbBuckets> bucketCode;
     SrgbTables() {
         for (int k = 0; k < 256; ++k) {
             toLinear[k] = srgbToLinear(float(k) / 255.0f);
@@ -40,6 +49,24 @@ struct SrgbTables {
         }
         for (int k = 0; k < 255; ++k) thresholds[k] = float(srgbToLinear((double(k) + 0.5) / 255.0));
         thresholds[255] = std::numeric_limits<float>::infinity();
+        for (uint32_t b = 0; b < kSrgbBuckets; ++b) {
+            const uint32_t bits = kSrgbBucketBase + (b << 16);
+            float lo;
+            std::memcpy(&lo, &bits, 4);
+            uint32_t code = 0;
+            while (thresholds[code] <= lo) ++code;
+            bucketCode[b] = uint8_t(code);
+        }
+        // linearToSrgbU8 steps at most twice past a bucket's code: check that the largest value of
+        // every bucket needs no more.
+        for (uint32_t b = 0; b < kSrgbBuckets; ++b) {
+            const uint32_t bits = kSrgbBucketBase + ((b + 1) << 16) - 1;
+            float hi;
+            std::memcpy(&hi, &bits, 4);
+            uint32_t code = bucketCode[b];
+            while (thresholds[code] <= hi) ++code;
+            if (code > bucketCode[b] + 2u) std::abort();
+        }
     }
     static float srgbToLinear(double v) {
         return float(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
@@ -51,13 +78,18 @@ const SrgbTables& tables() {
     return t;
 }
 
-// Nearest sRGB 8-bit code of linear value v: counts the thresholds <= v by a binary search whose
-// steps are conditional adds rather than branches (noisy data would mispredict them).
-inline uint8_t linearToSrgbU8(const float* thresholds, float v) {
+// Nearest sRGB 8-bit code of linear value v: the number of thresholds <= v, found from v's bucket.
+inline uint8_t linearToSrgbU8(const SrgbTables& t, float v) {
     if (!(v > 0.0f)) return 0;  // also NaN
-    uint32_t pos = 0;
-    for (uint32_t step = 128; step > 0; step >>= 1) pos += thresholds[pos + step - 1] <= v ? step : 0;
-    return uint8_t(pos);
+    if (!(v < 1.0f)) return 255;
+    uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    uint32_t code = bits < kSrgbBucketBase ? 0 : t.bucketCode[(bits - kSrgbBucketBase) >> 16];
+    // No bucket holds more than one threshold (the constructor checks two steps suffice), so two
+    // conditional adds finish without a branch to mispredict. thresholds[255] is +inf.
+    code += t.thresholds[code] <= v ? 1 : 0;
+    code += t.thresholds[code] <= v ? 1 : 0;
+    return uint8_t(code);
 }
 
 inline float clamp01(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; }  // NaN -> 0
@@ -146,10 +178,21 @@ void packT(const T* samples, uint32_t channels, PageFilter filter, uint8_t* out)
                 for (uint32_t y = 0; y < n; ++y)
                     for (uint32_t x = y == 0 ? 1 : 0; x < n; ++x) z[y * n + x] = zigzag(s[y * n + x], medPredictAt(s, x, y));
                 break;
-            case PageFilter::Mean:
-                for (uint32_t y = 0; y < n; ++y)
-                    for (uint32_t x = y == 0 ? 1 : 0; x < n; ++x) z[y * n + x] = zigzag(s[y * n + x], meanPredictAt(s, x, y));
+            case PageFilter::Mean: {
+                // Row 0 and column 0 as meanPredictAt says; the interior without its edge tests.
+                using U = std::conditional_t<(sizeof(T) < 4), uint32_t, uint64_t>;
+                for (uint32_t x = 1; x < n; ++x) z[x] = zigzag(s[x], meanPredictAt(s, x, 0));
+                for (uint32_t y = 1; y < n; ++y) {
+                    const T* up = s + (y - 1) * n;
+                    const T* row = s + y * n;
+                    z[y * n] = zigzag(row[0], meanPredictAt(s, 0, y));
+                    for (uint32_t x = 1; x + 1 < n; ++x)
+                        z[y * n + x] = zigzag(row[x], T((U(row[x - 1]) + U(up[x - 1]) + U(up[x]) + U(up[x + 1]) + 2) >> 2));
+                    z[y * n + n - 1] =
+                        zigzag(row[n - 1], T((U(row[n - 2]) + U(up[n - 2]) + 2 * U(up[n - 1]) + 2) >> 2));
+                }
                 break;
+            }
         }
         for (uint32_t b = 0; b < kBytes; ++b) {
             uint8_t* plane = body + (size_t(c) * kBytes + b) * kCodedTexels;
@@ -414,13 +457,27 @@ void quantizePage(const float* texels, uint32_t channels, PixelType type, ColorS
         case PixelType::U8: {
             uint8_t* out = static_cast<uint8_t*>(samples);
             if (!encode) {
+#if defined(__SSE2__)
+                // n is a multiple of 64. maxps returns its second operand for NaN, so NaN stores 0.
+                const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), scale = _mm_set1_ps(255.0f),
+                             half = _mm_set1_ps(0.5f);
+                auto code = [&](uint32_t i) {
+                    const __m128 v = _mm_min_ps(_mm_max_ps(_mm_loadu_ps(texels + i), zero), one);
+                    return _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(v, scale), half));
+                };
+                for (uint32_t i = 0; i < n; i += 16) {
+                    const __m128i lo = _mm_packs_epi32(code(i), code(i + 4)), hi = _mm_packs_epi32(code(i + 8), code(i + 12));
+                    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(lo, hi));
+                }
+#else
                 for (uint32_t i = 0; i < n; ++i) out[i] = uint8_t(clamp01(texels[i]) * 255.0f + 0.5f);
+#endif
             } else {
-                const float* thresholds = tables().thresholds.data();
+                const SrgbTables& t = tables();
                 for (uint32_t i = 0; i < n; i += channels) {
                     for (uint32_t c = 0; c < channels; ++c) {
                         const float v = texels[i + c];
-                        out[i + c] = int(c) == alpha ? uint8_t(clamp01(v) * 255.0f + 0.5f) : linearToSrgbU8(thresholds, v);
+                        out[i + c] = int(c) == alpha ? uint8_t(clamp01(v) * 255.0f + 0.5f) : linearToSrgbU8(t, v);
                     }
                 }
             }
