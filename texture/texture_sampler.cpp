@@ -123,6 +123,22 @@ inline void addTexel(Context& c, uint32_t level, int32_t x, int32_t y, float wei
     for (uint32_t ch = 0; ch < channelsOf<C>(c); ++ch) acc[ch] += weight * v[ch];
 }
 
+// Adds wa × texel (xa, ya) + wb × texel (xb, yb) of `level` to acc; both texels lie in one page.
+template <uint32_t C>
+inline void addPair(Context& c, uint32_t level, int32_t xa, int32_t ya, int32_t xb, int32_t yb, float wa, float wb,
+                    float* acc) {
+    float v[2 * kMaxOutChannels];
+    const uint32_t m = kPage - 1;
+    const uint8_t off[2] = {uint8_t((uint32_t(ya) & m) * kPage + (uint32_t(xa) & m)),
+                            uint8_t((uint32_t(yb) & m) * kPage + (uint32_t(xb) & m))};
+    if (!c.thread->template readTexelsN<C>(c.handle, level, uint32_t(xa) / kPage, uint32_t(ya) / kPage, off, 2, v)) {
+        c.failed = true;
+        return;
+    }
+    const uint32_t n = channelsOf<C>(c);
+    for (uint32_t ch = 0; ch < n; ++ch) acc[ch] += wa * v[ch] + wb * v[n + ch];
+}
+
 // Adds weight × the bilinear value at (s, t) of `level` to acc.
 template <uint32_t C>
 void addBilinear(Context& c, uint32_t level, float s, float t, float weight, float* acc) {
@@ -158,7 +174,19 @@ void addBilinear(Context& c, uint32_t level, float s, float t, float weight, flo
             acc[ch] += w00 * v[ch] + w10 * v[n + ch] + w01 * v[2 * n + ch] + w11 * v[3 * n + ch];
         return;
     }
-    // Straddles pages or touches black border texels: one request per texel inside.
+    // Straddles two pages side by side or one above the other (about a fifth of all footprints
+    // with 8x8 pages): one request per page.
+    if ((x0 | x1 | y0 | y1) >= 0 && ((uint32_t(y0) ^ uint32_t(y1)) < kPage)) {
+        addPair<C>(c, level, x0, y0, x0, y1, w00, w01, acc);
+        addPair<C>(c, level, x1, y0, x1, y1, w10, w11, acc);
+        return;
+    }
+    if ((x0 | x1 | y0 | y1) >= 0 && ((uint32_t(x0) ^ uint32_t(x1)) < kPage)) {
+        addPair<C>(c, level, x0, y0, x1, y0, w00, w10, acc);
+        addPair<C>(c, level, x0, y1, x1, y1, w01, w11, acc);
+        return;
+    }
+    // Straddles four pages or touches black border texels: one request per texel inside.
     if (x0 >= 0 && y0 >= 0) addTexel<C>(c, level, x0, y0, w00, acc);
     if (x1 >= 0 && y0 >= 0) addTexel<C>(c, level, x1, y0, w10, acc);
     if (x0 >= 0 && y1 >= 0) addTexel<C>(c, level, x0, y1, w01, acc);
