@@ -196,11 +196,16 @@ size_t compactRoundTrip(ZstdCompressor& c, ZstdDecompressor& d, const std::vecto
     return n;
 }
 
+// A literal dictionary for 189-byte residual blocks, built from `count` samples (null on failure).
+std::shared_ptr<ZstdDictionary> literalDictionary(size_t count) {
+    const Samples s = residualSamples(count, 189);
+    const auto bytes = buildZstdLiteralDictionary(s.bytes.data(), s.sizes.data(), s.sizes.size(), 189, 1);
+    return bytes.empty() ? nullptr : std::make_shared<ZstdDictionary>(bytes.data(), bytes.size(), 1);
+}
+
 TEST(ZstdCodec, CompactFormsDropOnlyTheHeadersTheDecompressorRebuilds) {
-    const Samples s = residualSamples(3000, 189);
-    const auto dictBytes = buildZstdLiteralDictionary(s.bytes.data(), s.sizes.data(), s.sizes.size(), 189, 1);
-    ASSERT_FALSE(dictBytes.empty());
-    auto dict = std::make_shared<ZstdDictionary>(dictBytes.data(), dictBytes.size(), 1);
+    const auto dict = literalDictionary(3000);
+    ASSERT_TRUE(dict);
     ZstdCompressor c(1, dict);
     c.tune({-7, 7, true});
     ZstdDecompressor d(dict);
@@ -230,10 +235,8 @@ TEST(ZstdCodec, CompactFormsDropOnlyTheHeadersTheDecompressorRebuilds) {
 }
 
 TEST(ZstdCodec, CompactFormsRejectWrongOrDamagedInput) {
-    const Samples s = residualSamples(2000, 189);
-    const auto dictBytes = buildZstdLiteralDictionary(s.bytes.data(), s.sizes.data(), s.sizes.size(), 189, 1);
-    ASSERT_FALSE(dictBytes.empty());
-    auto dict = std::make_shared<ZstdDictionary>(dictBytes.data(), dictBytes.size(), 1);
+    const auto dict = literalDictionary(2000);
+    ASSERT_TRUE(dict);
     ZstdCompressor c(1, dict);
     ZstdDecompressor d(dict);
     const auto src = residualBlock(77, 189);
@@ -301,10 +304,8 @@ TEST(ZstdCodec, LiteralDictionaryCodesResidualsSmallerThanTrainedOne) {
 }
 
 TEST(ZstdCodec, LiteralDictionaryStillCodesBytesItHasNoCodeFor) {
-    const Samples s = residualSamples(2000, 189);  // values 0..16 only
-    const auto bytes = buildZstdLiteralDictionary(s.bytes.data(), s.sizes.data(), s.sizes.size(), 189, 1);
-    ASSERT_FALSE(bytes.empty());
-    auto dict = std::make_shared<ZstdDictionary>(bytes.data(), bytes.size(), 1);
+    const auto dict = literalDictionary(2000);  // residual values 0..16 only
+    ASSERT_TRUE(dict);
     ZstdCompressor c(1, dict);
     ZstdDecompressor d(dict);
     std::vector<uint8_t> src = residualBlock(123, 189);
