@@ -152,7 +152,9 @@ struct BotWriteOptions {
     std::string filter = "box";  // mip filter: box, triangle or lanczos3
     int threads = 0;             // 0: all hardware threads
     int alphaChannel = -2;       // -2: last channel of 2- and 4-channel images; -1: none
-    int compressionLevel = 1;    // zstd level for pages (1 measured best on 8x8 pages, see BOT_FORMAT.md)
+    // zstd level for pages with a trained or no dictionary (1 measured best on 8x8 pages); pages with
+    // the literal dictionary use zstd's fast level -7 with Huffman literals (BOT_FORMAT.md).
+    int compressionLevel = 1;
     // The per-file zstd dictionary: auto (the smallest of none, trained and literal on the first
     // pages), none, trained (zstd's trainer) or literal (a literal table fitted to the residuals).
     BotDictionary dictionary = BotDictionary::Auto;
