@@ -310,6 +310,21 @@ TEST(BotWriter, SameBytesWithOneOrTwoThreads) {
     }
 }
 
+// A flat texture: residuals are all zero, which a literal table cannot be fitted to (zstd codes a
+// block of one byte value without one); the writer falls back to the other kinds, and runs of
+// zeros become matches.
+TEST(BotWriter, ConstantImageCodesToAlmostNothing) {
+    const uint32_t w = 512, h = 512, ch = 3;
+    const std::vector<float> src(size_t(w) * h * ch, 128.0f / 255.0f);
+    const fs::path path = tempDir() / "constant.bot";
+    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    const auto file = BotFile::open(path);
+    EXPECT_EQ(readLevel(*file, 0), src);
+    const uint64_t raw = file->pageCount() * file->pageRawBytes();
+    EXPECT_LT(file->fileBytes(), raw / 8) << file->fileBytes() << " of " << raw;
+    for (uint64_t i = 0; i < file->pageCount(); ++i) ASSERT_NE(file->pageEntry(i).kind, BotPageKind::Raw);
+}
+
 TEST(BotWriter, AutomaticCodingIsAsSmallAsTheBestForcedOne) {
     const uint32_t w = 512, h = 384, ch = 3;
     const std::vector<float> src = noisyImage(w, h, ch, 31, 9);
