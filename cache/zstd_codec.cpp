@@ -22,6 +22,13 @@ namespace {
 ZSTD_CCtx* cctxOf(void* p) { return static_cast<ZSTD_CCtx*>(p); }
 ZSTD_DCtx* dctxOf(void* p) { return static_cast<ZSTD_DCtx*>(p); }
 
+void setCompactFrame(ZSTD_CCtx* cctx) {
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_format, ZSTD_f_zstd1_magicless);
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_checksumFlag, 0);
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_dictIDFlag, 0);
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_contentSizeFlag, 1);
+}
+
 // RFC 8878 field layouts used to cut headers from compact frames and to rebuild them.
 constexpr size_t kBlockHeaderBytes = 3;
 constexpr size_t kLiteralsHeaderBytes = 3;  // Size_Format 00: one stream, 10-bit sizes
@@ -179,22 +186,17 @@ std::vector<uint8_t> buildZstdLiteralDictionary(const void* samples, const size_
     {
         ZSTD_CCtx* cctx = ZSTD_createCCtx();
         if (!cctx) return {};
-        ZSTD_CCtx_setParameter(cctx, ZSTD_c_format, ZSTD_f_zstd1_magicless);
+        setCompactFrame(cctx);
         ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, 1);
         ZSTD_CCtx_setParameter(cctx, ZSTD_c_minMatch, 7);
-        ZSTD_CCtx_setParameter(cctx, ZSTD_c_contentSizeFlag, 1);
         frameBytes = ZSTD_compress2(cctx, frame.data(), frame.size(), synthetic.data(), synthetic.size());
         ZSTD_freeCCtx(cctx);
         if (ZSTD_isError(frameBytes)) return {};
     }
-    // Frame header (magicless): descriptor, window descriptor unless Single_Segment, content size.
-    const uint8_t descriptor = frame[0];
-    const bool singleSegment = (descriptor >> 5) & 1;
-    const size_t fcsCode = descriptor >> 6;
-    const size_t fcsBytes = fcsCode == 0 ? (singleSegment ? 1 : 0) : size_t(1) << fcsCode;
-    const size_t dictIdBytes = (descriptor & 3) == 3 ? 4 : (descriptor & 3);
-    size_t pos = 1 + (singleSegment ? 0 : 1) + dictIdBytes + fcsBytes;
-    if (pos + kBlockHeaderBytes + 5 > frameBytes) return {};
+    // A compact frame: its header is the one compactFrameHeader() writes.
+    uint8_t header[8];
+    size_t pos = compactFrameHeader(synthetic.size(), header);
+    if (pos + kBlockHeaderBytes + 5 > frameBytes || std::memcmp(frame.data(), header, pos) != 0) return {};
     const uint32_t blockHeader = get24(frame.data() + pos);
     pos += kBlockHeaderBytes;
     const uint8_t literalsType = frame[pos] & 3, sizeFormat = (frame[pos] >> 2) & 3;
@@ -223,13 +225,6 @@ std::vector<uint8_t> buildZstdLiteralDictionary(const void* samples, const size_
 }
 
 size_t zstdCompressBound(size_t srcBytes) { return ZSTD_compressBound(srcBytes); }
-
-static void setCompactFrame(ZSTD_CCtx* cctx) {
-    ZSTD_CCtx_setParameter(cctx, ZSTD_c_format, ZSTD_f_zstd1_magicless);
-    ZSTD_CCtx_setParameter(cctx, ZSTD_c_checksumFlag, 0);
-    ZSTD_CCtx_setParameter(cctx, ZSTD_c_dictIDFlag, 0);
-    ZSTD_CCtx_setParameter(cctx, ZSTD_c_contentSizeFlag, 1);
-}
 
 ZstdCompressor::ZstdCompressor(int level, std::shared_ptr<const ZstdDictionary> dictionary)
     : m_dictionary(std::move(dictionary)), m_level(level) {

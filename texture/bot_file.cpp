@@ -74,9 +74,8 @@ const char* pageFilterName(PageFilter filter) {
 }
 
 std::optional<PageFilter> parsePageFilter(const std::string& name) {
-    if (name == "none") return PageFilter::None;
-    if (name == "med") return PageFilter::Med;
-    if (name == "mean") return PageFilter::Mean;
+    for (PageFilter f : {PageFilter::None, PageFilter::Med, PageFilter::Mean})
+        if (name == pageFilterName(f)) return f;
     return std::nullopt;
 }
 
@@ -486,7 +485,7 @@ struct BotWriter::Impl {
     uint32_t prefixBytes = 0;
     std::shared_ptr<const cache::ZstdDictionary> dictionary;
     BotDictionary dictionaryKind = BotDictionary::None;
-    cache::ZstdTuning tuning;  // how pages are compressed with `dictionary`
+    cache::ZstdTuning tuning;  // how pages are compressed (tuningFor(dictionaryKind))
     struct PendingRow {
         uint32_t level, pageY;
         std::vector<uint8_t> samples;  // pagesX pages of rawBytes bytes of host-order samples
@@ -526,8 +525,7 @@ struct BotWriter::Impl {
     // Stores one packed page into dst (capacity >= rawBytes): the prefix as it is, then zstd's output
     // in its smallest form; the raw page when that is not smaller. Returns the page-table size field
     // and sets `storedBytes`.
-    static uint32_t storePage(cache::ZstdCompressor& z, const uint8_t* packed, uint32_t rawBytes, uint32_t prefixBytes,
-                              uint8_t* dst, uint32_t& storedBytes) {
+    uint32_t storePage(cache::ZstdCompressor& z, const uint8_t* packed, uint8_t* dst, uint32_t& storedBytes) const {
         std::memcpy(dst, packed, prefixBytes);
         cache::ZstdForm form = cache::ZstdForm::Frame;
         const size_t n = z.compressCompact(packed + prefixBytes, rawBytes - prefixBytes, dst + prefixBytes,
@@ -561,7 +559,7 @@ struct BotWriter::Impl {
                 const uint8_t* packed = packedRows[r] + px * rawBytes;
                 uint8_t* dst = rowBuffer.data() + k * slotBytes;
                 uint32_t stored = 0;
-                const uint32_t sizeField = storePage(z, packed, rawBytes, prefixBytes, dst, stored);
+                const uint32_t sizeField = storePage(z, packed, dst, stored);
                 const auto [level, pageY] = rowsToWrite[r];
                 const uint64_t index = levelFirstPage[level] + uint64_t(pageY) * header.levels[level].pagesX + px;
                 rowSizes[k] = stored;
@@ -668,7 +666,7 @@ struct BotWriter::Impl {
         uint64_t stored = 0, count = 0;
         for (size_t off = first * rawBytes; off + rawBytes <= pages.size(); off += step * rawBytes, ++count) {
             uint32_t n = 0;
-            storePage(z, pages.data() + off, rawBytes, prefixBytes, dst.data(), n);
+            storePage(z, pages.data() + off, dst.data(), n);
             stored += n;
         }
         const double perPage = count ? double(stored) / double(count) : 0.0;
@@ -728,9 +726,9 @@ struct BotWriter::Impl {
         pageFilter = filters[trials[best].filter];
         const std::vector<uint8_t> bestPages = std::move(packedByFilter[trials[best].filter]);
         dictionary = trials[best].dictionary;
+        dictionaryKind = dictionary ? trials[best].kind : BotDictionary::None;
+        tuning = tuningFor(dictionaryKind);
         if (dictionary) {
-            dictionaryKind = trials[best].kind;
-            tuning = tuningFor(dictionaryKind);
             pwriteAll(fd, dictionary->bytes().data(), dictionary->bytes().size(), cursor, target);
             cursor += dictionary->bytes().size();
         }

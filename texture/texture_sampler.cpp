@@ -154,8 +154,9 @@ void addBilinear(Context& c, uint32_t level, float s, float t, float weight, flo
     const int32_t y1 = detail::wrapIndex(iy + 1, int32_t(lv.height), c.wrapT);
     const float w00 = (1 - fx) * (1 - fy) * weight, w10 = fx * (1 - fy) * weight;
     const float w01 = (1 - fx) * fy * weight, w11 = fx * fy * weight;
-    if ((x0 | x1 | y0 | y1) >= 0 && ((uint32_t(x0) ^ uint32_t(x1)) < kPage) &&
-        ((uint32_t(y0) ^ uint32_t(y1)) < kPage)) {
+    const bool inside = (x0 | x1 | y0 | y1) >= 0;  // no black border texel
+    const bool onePageX = (uint32_t(x0) ^ uint32_t(x1)) < kPage, onePageY = (uint32_t(y0) ^ uint32_t(y1)) < kPage;
+    if (inside && onePageX && onePageY) {
         // The common case: the 2×2 footprint lies in one page (indices that agree above the low
         // three bits), read with one request.
         float v[4 * kMaxOutChannels];
@@ -176,12 +177,12 @@ void addBilinear(Context& c, uint32_t level, float s, float t, float weight, flo
     }
     // Straddles two pages side by side or one above the other (about a fifth of all footprints
     // with 8x8 pages): one request per page.
-    if ((x0 | x1 | y0 | y1) >= 0 && ((uint32_t(y0) ^ uint32_t(y1)) < kPage)) {
+    if (inside && onePageY) {
         addPair<C>(c, level, x0, y0, x0, y1, w00, w01, acc);
         addPair<C>(c, level, x1, y0, x1, y1, w10, w11, acc);
         return;
     }
-    if ((x0 | x1 | y0 | y1) >= 0 && ((uint32_t(x0) ^ uint32_t(x1)) < kPage)) {
+    if (inside && onePageX) {
         addPair<C>(c, level, x0, y0, x1, y0, w00, w10, acc);
         addPair<C>(c, level, x0, y1, x1, y1, w01, w11, acc);
         return;
