@@ -20,9 +20,20 @@ public:
     IoError(const std::filesystem::path& path, const std::string& what, int errnoValue);
     IoError(const std::filesystem::path& path, const std::string& message);
     const std::filesystem::path& path() const { return m_path; }
+    // The errno of the failed call; 0 when the failure was not an operating-system error.
+    int errorCode() const { return m_errno; }
 
 private:
     std::filesystem::path m_path;
+    int m_errno = 0;
+};
+
+// Writing or publishing an output file failed (a full disk, an I/O error, a folder that cannot be
+// written). The tools report it as a transient failure (exit 75): nothing was published, and any
+// file that was there before is unchanged.
+class OutputError : public IoError {
+public:
+    using IoError::IoError;
 };
 
 // A file was read but its content is invalid (corrupt, truncated, hostile). Names the file.
