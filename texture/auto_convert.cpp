@@ -14,6 +14,7 @@
 #include <random>
 
 #include "cache/error.h"
+#include "texture/image_input.h"
 #include "texture/detail/bot_layout.h"
 
 namespace pushpin::texture {
@@ -130,8 +131,7 @@ uint64_t conversionKey(const std::filesystem::path& image, const AutoConvertOpti
 }
 
 LoadedImage loadImage(const std::filesystem::path& image, uint32_t maxChannels) {
-    auto in = OIIO::ImageInput::open(image.string());
-    if (!in) throw IoError(image, "cannot read image: " + OIIO::geterror());
+    auto in = openImageInput(image);
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
         throw IoError(image, "image has no pixels");
@@ -140,8 +140,8 @@ LoadedImage loadImage(const std::filesystem::path& image, uint32_t maxChannels) 
     out.height = uint32_t(spec.height);
     out.channels = std::min<uint32_t>(uint32_t(spec.nchannels), std::max(1u, maxChannels));
     out.pixels.resize(size_t(out.width) * out.height * out.channels);
-    if (!in->read_image(0, 0, 0, int(out.channels), OIIO::TypeDesc::FLOAT, out.pixels.data()))
-        throw IoError(image, "cannot read image pixels: " + in->geterror());
+    const bool ok = in->read_image(0, 0, 0, int(out.channels), OIIO::TypeDesc::FLOAT, out.pixels.data());
+    requireCleanRead(*in, ok, image, "the pixels");
     return out;
 }
 

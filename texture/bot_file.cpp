@@ -13,11 +13,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "cache/error.h"
+#include "cache/output_file.h"
 #include "cache/zstd_codec.h"
 #include "texture/detail/bot_checksum.h"
 #include "texture/detail/bot_layout.h"
@@ -167,7 +169,7 @@ void pwriteAll(int fd, const void* src, size_t n, uint64_t offset, const std::fi
         const ssize_t r = ::pwrite(fd, p, n, off_t(offset));
         if (r < 0) {
             if (errno == EINTR) continue;
-            throw IoError(path, "write of " + std::to_string(n) + " bytes at offset " + std::to_string(offset), errno);
+            throw OutputError(path, "write of " + std::to_string(n) + " bytes at offset " + std::to_string(offset), errno);
         }
         p += r;
         n -= size_t(r);
@@ -458,8 +460,9 @@ uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uin
 // ---------------------------------------------------------------------------------------- writing
 
 struct BotWriter::Impl {
-    std::filesystem::path target, temp;
-    int fd = -1;
+    std::filesystem::path target;
+    std::unique_ptr<cache::OutputFile> out;  // the temporary file until finish() publishes it
+    int fd = -1;                             // out's descriptor, for positioned writes
     bool finished = false;
     BotHeader header;
     BotWriteOptions options;
@@ -835,20 +838,13 @@ BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t
     m.dictOffset = m.pageTableOffset + pages * detail::kBotPageEntryBytes;
     m.cursor = m.dictOffset;
 
-    // A unique temporary name in the target's folder, so the final rename is atomic.
-    const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-    std::string tmpl = (dir / ("." + path.filename().string() + ".tmp.XXXXXX")).string();
-    const int fd = ::mkstemp(tmpl.data());
-    if (fd < 0) throw IoError(path, "cannot create temporary file in " + dir.string(), errno);
-    ::fchmod(fd, 0644);
-    m.fd = fd;
-    m.temp = tmpl;
+    // A random, exclusively created temporary name in the target's folder, so the final rename is
+    // atomic and SIGINT or SIGTERM remove it (cache/output_file.h).
+    m.out = std::make_unique<cache::OutputFile>(path);
+    m.fd = m.out->fd();
 }
 
-BotWriter::~BotWriter() {
-    if (m_impl && m_impl->fd >= 0) ::close(m_impl->fd);
-    if (m_impl && !m_impl->finished && !m_impl->temp.empty()) ::unlink(m_impl->temp.c_str());
-}
+BotWriter::~BotWriter() = default;  // an unfinished OutputFile removes its temporary file
 
 const BotHeader& BotWriter::header() const { return m_impl->header; }
 
@@ -899,11 +895,9 @@ BotWriteStats BotWriter::finish() {
                                    std::to_string(m.header.levels[l].height) + " rows");
     if (!m.codingDecided) m.decideCoding();
     m.writeTables();
-    const int fd = m.fd;
     m.fd = -1;
-    if (::close(fd) != 0) throw IoError(m.target, "close of temporary file " + m.temp.string(), errno);
-    if (::rename(m.temp.c_str(), m.target.c_str()) != 0)
-        throw IoError(m.target, "rename from " + m.temp.string(), errno);
+    m.out->commit();  // fsync, close, rename, each checked: throws OutputError
+    m.out.reset();
     m.finished = true;
     BotWriteStats stats;
     stats.pages = m.pageSizes.size();

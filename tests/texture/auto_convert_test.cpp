@@ -194,6 +194,33 @@ TEST(AutoConvert, UnreadableImageIsAnError) {
     EXPECT_FALSE(isBotFile(src.path() / "junk.png"));
 }
 
+// A TIFF cut in half reads "successfully" through OpenImageIO with its lower half black; the
+// conversion must fail instead of caching a texture that would render wrong.
+TEST(AutoConvert, TruncatedImageIsAnErrorAndCachesNothing) {
+    TempDir src("ac-src"), tmp("ac-tmp");
+    const auto whole = src.path() / "whole.tif";
+    {
+        std::vector<uint8_t> px(size_t(128) * 128 * 3);
+        for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t(i * 31 % 253);
+        auto out = OIIO::ImageOutput::create(whole.string());
+        OIIO::ImageSpec spec(128, 128, 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("compression", "lzw");
+        ASSERT_TRUE(out && out->open(whole.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+        out->close();
+    }
+    std::ifstream in(whole, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(src.path() / "cut.tif", std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
+    AutoConvertOptions o;
+    o.tmpDir = tmp.path();
+    ASSERT_TRUE(convertToBot(whole, o).ok());
+    const size_t before = filesIn(conversionDir(o));
+    const AutoConvertResult r = convertToBot(src.path() / "cut.tif", o);
+    EXPECT_FALSE(r.ok());
+    EXPECT_NE(r.error.find("cut.tif"), std::string::npos) << r.error;
+    EXPECT_EQ(filesIn(conversionDir(o)), before);
+}
+
 TEST(AutoConvert, UsesTmpdirFromTheEnvironment) {
     const char* old = std::getenv("TMPDIR");
     const std::string saved = old ? old : "";

@@ -2,10 +2,17 @@
 // naming the file, no output on failure, an existing output left untouched on failure.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <set>
+#include <thread>
+
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -177,5 +184,144 @@ TEST(Botinfo, NotABotFileIsNamed) {
     EXPECT_NE(r.output.find("bad magic"), std::string::npos) << r.output;
     EXPECT_EQ(run(quote(binary("botinfo"))).exitCode, 2);
 }
+
+}  // namespace
+
+namespace {
+
+// Writes a 256x256 RGB gradient with noise in `format` ("tiff" with `compression`, "png", "jpeg",
+// "openexr") and returns its path.
+fs::path makeImage(const std::string& name, const std::string& compression = "") {
+    const fs::path path = tempDir() / name;
+    auto out = OIIO::ImageOutput::create(path.string());
+    const bool half = path.extension() == ".exr";
+    OIIO::ImageSpec spec(256, 256, 3, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
+    if (!compression.empty()) spec.attribute("compression", compression);
+    std::vector<float> px(size_t(256) * 256 * 3);
+    uint32_t h = 12345;
+    for (size_t i = 0; i < px.size(); ++i) {
+        h = h * 1664525u + 1013904223u;
+        px[i] = float((i % 768) / 768.0 * 0.7 + (h >> 24) / 255.0 * 0.3);
+    }
+    EXPECT_TRUE(out && out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data()) &&
+                out->close());
+    return path;
+}
+
+fs::path truncatedCopy(const fs::path& image, double keep) {
+    const std::string bytes = readAll(image);
+    const fs::path cut = image.parent_path() / ("cut-" + image.filename().string());
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * keep));
+    return cut;
+}
+
+std::set<std::string> folderNames(const fs::path& dir) {
+    std::set<std::string> out;
+    for (const auto& e : fs::directory_iterator(dir)) out.insert(e.path().filename().string());
+    return out;
+}
+
+struct TruncatedInput {
+    const char* name;
+    const char* compression;
+};
+
+class MakebotTruncated : public ::testing::TestWithParam<TruncatedInput> {};
+
+// OpenImageIO's TIFF and JPEG readers report success for a file cut in half and fill the rest
+// with black; makebot must fail instead of writing a texture that verifies.
+TEST_P(MakebotTruncated, FailsAndWritesNothing) {
+    const fs::path whole = makeImage(GetParam().name, GetParam().compression);
+    const fs::path cut = truncatedCopy(whole, 0.5);
+    const fs::path outDir = tempDir() / ("out-" + std::string(GetParam().name));
+    fs::create_directories(outDir);
+    const fs::path bot = outDir / "cut.bot";
+    const Result good = run(quote(binary("makebot")) + " " + quote(whole) + " " + quote(outDir / "whole.bot"));
+    ASSERT_EQ(good.exitCode, 0) << good.output;
+    const Result r = run(quote(binary("makebot")) + " " + quote(cut) + " " + quote(bot));
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find(cut.filename().string()), std::string::npos) << r.output;
+    EXPECT_EQ(folderNames(outDir), std::set<std::string>{"whole.bot"});
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, MakebotTruncated,
+                         ::testing::Values(TruncatedInput{"zip.tif", "zip"}, TruncatedInput{"lzw.tif", "lzw"},
+                                           TruncatedInput{"raw.tif", "none"}, TruncatedInput{"img.png", ""},
+                                           TruncatedInput{"img.jpg", ""}, TruncatedInput{"img.exr", "zip"}),
+                         [](const ::testing::TestParamInfo<TruncatedInput>& i) {
+                             std::string n = i.param.name;
+                             for (char& c : n)
+                                 if (c == '.') c = '_';
+                             return n;
+                         });
+
+// A real full disk when the tests run as root (a 64 KiB tmpfs); the output cannot be written:
+// exit 75 (worth a retry), and the folder keeps exactly what it had.
+TEST(Makebot, FullDiskIsATransientFailureAndLeavesTheFolderAsItWas) {
+    if (::geteuid() != 0) GTEST_SKIP() << "mounting a small tmpfs needs root";
+    const fs::path mount = tempDir() / "full";
+    fs::create_directories(mount);
+    ASSERT_EQ(::mount("tmpfs", mount.c_str(), "tmpfs", 0, "size=64k"), 0) << std::strerror(errno);
+    const fs::path existing = mount / "tex.bot";
+    std::ofstream(existing, std::ios::binary) << "an existing texture";
+    const fs::path big = makeImage("big.exr", "none");
+    const Result r = run(quote(binary("makebot")) + " --format float " + quote(big) + " " + quote(existing));
+    const std::set<std::string> after = folderNames(mount);
+    const std::string kept = readAll(existing);
+    ::umount(mount.c_str());
+    EXPECT_EQ(r.exitCode, 75) << r.output;
+    EXPECT_NE(r.output.find("tex.bot"), std::string::npos) << r.output;
+    EXPECT_EQ(after, std::set<std::string>{"tex.bot"});
+    EXPECT_EQ(kept, "an existing texture");
+}
+
+class MakebotSignal : public ::testing::TestWithParam<int> {};
+
+// SIGTERM or SIGINT while makebot writes: 128 + signal, and no temporary file left.
+TEST_P(MakebotSignal, RemovesItsTemporaryFile) {
+    const int sig = GetParam();
+    const fs::path dir = tempDir() / ("signal-" + std::to_string(sig));
+    fs::create_directories(dir);
+    // Large enough to take a good fraction of a second, so the signal lands mid-conversion.
+    const fs::path input = dir / "large.exr";
+    {
+        auto out = OIIO::ImageOutput::create(input.string());
+        OIIO::ImageSpec spec(4096, 4096, 3, OIIO::TypeDesc::HALF);
+        spec.attribute("compression", "none");
+        std::vector<float> row(size_t(4096) * 3);
+        ASSERT_TRUE(out && out->open(input.string(), spec));
+        for (int y = 0; y < 4096; ++y) {
+            for (size_t i = 0; i < row.size(); ++i) row[i] = float(((i * 7 + size_t(y) * 13) % 1000) / 1000.0);
+            ASSERT_TRUE(out->write_scanline(y, 0, OIIO::TypeDesc::FLOAT, row.data()));
+        }
+        ASSERT_TRUE(out->close());
+    }
+    const fs::path outDir = dir / "out";
+    fs::create_directories(outDir);
+    const std::string exe = binary("makebot").string(), in = input.string(), outPath = (outDir / "large.bot").string();
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        ::execl(exe.c_str(), exe.c_str(), "--format", "float", in.c_str(), outPath.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    // Wait for the temporary file to appear (bounded), then signal.
+    bool sawTemporary = false;
+    for (int i = 0; i < 2000 && !sawTemporary; ++i) {
+        for (const std::string& n : folderNames(outDir))
+            if (n.ends_with(".tmp")) sawTemporary = true;
+        if (!sawTemporary) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ::kill(pid, sig);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(sawTemporary) << "makebot finished before it could be signalled";
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    EXPECT_TRUE(folderNames(outDir).empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(TermAndInt, MakebotSignal, ::testing::Values(SIGTERM, SIGINT),
+                         [](const ::testing::TestParamInfo<int>& i) { return i.param == SIGTERM ? "SIGTERM" : "SIGINT"; });
 
 }  // namespace

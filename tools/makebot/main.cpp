@@ -16,7 +16,9 @@
 #include <vector>
 
 #include "cache/error.h"
+#include "cache/output_file.h"
 #include "texture/bot_file.h"
+#include "texture/image_input.h"
 #include "texture/mipmap.h"
 
 namespace {
@@ -55,7 +57,10 @@ const char* kUsage =
     "  --page-filter auto|med|mean|none page prediction (default auto: the one whose residuals of\n"
     "                                   the first pages code smaller)\n"
     "  --no-predict                     the same as --page-filter none\n"
-    "  -v                               print levels, sizes, time and compression ratio\n";
+    "  -v                               print levels, sizes, time and compression ratio\n"
+    "exit status: 0 done; 1 the input cannot be read whole (missing, truncated, damaged,\n"
+    "unsupported); 2 usage; 75 the output cannot be written (full disk, I/O error); 130/143 after\n"
+    "SIGINT/SIGTERM. On failure no output is left and an existing output is unchanged.\n";
 
 [[noreturn]] void usageError(const std::string& msg) {
     std::fprintf(stderr, "makebot: %s\n%s", msg.c_str(), kUsage);
@@ -172,11 +177,7 @@ ColorSpace defaultColorSpace(const OIIO::ImageSpec& spec) {
 
 int run(const Options& o) {
     const auto start = std::chrono::steady_clock::now();
-    auto in = OIIO::ImageInput::open(o.input);
-    if (!in) {
-        std::string msg = OIIO::geterror();
-        throw IoError(o.input, "cannot read image" + (msg.empty() ? std::string() : ": " + msg));
-    }
+    auto in = openImageInput(o.input);
     const OIIO::ImageSpec spec = in->spec();
     if (spec.depth > 1 || spec.deep) throw FormatError(o.input, "volume and deep images are not supported");
     if (spec.width <= 0 || spec.height <= 0 || uint64_t(spec.width) > kMaxDimension ||
@@ -216,10 +217,7 @@ int run(const Options& o) {
             ok = in->read_scanlines(0, 0, spec.y + int(y0), spec.y + int(y0 + rows), spec.z, 0, spec.nchannels,
                                     OIIO::TypeDesc::FLOAT, buf.data());
         }
-        if (!ok) {
-            const std::string msg = in->geterror();
-            throw FormatError(o.input, "read failed at row " + std::to_string(y0) + (msg.empty() ? "" : ": " + msg));
-        }
+        requireCleanRead(*in, ok, o.input, "rows " + std::to_string(y0) + "-" + std::to_string(y0 + rows - 1));
     };
 
     BotWriteStats stats;
@@ -277,10 +275,18 @@ int run(const Options& o) {
 
 }  // namespace
 
+// Exit status: 0 done; 1 the input cannot be converted (unreadable, truncated, damaged,
+// unsupported); 2 usage; 75 the output cannot be written (full disk, I/O error: worth a retry);
+// 130 and 143 after SIGINT and SIGTERM. On every failure no output file is left, and an existing
+// output is untouched.
 int main(int argc, char** argv) {
+    pushpin::cache::installTemporaryFileCleanup();
     const Options o = parseArgs(argc, argv);
     try {
         return run(o);
+    } catch (const pushpin::OutputError& e) {
+        std::fprintf(stderr, "makebot: %s\n", e.what());
+        return 75;
     } catch (const pushpin::Error& e) {
         std::fprintf(stderr, "makebot: %s\n", e.what());
     } catch (const std::exception& e) {
