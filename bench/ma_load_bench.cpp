@@ -4,7 +4,11 @@
 // Prints file size, min/median/max load time and MB/s over several runs, and the peak RSS growth
 // of the process during the loads next to the bytes the Graph stores.
 //
-// Usage: ma_load_bench [--grid=N] [--runs=R] [--keep]
+// With --duplicates=MIB the scene is instead MIB MiB of identical `createNode transform -n "x";`
+// lines, each renamed as Maya would (x, x1, x2, …): the renaming must keep the reader's usual
+// throughput, and the memory per node is printed.
+//
+// Usage: ma_load_bench [--grid=N | --duplicates=MIB] [--runs=R] [--keep]
 #include "core/scene/ma_reader.h"
 
 #include <sys/resource.h>
@@ -145,6 +149,17 @@ int64_t writeGridScene(const fs::path& path, int n) {
     return faces;
 }
 
+// Writes about `mib` MiB of `createNode transform -n "x";` lines; returns the number of lines.
+int64_t writeDuplicateScene(const fs::path& path, int mib) {
+    Writer w(path);
+    w << "//Maya ASCII 2018 scene\n//Name: duplicates.ma\nrequires maya \"2018\";\n";
+    static constexpr std::string_view kLine = "createNode transform -n \"x\";\n";
+    const int64_t lines = int64_t(mib) * (int64_t(1) << 20) / int64_t(kLine.size());
+    for (int64_t i = 0; i < lines; ++i) w << kLine;
+    w << "// End of duplicates.ma\n";
+    return lines;
+}
+
 double peakRssMiB() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
@@ -170,16 +185,43 @@ double graphPayloadMiB(const Graph& g) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    int grid = 1000, runs = 5;
+    int grid = 1000, runs = 5, duplicates = 0;
     bool keep = false;
     for (int i = 1; i < argc; ++i) {
         if (std::strncmp(argv[i], "--grid=", 7) == 0) grid = std::max(2, std::atoi(argv[i] + 7));
+        else if (std::strncmp(argv[i], "--duplicates=", 13) == 0) duplicates = std::max(1, std::atoi(argv[i] + 13));
         else if (std::strncmp(argv[i], "--runs=", 7) == 0) runs = std::max(1, std::atoi(argv[i] + 7));
         else if (std::strcmp(argv[i], "--keep") == 0) keep = true;
         else {
-            std::fprintf(stderr, "usage: %s [--grid=N] [--runs=R] [--keep]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--grid=N | --duplicates=MIB] [--runs=R] [--keep]\n", argv[0]);
             return 2;
         }
+    }
+    if (duplicates > 0) {
+        const fs::path path = fs::temp_directory_path() / ("pushpin_ma_load_bench_dup" + std::to_string(duplicates) + ".ma");
+        const int64_t lines = writeDuplicateScene(path, duplicates);
+        const double fileMiB = double(fs::file_size(path)) / (1024.0 * 1024.0);
+        std::printf("scene: %s, %lld identical createNode lines, %.1f MiB\n", path.c_str(), (long long)lines, fileMiB);
+        const double rssBefore = peakRssMiB();
+        std::vector<double> seconds;
+        for (int r = 0; r < runs; ++r) {
+            const auto s = std::chrono::steady_clock::now();
+            Graph g = MaReader::readFile(path);
+            seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
+            if (g.find("x" + std::to_string(lines - 1)) == pushpin::scene::kNoNode) {
+                std::fprintf(stderr, "the last duplicate was not renamed x%lld\n", (long long)(lines - 1));
+                return 1;
+            }
+        }
+        const double rssGrowth = peakRssMiB() - rssBefore;
+        std::sort(seconds.begin(), seconds.end());
+        std::printf("load over %d runs: min %.3f s, median %.3f s; throughput best %.1f MiB/s, median %.1f MiB/s\n",
+                    runs, seconds.front(), seconds[seconds.size() / 2], fileMiB / seconds.front(),
+                    fileMiB / seconds[seconds.size() / 2]);
+        std::printf("peak RSS growth during loads: %.1f MiB, %.0f bytes per node\n", rssGrowth,
+                    rssGrowth * 1024.0 * 1024.0 / double(lines));
+        if (!keep) fs::remove(path);
+        return 0;
     }
     const fs::path path = fs::temp_directory_path() / ("pushpin_ma_load_bench_" + std::to_string(grid) + ".ma");
     const auto t0 = std::chrono::steady_clock::now();

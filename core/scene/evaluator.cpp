@@ -2,6 +2,7 @@
 
 #include "core/scene/anim_curve.h"
 #include "core/scene/transform.h"
+#include "core/util/format.h"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -47,84 +48,182 @@ bool Evaluator::numbers(NodeId node, std::string_view plugPath, std::vector<doub
     return evaluatePlug(node, m_graph.canonicalPath(node, *segs), out);
 }
 
-bool Evaluator::evaluatePlug(NodeId node, const std::string& path, std::vector<double>& out) {
-    out.clear();
-    std::string key = std::to_string(node);
-    key += '#';
-    key += path;
-    if (auto it = m_cache.find(key); it != m_cache.end()) {
-        out = it->second;
-        return true;
-    }
-    if (std::find(m_evaluating.begin(), m_evaluating.end(), key) != m_evaluating.end()) {
-        // A connection cycle: break it here with the plug's static value, and say so once.
-        const Node& n = m_graph.node(node);
-        const std::string message = "connection cycle through '" + n.name + "." + path + "'; using its static value";
-        const bool known = std::any_of(m_diagnostics.begin(), m_diagnostics.end(),
-                                       [&](const Diagnostic& d) { return d.message == message; });
-        if (!known) m_diagnostics.push_back(Diagnostic{m_graph.sourceFile, n.line, 0, n.name, message});
-        return m_graph.numbers(node, path, out);
-    }
-
-    m_evaluating.push_back(key);
-    bool ok = false;
+void Evaluator::reportCycle(NodeId node, const std::string& path) {
     const Node& n = m_graph.node(node);
-    if (auto src = m_graph.source(node, path)) {
-        ok = evaluateSource(*src, out);
-    } else if (computeOutput(node, path, out)) {
-        ok = true;  // animCurve.output, unitConversion.output, time.outTime
-    } else {
-        auto segs = parsePlugPath(path);
-        const AttrSpec* spec = segs ? n.findAttr(segs->back().name) : nullptr;
-        const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
-        if (parentSpec && isNumericCompound(*parentSpec)) {
-            // translateX with `translate` connected as a whole: take the component of the source.
-            std::vector<PlugSegment> parentSegs(segs->begin(), segs->end() - 1);
-            if (parentSegs.empty() || n.findAttr(parentSegs.back().name) != parentSpec)
-                parentSegs.push_back(PlugSegment{parentSpec->longName});
-            if (auto parentSrc = m_graph.source(node, formatPlugPath(parentSegs))) {
-                std::vector<double> whole;
-                if (evaluateSource(*parentSrc, whole) && size_t(spec->component) < whole.size()) {
-                    out.assign(1, whole[size_t(spec->component)]);
-                    ok = true;
-                }
-            }
-        }
-        if (!ok) ok = m_graph.numbers(node, path, out);
-        if (ok && spec && isNumericCompound(*spec)) {
-            // translate with translateX/Y/Z connected one by one (the usual animCurve wiring).
-            const auto children = componentChildren(n, *spec);
-            for (size_t k = 0; k < children.size() && k < out.size(); ++k) {
-                if (!children[k]) continue;
-                std::string childPath;
-                if (segs->back().indexed()) childPath = path + "." + children[k]->longName;
-                else {
-                    std::vector<PlugSegment> childSegs = *segs;
-                    childSegs.back().name = children[k]->longName;
-                    childPath = formatPlugPath(childSegs);
-                }
-                if (auto childSrc = m_graph.source(node, childPath)) {
-                    std::vector<double> v;
-                    if (evaluateSource(*childSrc, v) && !v.empty()) out[k] = v[0];
-                }
-            }
-        }
-    }
-    m_evaluating.pop_back();
-    if (ok) m_cache.emplace(std::move(key), out);
-    return ok;
+    const std::string message =
+        "connection cycle through '" + util::excerpt(n.name) + "." + util::excerpt(path) + "'; using its static value";
+    if (m_reportedCycles.insert(message).second)
+        m_diagnostics.push_back(Diagnostic{m_graph.sourceFile, n.line, 0, util::excerpt(n.name), message});
 }
 
-bool Evaluator::evaluateSource(const Plug& source, std::vector<double>& out) {
+bool Evaluator::evaluatePlug(NodeId node, const std::string& path, std::vector<double>& out) {
     out.clear();
-    if (source.node >= m_graph.size()) return false;
-    return evaluatePlug(source.node, source.path, out);
+    if (node >= m_graph.size()) return false;
+    if (auto it = m_cache.find(PlugKey{node, path}); it != m_cache.end()) {
+        switch (it->second.state) {
+            case CacheEntry::State::Ready: out = it->second.value; return true;
+            case CacheEntry::State::Missing: return false;
+            case CacheEntry::State::Evaluating:
+                // A connection cycle: break it here with the plug's static value, and say so once.
+                reportCycle(node, path);
+                return m_graph.numbers(node, path, out);
+        }
+    }
+    if (!needsCache(node, path)) return computePlug(node, path, out);
+
+    // Depth-first over the dependencies with an explicit stack: a plug is computed once all the
+    // plugs it reads are in the cache, so computePlug never has to descend itself.
+    struct Frame {
+        const PlugKey* key;
+        CacheEntry* entry;
+        uint32_t next;  // dependencies already pushed or skipped
+    };
+    std::vector<Frame> stack;
+    auto open = [&](PlugKey key) {
+        auto it = m_cache.emplace(std::move(key), CacheEntry{}).first;
+        stack.push_back(Frame{&it->first, &it->second, 0});
+    };
+    open(PlugKey{node, path});
+    std::vector<double> value;
+    while (!stack.empty()) {
+        Frame& top = stack.back();
+        // Recomputed on each visit rather than kept per frame: a plug has a few dependencies, and a
+        // million-deep chain then costs 16 bytes of stack per plug.
+        std::vector<Plug> deps = dependencies(top.key->node, top.key->path);
+        bool descended = false;
+        while (top.next < deps.size()) {
+            Plug& d = deps[top.next++];
+            if (d.node >= m_graph.size() || m_cache.count(PlugKey{d.node, d.path}) || !needsCache(d.node, d.path))
+                continue;  // invalid, done, on the stack (a cycle, met in computePlug), or read directly
+            open(PlugKey{d.node, std::move(d.path)});  // invalidates `top`
+            descended = true;
+            break;
+        }
+        if (descended) continue;
+        const bool ok = computePlug(top.key->node, top.key->path, value);
+        top.entry->state = ok ? CacheEntry::State::Ready : CacheEntry::State::Missing;
+        top.entry->value = ok ? value : std::vector<double>();
+        stack.pop_back();
+    }
+    const CacheEntry& done = m_cache.at(PlugKey{node, path});
+    if (done.state != CacheEntry::State::Ready) return false;
+    out = done.value;
+    return true;
+}
+
+namespace {
+
+bool isAnimCurveNode(const Node& n) { return isA(n, "animCurve") || startsWith(n.type, "animCurve"); }
+
+// animCurveT* are driven by time, animCurveU* by their `input` plug (set driven keys).
+bool timeDrivenCurve(const Node& n) { return startsWith(n.type, "animCurveT") || !startsWith(n.type, "animCurveU"); }
+
+}  // namespace
+
+std::vector<Plug> Evaluator::dependencies(NodeId node, const std::string& path) const {
+    std::vector<Plug> deps;
+    const Node& n = m_graph.node(node);
+    // Without incoming connections every plug of the node is static or computed from its own
+    // static plugs, which computePlug reads directly: nothing to evaluate first.
+    if (n.inConnections.empty()) return deps;
+    if (const Plug* src = m_graph.sourceOfCanonical(node, path)) {
+        deps.push_back(*src);
+        return deps;
+    }
+    if (path == "output") {
+        if (isAnimCurveNode(n)) {
+            if (!timeDrivenCurve(n) || m_graph.sourceOfCanonical(node, "input")) deps.push_back(Plug{node, "input"});
+            return deps;
+        }
+        if (isA(n, "unitConversion")) {
+            deps.push_back(Plug{node, "input"});
+            deps.push_back(Plug{node, "conversionFactor"});
+        }
+    }
+    auto segs = parsePlugPath(path);
+    const AttrSpec* spec = segs ? n.findAttr(segs->back().name) : nullptr;
+    const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
+    if (parentSpec && isNumericCompound(*parentSpec)) {
+        std::vector<PlugSegment> parentSegs(segs->begin(), segs->end() - 1);
+        if (parentSegs.empty() || n.findAttr(parentSegs.back().name) != parentSpec)
+            parentSegs.push_back(PlugSegment{parentSpec->longName});
+        if (const Plug* parentSrc = m_graph.sourceOfCanonical(node, formatPlugPath(parentSegs))) deps.push_back(*parentSrc);
+    }
+    if (spec && isNumericCompound(*spec)) {
+        const auto children = componentChildren(n, *spec);
+        for (const AttrSpec* child : children) {
+            if (!child) continue;
+            std::string childPath;
+            if (segs->back().indexed()) childPath = path + "." + child->longName;
+            else {
+                std::vector<PlugSegment> childSegs = *segs;
+                childSegs.back().name = child->longName;
+                childPath = formatPlugPath(childSegs);
+            }
+            if (const Plug* childSrc = m_graph.sourceOfCanonical(node, childPath)) deps.push_back(*childSrc);
+        }
+    }
+    return deps;
+}
+
+bool Evaluator::needsCache(NodeId node, const std::string& path) const {
+    // An animCurve output is worth keeping even when driven by time alone: its keys are decoded
+    // from the Graph on each computation.
+    return (path == "output" && isAnimCurveNode(m_graph.node(node))) || !dependencies(node, path).empty();
+}
+
+bool Evaluator::computePlug(NodeId node, const std::string& path, std::vector<double>& out) {
+    out.clear();
+    const Node& n = m_graph.node(node);
+    if (const Plug* src = m_graph.sourceOfCanonical(node, path)) {
+        const Plug from = *src;
+        return evaluatePlug(from.node, from.path, out);
+    }
+    if (computeOutput(node, path, out)) return true;  // animCurve.output, unitConversion.output, time.outTime
+    if (n.inConnections.empty()) return m_graph.numbers(node, path, out);  // nothing drives a component
+    bool ok = false;
+    auto segs = parsePlugPath(path);
+    const AttrSpec* spec = segs ? n.findAttr(segs->back().name) : nullptr;
+    const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
+    if (parentSpec && isNumericCompound(*parentSpec)) {
+        // translateX with `translate` connected as a whole: take the component of the source.
+        std::vector<PlugSegment> parentSegs(segs->begin(), segs->end() - 1);
+        if (parentSegs.empty() || n.findAttr(parentSegs.back().name) != parentSpec)
+            parentSegs.push_back(PlugSegment{parentSpec->longName});
+        if (auto parentSrc = m_graph.source(node, formatPlugPath(parentSegs))) {
+            std::vector<double> whole;
+            if (evaluatePlug(parentSrc->node, parentSrc->path, whole) && size_t(spec->component) < whole.size()) {
+                out.assign(1, whole[size_t(spec->component)]);
+                ok = true;
+            }
+        }
+    }
+    if (!ok) ok = m_graph.numbers(node, path, out);
+    if (ok && spec && isNumericCompound(*spec)) {
+        // translate with translateX/Y/Z connected one by one (the usual animCurve wiring).
+        const auto children = componentChildren(n, *spec);
+        for (size_t k = 0; k < children.size() && k < out.size(); ++k) {
+            if (!children[k]) continue;
+            std::string childPath;
+            if (segs->back().indexed()) childPath = path + "." + children[k]->longName;
+            else {
+                std::vector<PlugSegment> childSegs = *segs;
+                childSegs.back().name = children[k]->longName;
+                childPath = formatPlugPath(childSegs);
+            }
+            if (auto childSrc = m_graph.source(node, childPath)) {
+                std::vector<double> v;
+                if (evaluatePlug(childSrc->node, childSrc->path, v) && !v.empty()) out[k] = v[0];
+            }
+        }
+    }
+    return ok;
 }
 
 bool Evaluator::computeOutput(NodeId node, const std::string& path, std::vector<double>& out) {
     const Node& n = m_graph.node(node);
     if (path != "output" && path != "outTime") return false;
-    if (isA(n, "animCurve") || startsWith(n.type, "animCurve")) {
+    if (isAnimCurveNode(n)) {
         if (path != "output") return false;
         out.assign(1, evaluateAnimCurve(node));
         return true;
@@ -133,8 +232,9 @@ bool Evaluator::computeOutput(NodeId node, const std::string& path, std::vector<
         if (path != "output") return false;
         std::vector<double> in;
         if (!evaluatePlug(node, "input", in)) return false;
-        const double factor = getDouble(node, "conversionFactor", 1.0);
-        for (double& v : in) v *= factor;
+        std::vector<double> factor;
+        const double f = evaluatePlug(node, "conversionFactor", factor) && !factor.empty() ? factor[0] : 1.0;
+        for (double& v : in) v *= f;
         out = std::move(in);
         return true;
     }
@@ -147,8 +247,7 @@ bool Evaluator::computeOutput(NodeId node, const std::string& path, std::vector<
 
 double Evaluator::evaluateAnimCurve(NodeId curve) {
     const Node& n = m_graph.node(curve);
-    // animCurveT* are driven by time, animCurveU* by their `input` plug (set driven keys).
-    const bool timeInput = startsWith(n.type, "animCurveT") || !startsWith(n.type, "animCurveU");
+    const bool timeInput = timeDrivenCurve(n);
     const char outKind = n.type.size() == std::string_view("animCurveTL").size() ? n.type.back() : 'U';
 
     // Key values are stored in the file's units; explicit tangent y (kiy/koy) is in Maya's internal
@@ -160,7 +259,7 @@ double Evaluator::evaluateAnimCurve(NodeId curve) {
     const double xScale = timeInput ? m_graph.units.framesPerSecond : 1.0;
 
     double x = m_frame;
-    const bool inputConnected = m_graph.source(curve, "input").has_value();
+    const bool inputConnected = m_graph.sourceOfCanonical(curve, "input") != nullptr;
     if (!timeInput || inputConnected) {
         std::vector<double> in;
         x = evaluatePlug(curve, "input", in) && !in.empty() ? in[0] : (timeInput ? m_frame : 0.0);
@@ -300,44 +399,85 @@ glm::dmat4 Evaluator::localMatrixUnder(NodeId id, NodeId dagParent) {
     return local;
 }
 
+bool Evaluator::hasSinglePath(NodeId id) {
+    if (m_singlePath.size() != m_graph.size()) m_singlePath.assign(m_graph.size(), 0);
+    // Walk up while each node has exactly one parent and no world instance of its own; every node
+    // on the walk gets the answer of where it stopped, so each node is walked once per Evaluator.
+    std::vector<NodeId> walked;
+    NodeId at = id;
+    while (m_singlePath[at] == 0) {
+        const Node& n = m_graph.node(at);
+        if (n.parents.empty()) m_singlePath[at] = 1;
+        else if (n.parents.size() > 1 || n.underWorld || walked.size() > m_graph.size()) m_singlePath[at] = 2;
+        else {
+            walked.push_back(at);
+            at = n.parents.front();
+        }
+    }
+    for (NodeId w : walked) m_singlePath[w] = m_singlePath[at];
+    return m_singlePath[id] == 1;
+}
+
 glm::dmat4 Evaluator::worldMatrix(const std::vector<NodeId>& dagPath) {
+    // The nodes of a path that have a single DAG path form its head (below an instanced node every
+    // node has several paths), and their world matrices are cached: start after the deepest cached
+    // one, so asking for every node of a deep chain costs one pass over it.
     glm::dmat4 world(1.0);
-    for (size_t k = 0; k < dagPath.size(); ++k) {
+    size_t begin = 0;
+    for (size_t k = dagPath.size(); k-- > 0;) {
+        const NodeId id = dagPath[k];
+        if (id >= m_graph.size()) return glm::dmat4(1.0);
+        if (!hasSinglePath(id)) continue;
+        if (auto it = m_worldOfSinglePath.find(id); it != m_worldOfSinglePath.end()) {
+            world = it->second;
+            begin = k + 1;
+            break;
+        }
+    }
+    for (size_t k = begin; k < dagPath.size(); ++k) {
         const NodeId id = dagPath[k];
         if (id >= m_graph.size()) return glm::dmat4(1.0);
         const glm::dmat4 local = localMatrixUnder(id, k > 0 ? dagPath[k - 1] : kNoNode);
         if (isA(m_graph.node(id), "transform") && !getBool(id, "inheritsTransform", true)) world = local;
         else world = world * local;
+        if (hasSinglePath(id)) m_worldOfSinglePath.emplace(id, world);
     }
     return world;
 }
 
+bool Evaluator::nodeVisible(NodeId id) {
+    // Remembered per node: a shape instanced along many paths shares the nodes above it.
+    if (m_nodeVisible.size() != m_graph.size()) m_nodeVisible.assign(m_graph.size(), 0);
+    if (m_nodeVisible[id] == 0) m_nodeVisible[id] = nodeVisibleUncached(id) ? 1 : 2;
+    return m_nodeVisible[id] == 1;
+}
+
+bool Evaluator::nodeVisibleUncached(NodeId id) {
+    if (!getBool(id, "visibility", true) || !getBool(id, "lodVisibility", true) ||
+        getBool(id, "intermediateObject", false))
+        return false;
+    // Drawing overrides: a display layer drives the node's drawOverride through its drawInfo;
+    // otherwise the node's own overrideEnabled/overrideVisibility apply.
+    if (auto layer = m_graph.source(id, "drawOverride"); layer && isA(m_graph.node(layer->node), "displayLayer"))
+        return !(getBool(layer->node, "enabled", true) && !getBool(layer->node, "visibility", true));
+    return !(getBool(id, "overrideEnabled", false) && !getBool(id, "overrideVisibility", true));
+}
+
 bool Evaluator::visible(const std::vector<NodeId>& dagPath) {
-    for (NodeId id : dagPath) {
-        if (id >= m_graph.size()) return false;
-        if (!getBool(id, "visibility", true) || !getBool(id, "lodVisibility", true) ||
-            getBool(id, "intermediateObject", false))
-            return false;
-        // Drawing overrides: a display layer drives the node's drawOverride through its drawInfo;
-        // otherwise the node's own overrideEnabled/overrideVisibility apply.
-        if (auto layer = m_graph.source(id, "drawOverride"); layer && isA(m_graph.node(layer->node), "displayLayer")) {
-            if (getBool(layer->node, "enabled", true) && !getBool(layer->node, "visibility", true)) return false;
-        } else if (getBool(id, "overrideEnabled", false) && !getBool(id, "overrideVisibility", true)) {
-            return false;
-        }
-    }
+    for (NodeId id : dagPath)
+        if (id >= m_graph.size() || !nodeVisible(id)) return false;
     return !dagPath.empty();
 }
 
 std::string Evaluator::hiddenReason(const std::vector<NodeId>& dagPath) {
-    if (visible(dagPath)) return {};
-    for (size_t k = 1; k <= dagPath.size(); ++k) {
-        std::vector<NodeId> prefix(dagPath.begin(), dagPath.begin() + std::ptrdiff_t(k));
-        if (!visible(prefix))
-            return "hidden by '" + m_graph.node(dagPath[k - 1]).name +
+    // The first node on the path that hides it, found in one pass.
+    for (NodeId id : dagPath) {
+        if (id >= m_graph.size()) return "hidden";
+        if (!nodeVisible(id))
+            return "hidden by '" + util::excerpt(m_graph.node(id).name) +
                    "' (visibility, a drawing override or a display layer)";
     }
-    return "hidden";
+    return dagPath.empty() ? "hidden" : std::string();
 }
 
 }  // namespace pushpin::scene

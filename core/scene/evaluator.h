@@ -2,6 +2,10 @@
 // incoming connections (animCurves, unitConversion, pass-through plugs), transform matrices with
 // Maya's full transform stack, and DAG visibility.
 // Thread safety: an Evaluator caches results and is not thread-safe; use one per thread.
+// Bounded work: plugs are evaluated with an explicit stack, never by recursion, so a chain of a
+// million connections costs a million steps and no call stack; each plug is computed once per
+// frame. World matrices of nodes with a single DAG path are cached, so asking for every node of a
+// deep chain costs one pass over it.
 // Matrices follow Maya's row-vector convention internally but are returned as GLM column-major
 // matrices for column vectors: p_world = worldFromObject * vec4(p_object, 1).
 #pragma once
@@ -13,7 +17,9 @@
 
 #include <string>
 #include <string_view>
+#include <optional>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace pushpin::scene {
@@ -29,7 +35,7 @@ public:
     // Numbers of `node.plugPath` at this frame. Follows an incoming connection on the plug (or, for a
     // numeric compound, on each child component): animCurve outputs are evaluated at the frame,
     // unitConversion multiplies its input by conversionFactor, `time1.outTime` gives the frame, and
-    // any other source plug is evaluated recursively as a stored/default value (cycles are broken and
+    // any other source plug is evaluated in turn as a stored/default value (cycles are broken and
     // reported once). Without a connection: the stored value, else the schema default; the outputs
     // of animCurve, unitConversion and time nodes are computed when asked for directly.
     // animCurve keys keep the file's units in the Graph and are converted to internal units here.
@@ -59,16 +65,50 @@ public:
     const std::vector<Diagnostic>& diagnostics() const { return m_diagnostics; }
 
 private:
+    // A plug as a cache key: node and canonical attribute path.
+    struct PlugKey {
+        NodeId node;
+        std::string path;
+        bool operator==(const PlugKey&) const = default;
+    };
+    struct PlugKeyHash {
+        // Not noexcept, so that the table keeps each hash code instead of recomputing it.
+        size_t operator()(const PlugKey& k) const {
+            return std::hash<std::string>()(k.path) ^ (size_t(k.node) * 0x9E3779B97F4A7C15ull);
+        }
+    };
+    // A cached plug: being evaluated (on the stack; met again it is a cycle), without a value, or
+    // with one. Plugs read straight from the Graph (no connection, not a computed output) are not
+    // cached, so a deep DAG does not keep every transform attribute it read.
+    struct CacheEntry {
+        enum class State : uint8_t { Evaluating, Missing, Ready };
+        State state = State::Evaluating;
+        std::vector<double> value;
+    };
+
     bool evaluatePlug(NodeId node, const std::string& canonicalPath, std::vector<double>& out);
-    bool evaluateSource(const Plug& source, std::vector<double>& out);
+    // The plugs whose values `node.path` is computed from: every plug computePlug may read (more
+    // is harmless; they are evaluated first, each once).
+    std::vector<Plug> dependencies(NodeId node, const std::string& path) const;
+    bool needsCache(NodeId node, const std::string& path) const;
+    // The value of `node.path` from its dependencies' values, which are already evaluated.
+    bool computePlug(NodeId node, const std::string& path, std::vector<double>& out);
+    void reportCycle(NodeId node, const std::string& path);
     bool computeOutput(NodeId node, const std::string& canonicalPath, std::vector<double>& out);
     double evaluateAnimCurve(NodeId curve);
     glm::dmat4 localMatrixUnder(NodeId transform, NodeId dagParent);
+    bool nodeVisible(NodeId node);
+    bool nodeVisibleUncached(NodeId node);
+    bool hasSinglePath(NodeId node);
 
     const Graph& m_graph;
     double m_frame;
-    std::unordered_map<std::string, std::vector<double>> m_cache;  // "node#plug" → value at frame
-    std::vector<std::string> m_evaluating;                          // cycle guard
+    // Values at this frame; entries stay put when the map grows, so the stack may point into it.
+    std::unordered_map<PlugKey, CacheEntry, PlugKeyHash> m_cache;
+    std::unordered_set<std::string> m_reportedCycles;
+    std::vector<uint8_t> m_nodeVisible;                 // per node: 0 unknown, 1 visible, 2 hidden
+    std::vector<uint8_t> m_singlePath;                  // per node: 0 unknown, 1 one DAG path, 2 more
+    std::unordered_map<NodeId, glm::dmat4> m_worldOfSinglePath;  // world matrix of single-path nodes
     std::vector<Diagnostic> m_diagnostics;
 };
 

@@ -1,10 +1,13 @@
 #include "core/scene/graph.h"
 
 #include "cache/error.h"
+#include "core/util/format.h"
 
 #include <algorithm>
 #include <charconv>
 #include <functional>
+#include <iterator>
+#include <unordered_set>
 
 namespace pushpin::scene {
 
@@ -233,9 +236,9 @@ Graph::Graph() {
     connect({find("initialShadingGroup"), "partition"}, {find("renderPartition"), "sets"}, true);
 }
 
-NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId parent, uint32_t line) {
+const Node* Graph::clashingNode(std::string_view type, std::string_view name, NodeId parent) const {
     const NodeSchema* schema = findSchema(type);
-    bool dag = schema ? schema->isA("dagNode") : parent != kNoNode;
+    const bool dag = schema ? schema->isA("dagNode") : parent != kNoNode;
     auto range = m_byName.equal_range(std::string(name));
     for (auto it = range.first; it != range.second; ++it) {
         const Node& other = m_nodes[it->second];
@@ -245,9 +248,16 @@ NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId pa
             clash = (parent == kNoNode && otherWorld) ||
                     std::find(other.parents.begin(), other.parents.end(), parent) != other.parents.end();
         }
-        if (clash)
-            throw Error("a node named '" + std::string(name) + "' already exists (" + other.type + ")");
+        if (clash) return &other;
     }
+    return nullptr;
+}
+
+NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId parent, uint32_t line) {
+    const NodeSchema* schema = findSchema(type);
+    bool dag = schema ? schema->isA("dagNode") : parent != kNoNode;
+    if (const Node* other = clashingNode(type, name, parent))
+        throw Error("a node named '" + util::excerpt(name) + "' already exists (" + other->type + ")");
     if (parent != kNoNode && parent >= m_nodes.size()) throw Error("createNode: invalid parent id");
     Node n;
     n.id = NodeId(m_nodes.size());
@@ -279,16 +289,35 @@ void Graph::setParent(NodeId child, NodeId parent, bool add) {
         return;
     }
     // Refuse cycles: the new parent must not be the child or one of its descendants.
-    std::function<bool(NodeId)> isDescendant = [&](NodeId n) {
-        if (n == child) return true;
-        for (NodeId p : m_nodes[n].parents)
-            if (isDescendant(p)) return true;
-        return false;
-    };
-    if (isDescendant(parent)) throw Error("parenting '" + c.name + "' under '" + m_nodes[parent].name + "' would make a cycle");
+    if (isAncestorOrSelf(child, parent))
+        throw Error("parenting '" + util::excerpt(c.name) + "' under '" + util::excerpt(m_nodes[parent].name) +
+                    "' would make a cycle");
     if (std::find(c.parents.begin(), c.parents.end(), parent) != c.parents.end()) return;
     c.parents.push_back(parent);
     m_nodes[parent].children.push_back(child);
+}
+
+// Whether `ancestor` is `node` or above it in the DAG. Searches up from `node` and down from
+// `ancestor` in turn, one node each, and stops when either search runs out: the cost is twice the
+// smaller of the two regions, so building a deep chain (whose new nodes have no children yet)
+// stays linear. Iterative, whatever the depth.
+bool Graph::isAncestorOrSelf(NodeId ancestor, NodeId node) const {
+    if (ancestor == node) return true;
+    if (m_nodes[ancestor].children.empty() || m_nodes[node].parents.empty()) return false;
+    std::vector<NodeId> up{node}, down{ancestor};
+    std::unordered_set<NodeId> seenUp{node}, seenDown{ancestor};
+    size_t upNext = 0, downNext = 0;
+    while (upNext < up.size() && downNext < down.size()) {
+        for (NodeId p : m_nodes[up[upNext++]].parents) {
+            if (p == ancestor) return true;
+            if (seenUp.insert(p).second) up.push_back(p);
+        }
+        for (NodeId c : m_nodes[down[downNext++]].children) {
+            if (c == node) return true;
+            if (seenDown.insert(c).second) down.push_back(c);
+        }
+    }
+    return false;
 }
 
 void Graph::rename(NodeId id, std::string_view newName) {
@@ -371,7 +400,7 @@ void Graph::setValue(NodeId nodeId, const std::vector<PlugSegment>& segs, Value 
 
 Plug Graph::canonicalPlug(const Plug& p) const {
     auto segs = parsePlugPath(p.path);
-    if (!segs) throw Error("malformed plug '" + p.path + "'");
+    if (!segs) throw Error("malformed plug '" + util::excerpt(p.path) + "'");
     return Plug{p.node, canonicalPath(p.node, *segs)};
 }
 
@@ -438,20 +467,41 @@ NodeId Graph::find(std::string_view text) const {
         start = bar + 1;
     }
     auto range = m_byName.equal_range(std::string(parts.back()));
+    auto rootOk = [&](NodeId id) { return !absolute || m_nodes[id].underWorld || m_nodes[id].parents.empty(); };
     NodeId best = kNoNode;
-    // Does node `id` sit under the path parts[0..k] (k = index of its own part)?
-    std::function<bool(NodeId, size_t)> matches = [&](NodeId id, size_t k) -> bool {
-        if (m_nodes[id].name != parts[k]) return false;
-        if (k == 0) {
-            if (!absolute) return true;
-            return m_nodes[id].underWorld || m_nodes[id].parents.empty();
-        }
-        for (NodeId p : m_nodes[id].parents)
-            if (matches(p, k - 1)) return true;
-        return false;
-    };
-    for (auto it = range.first; it != range.second; ++it)
-        if (matches(it->second, parts.size() - 1)) best = std::min(best, it->second);
+    if (parts.size() == 1) {
+        for (auto it = range.first; it != range.second; ++it)
+            if (rootOk(it->second)) best = std::min(best, it->second);
+        return best;
+    }
+    // A path "a|b|c": first the nodes named b that are parents of a candidate c, then the nodes named
+    // a above those (reach[k] holds the level-k nodes), then down again keeping the nodes with a
+    // matching parent on the level above. Each level is a set, so the cost is linear in the nodes
+    // the path can touch, not in the number of ways to walk it (a diamond-shaped DAG has 2^depth).
+    std::vector<std::vector<NodeId>> reach(parts.size());
+    for (auto it = range.first; it != range.second; ++it) reach.back().push_back(it->second);
+    for (size_t k = parts.size() - 1; k-- > 0;) {
+        for (NodeId id : reach[k + 1])
+            for (NodeId p : m_nodes[id].parents)
+                if (m_nodes[p].name == parts[k]) reach[k].push_back(p);
+        std::sort(reach[k].begin(), reach[k].end());
+        reach[k].erase(std::unique(reach[k].begin(), reach[k].end()), reach[k].end());
+        if (reach[k].empty()) return kNoNode;
+    }
+    std::unordered_set<NodeId> above;
+    for (NodeId id : reach[0])
+        if (rootOk(id)) above.insert(id);
+    for (size_t k = 1; k < parts.size() && !above.empty(); ++k) {
+        std::unordered_set<NodeId> level;
+        for (NodeId id : reach[k])
+            for (NodeId p : m_nodes[id].parents)
+                if (above.count(p)) {
+                    level.insert(id);
+                    break;
+                }
+        above.swap(level);
+    }
+    for (NodeId id : above) best = std::min(best, id);
     return best;
 }
 
@@ -462,17 +512,73 @@ std::vector<NodeId> Graph::nodesOfType(std::string_view type, bool derived) cons
     return out;
 }
 
-std::vector<std::vector<NodeId>> Graph::dagPaths(NodeId id) const {
-    const Node& n = m_nodes.at(id);
-    if (n.parents.empty()) return {{id}};
+std::vector<std::vector<NodeId>> Graph::dagPaths(NodeId id, DagPathBudget* budget) const {
+    DagPathBudget local;
+    DagPathBudget& b = budget ? *budget : local;
     std::vector<std::vector<NodeId>> out;
-    if (n.underWorld) out.push_back({id});
-    for (NodeId p : n.parents)
-        for (auto& path : dagPaths(p)) {
-            path.push_back(id);
-            out.push_back(std::move(path));
+    if (m_nodes.at(id).parents.empty()) {
+        // The common case, a node at world level: one path of one node.
+        if (b.paths + 1 > b.maxPaths || b.pathNodes + 1 > b.maxPathNodes) {
+            b.exhausted = true;
+            return out;
         }
+        ++b.paths;
+        ++b.pathNodes;
+        out.push_back({id});
+        return out;
+    }
+    // Depth-first walk up the parents with an explicit stack. At a node the choices, in order, are:
+    // stop here (at world level: always for a root, first for an instance also under the world),
+    // then each parent. The stack read top to bottom is the path, root first.
+    struct Step {
+        NodeId node;
+        uint32_t next;
+    };
+    std::vector<Step> stack{{id, 0}};
+    while (!stack.empty()) {
+        Step& s = stack.back();
+        const Node& n = m_nodes[s.node];
+        const size_t stopChoices = n.parents.empty() || n.underWorld ? 1 : 0;
+        if (s.next >= stopChoices + n.parents.size()) {
+            stack.pop_back();
+            continue;
+        }
+        const uint32_t choice = s.next++;
+        if (choice < stopChoices) {
+            if (b.paths + 1 > b.maxPaths || b.pathNodes + stack.size() > b.maxPathNodes) {
+                b.exhausted = true;
+                return out;
+            }
+            ++b.paths;
+            b.pathNodes += stack.size();
+            std::vector<NodeId>& path = out.emplace_back();
+            path.reserve(stack.size());
+            for (size_t k = stack.size(); k-- > 0;) path.push_back(stack[k].node);
+            continue;
+        }
+        // setParent refuses cycles, so the stack never exceeds the node count; the check keeps a
+        // corrupted graph from looping forever.
+        if (stack.size() > m_nodes.size()) throw Error("DAG cycle through '" + util::excerpt(n.name) + "'");
+        stack.push_back({n.parents[choice - stopChoices], 0});
+    }
     return out;
+}
+
+std::string dagPathBudgetMessage(const Graph& graph, NodeId node, const DagPathBudget& budget) {
+    return "'" + util::excerpt(graph.node(node).name) + "': DAG instance paths not all listed: more than " +
+           std::to_string(budget.maxPaths) + " paths or " + std::to_string(budget.maxPathNodes) +
+           " path nodes in all (a deeply instanced DAG); the remaining instances are skipped";
+}
+
+std::vector<NodeId> Graph::firstDagPath(NodeId id) const {
+    std::vector<NodeId> path{id};
+    for (NodeId at = id; !m_nodes.at(at).parents.empty() && !m_nodes[at].underWorld;) {
+        at = m_nodes[at].parents.front();
+        path.push_back(at);
+        if (path.size() > m_nodes.size()) throw Error("DAG cycle through '" + util::excerpt(m_nodes[id].name) + "'");
+    }
+    std::reverse(path.begin(), path.end());
+    return path;
 }
 
 std::string Graph::dagPathName(const std::vector<NodeId>& path) const {
@@ -588,6 +694,14 @@ std::optional<Plug> Graph::source(NodeId node, std::string_view plugPath) const 
         if (c.alive && c.dst.path == path) return c.src;
     }
     return std::nullopt;
+}
+
+const Plug* Graph::sourceOfCanonical(NodeId node, std::string_view path) const {
+    for (size_t ci : m_nodes.at(node).inConnections) {
+        const Connection& c = m_connections[ci];
+        if (c.alive && c.dst.path == path) return &c.src;
+    }
+    return nullptr;
 }
 
 std::vector<const Connection*> Graph::inputs(NodeId node) const {

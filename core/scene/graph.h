@@ -117,6 +117,22 @@ struct Diagnostic {
     std::string message;
 };
 
+// Bounds on DAG path enumeration, shared by the calls of one pass over the scene so that the
+// pass as a whole stays bounded. The defaults allow far more instances than real scenes have
+// (a million paths, 16M nodes of path in total, 64 MB of NodeIds).
+struct DagPathBudget {
+    static constexpr uint64_t kDefaultMaxPaths = uint64_t(1) << 20;
+    static constexpr uint64_t kDefaultMaxPathNodes = uint64_t(1) << 24;
+    uint64_t maxPaths = kDefaultMaxPaths;
+    uint64_t maxPathNodes = kDefaultMaxPathNodes;  // sum of the lengths of the paths enumerated
+    uint64_t paths = 0;                            // used so far
+    uint64_t pathNodes = 0;
+    bool exhausted = false;                        // a call stopped early
+};
+class Graph;
+// The one warning for a pass whose budget ran out at `node`: names the node and the limits.
+std::string dagPathBudgetMessage(const Graph& graph, NodeId node, const DagPathBudget& budget);
+
 class Graph {
 public:
     Graph();
@@ -125,6 +141,8 @@ public:
     // Creates a node. `parent` may be kNoNode (world). Throws pushpin::Error if a DAG node with the same
     // name already exists under the same parent, or a non-DAG node with the same name exists.
     NodeId createNode(std::string_view type, std::string_view name, NodeId parent = kNoNode, uint32_t line = 0);
+    // The node that makes createNode(type, name, parent) refuse the name, or nullptr if it is free.
+    const Node* clashingNode(std::string_view type, std::string_view name, NodeId parent) const;
     // Adds `parent` as another DAG parent of `child` (instancing) or, with add == false, reparents.
     void setParent(NodeId child, NodeId parent, bool add);
     void rename(NodeId node, std::string_view newName);
@@ -154,8 +172,14 @@ public:
     // "ns:name". An ambiguous short DAG name returns the first created. kNoNode if none.
     NodeId find(std::string_view nameOrPath) const;
     std::vector<NodeId> nodesOfType(std::string_view type, bool derived = true) const;
-    // Full DAG paths of every instance of a DAG node ("|pCube1|pCubeShape1", …), in a stable order.
-    std::vector<std::vector<NodeId>> dagPaths(NodeId node) const;
+    // Full DAG paths of every instance of a DAG node ("|pCube1|pCubeShape1", …), in a stable order:
+    // the node's own world instance first, then its parents' paths in parent order. The work is
+    // bounded by `budget` (a per-call default budget when nullptr): a diamond-shaped DAG has 2^depth
+    // paths, so enumeration stops at the budget and sets budget->exhausted. Linear in the length of
+    // the paths returned; never recursive, whatever the depth.
+    std::vector<std::vector<NodeId>> dagPaths(NodeId node, DagPathBudget* budget = nullptr) const;
+    // The first of dagPaths(node) alone, in time linear in its length.
+    std::vector<NodeId> firstDagPath(NodeId node) const;
     std::string dagPathName(const std::vector<NodeId>& path) const;
 
     // ---- attribute values (static, as stored; no animation)
@@ -174,6 +198,9 @@ public:
     const std::vector<Connection>& connections() const { return m_connections; }
     // The source plug feeding `node.plugPath` exactly (canonical path), if any.
     std::optional<Plug> source(NodeId node, std::string_view plugPath) const;
+    // The same for a path already in canonical form (long names), without parsing it; nullptr if
+    // none. The pointer stays valid until the next connect.
+    const Plug* sourceOfCanonical(NodeId node, std::string_view canonicalPath) const;
     // Every live connection into / out of a node.
     std::vector<const Connection*> inputs(NodeId node) const;
     std::vector<const Connection*> outputs(NodeId node) const;
@@ -195,6 +222,7 @@ private:
     Plug canonicalPlug(const Plug& p) const;
     std::vector<Node> m_nodes;
     std::unordered_multimap<std::string, NodeId> m_byName;
+    bool isAncestorOrSelf(NodeId ancestor, NodeId node) const;
     std::vector<Connection> m_connections;
     std::vector<Relationship> m_relationships;
     std::vector<Diagnostic> m_warnings;

@@ -15,8 +15,10 @@
 
 #include "core/scene/detail/ma_lexer.h"
 #include "core/scene/detail/ma_number.h"
+#include "core/util/format.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cerrno>
 #include <fstream>
 #include <memory>
@@ -138,7 +140,18 @@ struct ReadContext {
     std::set<std::string> warnedCommands;
     std::set<std::string> knownDataTypes;  // from `requires -dataType` and `addAttr -dt`
     bool missingReferences = false;
+    // Canonical paths of the files being loaded, outermost first: a reference to one of them is a cycle.
+    std::vector<std::filesystem::path> loading;
+    uint64_t referencesLoaded = 0;
+    uint64_t referenceBytes = 0;
+    // Next trailing number to try per base name when renaming (see Parser::freeName).
+    std::unordered_map<std::string, uint64_t> nextSuffix;
+    uint64_t renamesReported = 0;
+    uint64_t renamesUnreported = 0;
 };
+
+// Renames reported one by one; past this many, a load reports how many more it made.
+constexpr uint64_t kMaxRenameWarnings = 100;
 
 struct ResolvedPlug {
     NodeId node = kNoNode;
@@ -181,6 +194,8 @@ private:
     // ---- names
     std::string qualify(std::string_view name) const;
     NodeId lookupNode(std::string_view name, uint32_t line, uint32_t column, bool* tolerated);
+    std::string freeName(const std::string& base);
+    void nameFreed(const std::string& name);
     bool resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out);
     void setCurrent(NodeId id);
 
@@ -336,7 +351,7 @@ std::string Parser::describe(const MaToken& t) const {
         case MaTokenKind::Word: return "'" + t.text.substr(0, 40) + (t.text.size() > 40 ? "…'" : "'");
         case MaTokenKind::String: return "string \"" + t.text.substr(0, 40) + (t.text.size() > 40 ? "…\"" : "\"");
         case MaTokenKind::End: return "end of file";
-        default: return "'" + t.text + "'";
+        default: return "'" + util::excerpt(t.text) + "'";
     }
 }
 
@@ -363,6 +378,30 @@ std::string Parser::qualify(std::string_view name) const {
     return out;
 }
 
+// `base` followed by the smallest number k >= 1 that no node is named with, as Maya numbers new
+// and clashing nodes (mesh1, mesh2, …). Names are only ever freed by `rename`, which lowers the
+// counter again (nameFreed), so each base resumes where it stopped: 20,000 nodes named "x" cost
+// 20,000 lookups, not 200 million.
+std::string Parser::freeName(const std::string& base) {
+    uint64_t& next = m_ctx.nextSuffix.try_emplace(base, 1).first->second;
+    std::string candidate;
+    for (;; ++next) {
+        candidate = base + std::to_string(next);
+        if (m_g.find(candidate) == kNoNode) break;
+    }
+    ++next;
+    return candidate;
+}
+
+void Parser::nameFreed(const std::string& name) {
+    size_t digits = name.size();
+    while (digits > 0 && name[digits - 1] >= '0' && name[digits - 1] <= '9') --digits;
+    if (digits == name.size() || name[digits] == '0' || name.size() - digits > 18) return;  // not base + k
+    auto it = m_ctx.nextSuffix.find(name.substr(0, digits));
+    if (it == m_ctx.nextSuffix.end()) return;
+    it->second = std::min<uint64_t>(it->second, std::stoull(name.substr(digits)));
+}
+
 // Finds a node by name or DAG path. `:name` that does not exist becomes an implicit default
 // node. A missing node is an error unless a reference failed to load (then *tolerated is set).
 NodeId Parser::lookupNode(std::string_view name, uint32_t line, uint32_t column, bool* tolerated) {
@@ -379,11 +418,11 @@ NodeId Parser::lookupNode(std::string_view name, uint32_t line, uint32_t column,
     }
     if (tolerated && m_ctx.missingReferences) {
         *tolerated = true;
-        warn(line, column, "no node named '" + full + "' (it may live in a reference that was not loaded); ignored");
+        warn(line, column, "no node named '" + util::excerpt(full) + "' (it may live in a reference that was not loaded); ignored");
         return kNoNode;
     }
-    m_errorNode = full;
-    fail(line, column, "no node named '" + full + "'");
+    m_errorNode = util::excerpt(full);
+    fail(line, column, "no node named '" + util::excerpt(full) + "'");
 }
 
 // Splits "node.attr[1].child" / ".attr" into node and attribute path.
@@ -394,54 +433,64 @@ bool Parser::resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out) 
     const size_t dot = text.find('.');
     std::string_view nodePart = dot == std::string_view::npos ? text : text.substr(0, dot);
     std::string_view attrPart = dot == std::string_view::npos ? std::string_view() : text.substr(dot);
-    if (requireAttr && attrPart.empty()) failAt(t, "malformed plug \"" + t.text + "\": no attribute");
+    if (requireAttr && attrPart.empty()) failAt(t, "malformed plug \"" + util::excerpt(t.text) + "\": no attribute");
     out.segments.clear();
     if (!attrPart.empty()) {
         auto segs = parsePlugPath(attrPart);
-        if (!segs || segs->empty()) failAt(t, "malformed plug \"" + t.text + "\"");
+        if (!segs || segs->empty()) failAt(t, "malformed plug \"" + util::excerpt(t.text) + "\"");
         for (size_t i = 0; i < segs->size(); ++i) {
             const PlugSegment& s = (*segs)[i];
             if (!s.indexed()) continue;
-            if (s.last > kMaxIndex) failAt(t, "index out of range in plug \"" + t.text + "\"");
+            if (s.last > kMaxIndex) failAt(t, "index out of range in plug \"" + util::excerpt(t.text) + "\"");
             if (s.last != s.first && i + 1 != segs->size())
-                failAt(t, "malformed plug \"" + t.text + "\": a range may only end the path");
+                failAt(t, "malformed plug \"" + util::excerpt(t.text) + "\": a range may only end the path");
         }
         out.segments = std::move(*segs);
     }
     if (nodePart.empty()) {
         if (m_current == kNoNode) {
             if (m_currentMissing) return false;
-            failAt(t, "plug \"" + t.text + "\" names no node and no node is selected");
+            failAt(t, "plug \"" + util::excerpt(t.text) + "\" names no node and no node is selected");
         }
         out.node = m_current;
-        m_errorNode = m_g.node(m_current).name;
+        m_errorNode = util::excerpt(m_g.node(m_current).name);
         return true;
     }
     bool tolerated = false;
     out.node = lookupNode(nodePart, t.line, t.column, &tolerated);
     if (tolerated) return false;
-    m_errorNode = m_g.node(out.node).name;
+    m_errorNode = util::excerpt(m_g.node(out.node).name);
     return true;
 }
 
 void Parser::setCurrent(NodeId id) {
     m_current = id;
     m_currentMissing = false;
-    m_errorNode = id == kNoNode ? std::string() : m_g.node(id).name;
+    m_errorNode = id == kNoNode ? std::string() : util::excerpt(m_g.node(id).name);
 }
 
 // ------------------------------------------------------------------ driver
 
 void Parser::run() {
     for (;;) {
+        const uint32_t lastLine = m_tok.line;  // where the previous command ended
         advance();
-        if (m_tok.kind == MaTokenKind::End) return;
+        if (m_tok.kind == MaTokenKind::End) {
+            // Maya ends every .ma it writes with "// End of <name>"; without it the file was most
+            // likely cut short at a command boundary (reference/ma-format.md).
+            if (m_lex.hasMayaHeader() && !m_lex.endsWithEndComment())
+                warn(lastLine, 0,
+                     "the file starts with Maya's '//Maya ASCII' header but lacks the closing '// End of' comment "
+                     "Maya writes last; it may be truncated (its last command ends on line " +
+                         std::to_string(lastLine) + ")");
+            return;
+        }
         if (m_tok.kind == MaTokenKind::Semicolon) continue;
         if (m_tok.kind != MaTokenKind::Word || !isIdentifier(m_tok.text))
             failAt(m_tok, "expected a command, found " + describe(m_tok));
         const std::string command = m_tok.text;
         const uint32_t line = m_tok.line, column = m_tok.column;
-        m_errorNode = m_current == kNoNode ? std::string() : m_g.node(m_current).name;
+        m_errorNode = m_current == kNoNode ? std::string() : util::excerpt(m_g.node(m_current).name);
         try {
             dispatch(command, line, column);
         } catch (const ParseError&) {
@@ -482,7 +531,7 @@ void Parser::cmdRequires() {
     for (size_t i = 0; i < m_argc; ++i) {
         const MaToken& a = m_args[i];
         if (a.isFlag()) {
-            if (i + 1 >= m_argc) failAt(a, "requires: flag " + a.text + " needs a value");
+            if (i + 1 >= m_argc) failAt(a, "requires: flag " + util::excerpt(a.text) + " needs a value");
             const MaToken& v = m_args[++i];
             if (a.text == "-dataType" || a.text == "-dt") m_ctx.knownDataTypes.insert(v.text);
             continue;
@@ -509,7 +558,7 @@ void Parser::cmdCurrentUnit() {
             if (i + 1 < m_argc && !m_args[i + 1].isFlag()) ++i;
             continue;
         }
-        if (i + 1 >= m_argc) failAt(a, "currentUnit: " + f + " needs a unit");
+        if (i + 1 >= m_argc) failAt(a, "currentUnit: " + util::excerpt(f) + " needs a unit");
         const MaToken& v = m_args[++i];
         if (linear) {
             auto cm = linearUnitInCm(v.text);
@@ -552,10 +601,10 @@ void Parser::cmdCreateNode(uint32_t line) {
             shared = true;
         } else if (f == "-ss" || f == "-skipSelect") {
         } else if (f == "-n" || f == "-name" || f == "-p" || f == "-parent") {
-            if (i + 1 >= m_argc || m_args[i + 1].isFlag()) failAt(a, "createNode: " + f + " needs a value");
+            if (i + 1 >= m_argc || m_args[i + 1].isFlag()) failAt(a, "createNode: " + util::excerpt(f) + " needs a value");
             (f[1] == 'n' ? name : parent) = &m_args[++i];
         } else {
-            failAt(a, "createNode: unknown flag " + f);
+            failAt(a, "createNode: unknown flag " + util::excerpt(f));
         }
     }
     if (!type) failAt(m_tok, "createNode: no node type given");
@@ -574,12 +623,9 @@ void Parser::cmdCreateNode(uint32_t line) {
         nodeName = qualify(name->text);
     } else {
         // Maya names an unnamed node after its type: mesh1, mesh2, …
-        for (int k = 1;; ++k) {
-            nodeName = qualify(type->text + std::to_string(k));
-            if (m_g.find(nodeName) == kNoNode) break;
-        }
+        nodeName = freeName(qualify(type->text));
     }
-    m_errorNode = nodeName;
+    m_errorNode = util::excerpt(nodeName);
 
     // An existing node of that name at that place in the DAG: reused for -s and implicit defaults.
     {
@@ -592,30 +638,28 @@ void Parser::cmdCreateNode(uint32_t line) {
             if (shared || implicitDefault) {
                 if (n.type != type->text)
                     warn(type->line, type->column,
-                         "createNode -s: '" + nodeName + "' exists with type " + n.type + ", not " + type->text);
+                         "createNode -s: '" + util::excerpt(nodeName) + "' exists with type " + util::excerpt(n.type) + ", not " + util::excerpt(type->text));
                 setCurrent(existing);
                 return;
             }
         }
     }
-    NodeId id = kNoNode;
-    try {
-        id = m_g.createNode(type->text, nodeName, parentId, line);
-    } catch (const ParseError&) {
-        throw;
-    } catch (const Error&) {
+    if (m_g.clashingNode(type->text, nodeName, parentId)) {
         // Name taken: Maya renames the new node by incrementing its trailing number.
         std::string base = nodeName;
         while (!base.empty() && base.back() >= '0' && base.back() <= '9') base.pop_back();
-        std::string candidate;
-        for (int k = 1;; ++k) {
-            candidate = base + std::to_string(k);
-            if (m_g.find(candidate) == kNoNode) break;
+        const std::string candidate = freeName(base);
+        if (m_ctx.renamesReported < kMaxRenameWarnings) {
+            ++m_ctx.renamesReported;
+            warn(name ? name->line : type->line, name ? name->column : type->column,
+                 "a node named '" + util::excerpt(nodeName) + "' already exists; the new " + util::excerpt(type->text) +
+                     " is renamed '" + util::excerpt(candidate) + "'");
+        } else {
+            ++m_ctx.renamesUnreported;
         }
-        warn(name ? name->line : type->line, name ? name->column : type->column,
-             "a node named '" + nodeName + "' already exists; the new " + type->text + " is renamed '" + candidate + "'");
-        id = m_g.createNode(type->text, candidate, parentId, line);
+        nodeName = candidate;
     }
+    const NodeId id = m_g.createNode(type->text, nodeName, parentId, line);
     if (shared) m_g.node(id).shared = true;
     setCurrent(id);
 }
@@ -647,9 +691,11 @@ void Parser::cmdRename() {
     const MaToken& newName = *positional.back();
     if (!isValidNodeName(newName.text)) failAt(newName, "rename: invalid node name " + describe(newName));
     const std::string full = qualify(newName.text);
-    if (m_g.find(full) != kNoNode && m_g.find(full) != id) failAt(newName, "rename: a node named '" + full + "' exists");
+    if (m_g.find(full) != kNoNode && m_g.find(full) != id) failAt(newName, "rename: a node named '" + util::excerpt(full) + "' exists");
+    const std::string oldName = m_g.node(id).name;
     m_g.rename(id, full);
-    if (id == m_current) m_errorNode = full;
+    if (m_g.find(oldName) == kNoNode) nameFreed(oldName);
+    if (id == m_current) m_errorNode = util::excerpt(full);
 }
 
 void Parser::cmdFile() {
@@ -669,7 +715,7 @@ void Parser::cmdFile() {
             "-dns", "-defaultNamespace", "-i", "-import", "-o", "-open", "-f", "-force", "-rdi0"};
         if (f == "-r" || f == "-reference") reference = true;
         if (noValue.count(f)) continue;
-        if (i + 1 >= m_argc) failAt(a, "file: flag " + f + " needs a value");
+        if (i + 1 >= m_argc) failAt(a, "file: flag " + util::excerpt(f) + " needs a value");
         const MaToken& v = m_args[++i];
         if (f == "-rdi" || f == "-referenceDepthInfo") return;  // depth bookkeeping for Maya's UI
         if (f == "-ns" || f == "-namespace") ns = v.text;
@@ -691,12 +737,12 @@ void Parser::loadReference(const std::string& pathText, const std::string& ns, c
                            uint32_t line, uint32_t column) {
     auto missing = [&](const std::string& why) {
         m_ctx.missingReferences = true;
-        warn(line, column, "reference \"" + pathText + "\" not loaded: " + why +
+        warn(line, column, "reference \"" + util::excerpt(pathText) + "\" not loaded: " + why +
                                "; its nodes are missing and edits to them are ignored");
     };
     if (!m_ctx.options.loadReferences) return missing("loading references is turned off");
     if (m_depth + 1 > m_ctx.options.maxReferenceDepth) return missing("reference depth limit reached");
-    if (!isValidNodeName(ns)) return missing("invalid namespace '" + ns + "'");
+    if (!isValidNodeName(ns)) return missing("invalid namespace '" + util::excerpt(ns) + "'");
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::path given(pathText);
@@ -712,11 +758,36 @@ void Parser::loadReference(const std::string& pathText, const std::string& ns, c
         }
     if (found.empty()) return missing("file not found (looked next to the scene)");
     if (type == "mayaBinary" || found.extension() == ".mb") return missing("Maya binary files are not supported");
-    std::ifstream in(found, std::ios::binary);
-    if (!in) return missing("cannot open " + found.string());
+    // A file that is already being loaded (this one or one that references it): Maya refuses a
+    // recursive reference, and loading it again would repeat without end.
+    const fs::path canonical = fs::weakly_canonical(found, ec);
+    const fs::path& identity = ec ? found : canonical;
+    if (auto it = std::find(m_ctx.loading.begin(), m_ctx.loading.end(), identity); it != m_ctx.loading.end()) {
+        std::string chain;
+        for (; it != m_ctx.loading.end(); ++it) chain += util::excerpt(it->filename().string()) + " -> ";
+        chain += util::excerpt(identity.filename().string());
+        return missing("it is already being loaded (" + chain + "), a recursive reference");
+    }
     const uint64_t size = fs::file_size(found, ec);
+    if (m_ctx.referencesLoaded + 1 > m_ctx.options.maxReferences)
+        fail(line, column, "reference \"" + util::excerpt(pathText) + "\": more than " +
+                               std::to_string(m_ctx.options.maxReferences) +
+                               " references loaded in this scene (ReadOptions::maxReferences); the load stops here");
+    if (!ec && size > m_ctx.options.maxReferenceBytes - std::min(m_ctx.referenceBytes, m_ctx.options.maxReferenceBytes))
+        fail(line, column, "reference \"" + util::excerpt(pathText) + "\": the referenced files would exceed " +
+                               std::to_string(m_ctx.options.maxReferenceBytes) +
+                               " bytes in this scene (ReadOptions::maxReferenceBytes); the load stops here");
+    std::ifstream in(found, std::ios::binary);
+    if (!in) return missing("cannot open " + util::excerpt(found.string()));
+    ++m_ctx.referencesLoaded;
+    m_ctx.referenceBytes += ec ? 0 : size;
     MaLexer lex(in);
     Parser sub(m_ctx, lex, found.string(), found.parent_path(), m_ns + ns + ":", m_depth + 1, ec ? 0 : size);
+    m_ctx.loading.push_back(identity);
+    struct PopLoading {
+        std::vector<fs::path>& loading;
+        ~PopLoading() { loading.pop_back(); }
+    } pop{m_ctx.loading};
     sub.run();
     m_g.references.push_back(found.string());
 }
@@ -739,7 +810,7 @@ void Parser::cmdConnectAttr(bool connect) {
             } else if (f == "-l" || f == "-lock" || f == "-rd" || f == "-referenceDest") {
                 if (i + 1 < m_argc && m_args[i + 1].kind == MaTokenKind::Word && !m_args[i + 1].isFlag()) ++i;
             } else {
-                failAt(a, std::string(cmd) + ": unknown flag " + f);
+                failAt(a, std::string(cmd) + ": unknown flag " + util::excerpt(f));
             }
             continue;
         }
@@ -758,7 +829,7 @@ void Parser::cmdConnectAttr(bool connect) {
     if (connect) {
         m_g.connect(std::move(s), std::move(d), nextAvailable);
     } else if (!m_g.disconnect(s, d)) {
-        warn(plugs[0]->line, plugs[0]->column, "disconnectAttr: no connection " + plugs[0]->text + " -> " + plugs[1]->text);
+        warn(plugs[0]->line, plugs[0]->column, "disconnectAttr: no connection " + util::excerpt(plugs[0]->text) + " -> " + util::excerpt(plugs[1]->text));
     }
 }
 
@@ -779,7 +850,7 @@ void Parser::cmdParent() {
         else if (f == "-s" || f == "-shape" || f == "-nc" || f == "-noConnections" || f == "-r" || f == "-relative" ||
                  f == "-a" || f == "-absolute" || f == "-nis" || f == "-noInvScale") {
         } else {
-            failAt(a, "parent: unknown flag " + f);
+            failAt(a, "parent: unknown flag " + util::excerpt(f));
         }
     }
     if (remove) {
@@ -801,11 +872,11 @@ void Parser::cmdParent() {
         bool tolerated = false;
         NodeId child = lookupNode(c.text, c.line, c.column, &tolerated);
         if (tolerated) continue;
-        m_errorNode = m_g.node(child).name;
+        m_errorNode = util::excerpt(m_g.node(child).name);
         if (add && parentId != kNoNode) {
             const auto& ps = m_g.node(child).parents;
             if (std::find(ps.begin(), ps.end(), parentId) != ps.end()) {
-                warn(c.line, c.column, "parent -add: '" + c.text + "' already is a child of '" + objects.back()->text + "'");
+                warn(c.line, c.column, "parent -add: '" + util::excerpt(c.text) + "' already is a child of '" + util::excerpt(objects.back()->text) + "'");
                 continue;
             }
         }
@@ -953,7 +1024,7 @@ void Parser::cmdAddAttr() {
         }
         const std::string& f = a.text;
         auto value = [&]() -> const MaToken& {
-            if (i + 1 >= m_argc) failAt(a, "addAttr: " + f + " needs a value");
+            if (i + 1 >= m_argc) failAt(a, "addAttr: " + util::excerpt(f) + " needs a value");
             return m_args[++i];
         };
         if (f == "-ln" || f == "-longName") {
@@ -988,7 +1059,7 @@ void Parser::cmdAddAttr() {
                    f == "-numberOfChildren" || f == "-dcb" || f == "-disconnectBehaviour") {
             const MaToken& v = value();
             if (detail::parseMaNumber(v.text, UnitKind::None, m_units).status != MaNumberStatus::Ok)
-                failAt(v, "addAttr: " + f + " needs a finite number, found " + describe(v));
+                failAt(v, "addAttr: " + util::excerpt(f) + " needs a finite number, found " + describe(v));
         } else if (f == "-nn" || f == "-niceName" || f == "-en" || f == "-enumName" || f == "-bt" ||
                    f == "-ct" || f == "-category") {
             value();
@@ -1002,7 +1073,7 @@ void Parser::cmdAddAttr() {
     if (spec.shortName.empty()) spec.shortName = spec.longName;
     if (spec.longName.empty()) failAt(m_tok, "addAttr: no attribute name (-ln/-sn)");
     if (!isIdentifier(spec.longName) || !isIdentifier(spec.shortName))
-        failAt(m_tok, "addAttr: invalid attribute name '" + spec.longName + "'");
+        failAt(m_tok, "addAttr: invalid attribute name '" + util::excerpt(spec.longName) + "'");
     if (!hasType) spec.type = AttrType::Double;  // Maya's default attribute type
 
     NodeId nodeId = m_current;
@@ -1015,12 +1086,12 @@ void Parser::cmdAddAttr() {
         failAt(m_tok, "addAttr: no node selected");
     }
     Node& node = m_g.node(nodeId);
-    m_errorNode = node.name;
+    m_errorNode = util::excerpt(node.name);
     if (const AttrSpec* existing = node.findAttr(spec.longName) ? node.findAttr(spec.longName) : node.findAttr(spec.shortName)) {
         // Attributes some Maya versions add dynamically may be part of pushpin's schema already.
         bool dynamic = false;
         for (const AttrSpec& d : node.dynamicAttrs) dynamic = dynamic || &d == existing;
-        if (dynamic) warn(m_tok.line, m_tok.column, "addAttr: attribute '" + spec.longName + "' already exists; ignored");
+        if (dynamic) warn(m_tok.line, m_tok.column, "addAttr: attribute '" + util::excerpt(spec.longName) + "' already exists; ignored");
         return;
     }
     if (hasDefault) spec.defaults = {defaultValue, defaultValue, defaultValue, defaultValue};
@@ -1028,14 +1099,14 @@ void Parser::cmdAddAttr() {
         AttrSpec* parent = nullptr;
         for (AttrSpec& s : node.dynamicAttrs)
             if (s.longName == parentName || s.shortName == parentName) parent = &s;
-        if (!parent) failAt(m_tok, "addAttr: parent attribute '" + parentName + "' does not exist");
+        if (!parent) failAt(m_tok, "addAttr: parent attribute '" + util::excerpt(parentName) + "' does not exist");
         spec.parent = parent->longName;
         if (componentCount(parent->type) > 1) {
             int index = 0;
             for (const AttrSpec& s : node.dynamicAttrs)
                 if (s.parent == parent->longName) ++index;
             if (index >= componentCount(parent->type))
-                failAt(m_tok, "addAttr: '" + parent->longName + "' already has all its children");
+                failAt(m_tok, "addAttr: '" + util::excerpt(parent->longName) + "' already has all its children");
             spec.component = index;
             if (parent->unit == UnitKind::None) parent->unit = spec.unit;
             if (hasDefault) parent->defaults[size_t(index)] = defaultValue;
@@ -1280,7 +1351,7 @@ void Parser::cmdSetAttr() {
             advance();
         } else {
             if (afterPlug) return false;  // after the plug an unknown `-word` is a value (and fails as one)
-            fail(flagLine, flagColumn, "setAttr: unknown flag " + f);
+            fail(flagLine, flagColumn, "setAttr: unknown flag " + util::excerpt(f));
         }
         return true;
     };
@@ -1319,7 +1390,7 @@ void Parser::cmdSetAttr() {
     if (m_tok.kind == MaTokenKind::Semicolon && !hasType) return;  // flags only
 
     auto countMismatch = [&](size_t got, int64_t expected, const std::string& what) {
-        fail(valueLine, valueColumn, "setAttr \"" + plug.text + "\": " + what + " needs " + std::to_string(expected) +
+        fail(valueLine, valueColumn, "setAttr \"" + util::excerpt(plug.text) + "\": " + what + " needs " + std::to_string(expected) +
                                          " values, found " + std::to_string(got));
     };
     const int64_t elementCount = std::max<int64_t>(elements, 1);
@@ -1342,7 +1413,7 @@ void Parser::cmdSetAttr() {
                               elements > 0 ? "a range of " + std::to_string(elements) + " × " + std::to_string(schemaWidth)
                                            : "the attribute");
             if (elements > 0 && (got % size_t(elements) != 0))
-                fail(valueLine, valueColumn, "setAttr \"" + plug.text + "\": " + std::to_string(got) +
+                fail(valueLine, valueColumn, "setAttr \"" + util::excerpt(plug.text) + "\": " + std::to_string(got) +
                                                  " values do not divide into the range's " + std::to_string(elements) +
                                                  " elements");
             value = std::move(nums);
@@ -1403,7 +1474,8 @@ void Parser::cmdSetAttr() {
         if (int64_t(nums.values.size()) != n * width) countMismatch(nums.values.size(), n * width, type);
         if (type == "Int32Array")
             for (double v : nums.values)
-                if (v != double(int32_t(v)) || v < INT32_MIN || v > INT32_MAX)
+                // Range first: converting an out-of-range double to int32_t is undefined.
+                if (!(v >= INT32_MIN && v <= INT32_MAX) || v != std::trunc(v))
                     fail(valueLine, valueColumn, "setAttr -type Int32Array: value " + std::to_string(v) + " is not a 32-bit integer");
         value = std::move(nums);
     } else if (type == "polyFaces") {
@@ -1429,19 +1501,33 @@ namespace {
 Graph readWith(MaLexer& lex, const std::string& name, const ReadOptions& options, uint64_t totalBytes) {
     Graph g;
     g.sourceFile = name;
-    ReadContext ctx{g, options, {}, {}, false};
+    ReadContext ctx{g, options};
     std::filesystem::path dir = std::filesystem::path(name).parent_path();
+    std::error_code ec;
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(name, ec);
+    ctx.loading.push_back(ec ? std::filesystem::path(name) : canonical);
     Parser parser(ctx, lex, name, dir, std::string(), 0, totalBytes);
     parser.run();
+    if (ctx.renamesUnreported > 0)
+        g.warn(Diagnostic{name, 0, 0, {},
+                          std::to_string(ctx.renamesUnreported) + " more nodes were renamed because their names were "
+                                                                  "taken (not listed one by one)"});
     return g;
 }
 
 }  // namespace
 
 Graph MaReader::readFile(const std::filesystem::path& path, const ReadOptions& options) {
+    // An ifstream opens a directory on Linux and reads nothing from it, which would pass for an
+    // empty scene.
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec) throw IoError(path, "cannot open", ec.value());
+    if (status.type() == std::filesystem::file_type::directory) throw IoError(path, "is a directory, not a .ma file");
+    if (status.type() != std::filesystem::file_type::regular)
+        throw IoError(path, "is not a regular file (a device, socket or pipe), not a .ma file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw IoError(path, "cannot open", errno);
-    std::error_code ec;
     const uint64_t size = std::filesystem::file_size(path, ec);
     MaLexer lex(in);
     return readWith(lex, path.string(), options, ec ? 0 : size);

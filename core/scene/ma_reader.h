@@ -31,14 +31,24 @@ private:
     std::string m_node;
 };
 
+// How a load treats references (`file -r`). A reference to a file that is already being loaded
+// (compared by canonical path, so `./a.ma` and `a.ma` are one file) is refused with a warning, as
+// Maya refuses a recursive reference. The totals bound a fan-out (A references B ten times, B
+// references C ten times, …): past either one the load stops with a ParseError naming the file and
+// line of the reference that crossed it.
 struct ReadOptions {
-    bool loadReferences = true;  // `file -r`: load the referenced .ma relative to the scene when found
-    int maxReferenceDepth = 8;   // guards against reference cycles
+    bool loadReferences = true;               // load the referenced .ma relative to the scene when found
+    int maxReferenceDepth = 8;                // references nested deeper are not loaded (a warning)
+    uint64_t maxReferences = 10000;           // references loaded in one load, all depths together
+    uint64_t maxReferenceBytes = uint64_t(4) << 30;  // bytes of referenced files read in one load (4 GiB)
 };
 
 class MaReader {
 public:
-    // Reads a file. Throws IoError when it cannot be opened and ParseError on malformed content.
+    // Reads a file. Throws IoError (naming the path) when it is not a regular file (a directory, a
+    // device) or cannot be opened, and ParseError on malformed content or a reference budget crossed.
+    // A file that starts with Maya's `//Maya ASCII` header but lacks the closing `// End of <name>`
+    // comment Maya writes last gets a warning that it may be truncated; what it holds is kept.
     static Graph readFile(const std::filesystem::path& path, const ReadOptions& options = {});
     // Reads text already in memory; `name` stands for the file in messages and for resolving references.
     static Graph readString(std::string_view text, const std::string& name = "<string>",

@@ -339,8 +339,7 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
         std::optional<geom::Mesh> m = evaluateShape(c, src.node, reason);
         // worldMesh carries the shape in world space (of its first instance).
         if (m && src.path.rfind("worldMesh", 0) == 0) {
-            const std::vector<std::vector<NodeId>> paths = g.dagPaths(src.node);
-            if (!paths.empty()) geom::transformMesh(*m, ev.worldMatrix(paths.front()));
+            geom::transformMesh(*m, ev.worldMatrix(g.firstDagPath(src.node)));
         }
         return m;
     }

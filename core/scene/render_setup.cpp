@@ -35,9 +35,17 @@ RenderSetup extractRenderSetup(const Graph& g) {
     setup.renderQuality = g.find("defaultRenderQuality");
     setup.resolution = g.find("defaultResolution");
 
+    // One bound for the instance paths of every camera and light together (see DagPathBudget).
+    DagPathBudget pathBudget;
+    auto pathsOf = [&](NodeId id) {
+        const bool before = pathBudget.exhausted;
+        auto paths = g.dagPaths(id, &pathBudget);
+        if (pathBudget.exhausted && !before) setup.notes.push_back(dagPathBudgetMessage(g, id, pathBudget));
+        return paths;
+    };
     for (NodeId id : g.nodesOfType("camera")) {
         const Node& n = g.node(id);
-        for (auto& path : g.dagPaths(id)) {
+        for (auto& path : pathsOf(id)) {
             CameraInfo c;
             c.shape = id;
             c.path = path;
@@ -55,7 +63,7 @@ RenderSetup extractRenderSetup(const Graph& g) {
         bool plugin = !n.schema && n.isDag() && n.type.size() > 5 &&
                       n.type.compare(n.type.size() - 5, 5, "Light") == 0;
         if (!known && !plugin) continue;
-        for (auto& path : g.dagPaths(n.id))
+        for (auto& path : pathsOf(n.id))
             setup.lights.push_back(LightInfo{n.id, path, n.name, n.type, known});
     }
 

@@ -60,6 +60,7 @@ struct RenderSetup {
     NodeId renderGlobals = kNoNode;   // :defaultRenderGlobals
     NodeId renderQuality = kNoNode;   // :defaultRenderQuality
     NodeId resolution = kNoNode;      // :defaultResolution
+    std::vector<std::string> notes;   // problems met while extracting (instance paths cut short)
 };
 
 RenderSetup extractRenderSetup(const Graph& graph);

@@ -4,6 +4,7 @@
 #include "core/scene/mesh_eval.h"
 #include "core/scene/nurbs_eval.h"
 #include "core/scene/render_setup.h"
+#include "core/util/format.h"
 #include "core/util/json_writer.h"
 
 #include "cache/error.h"
@@ -18,7 +19,7 @@ std::string diagnosticLine(const Diagnostic& d) {
     std::string s = d.file;
     if (d.line) s += ":" + std::to_string(d.line) + ":" + std::to_string(d.column);
     s += ": ";
-    if (!d.node.empty()) s += "'" + d.node + "': ";
+    if (!d.node.empty()) s += "'" + util::excerpt(d.node) + "': ";
     return s + d.message;
 }
 
@@ -100,12 +101,17 @@ SceneReport describeScene(const Graph& g, const RenderSetup& setup, double frame
     SceneReport report;
     report.frame = frame;
     for (const Diagnostic& d : g.warnings()) report.warnings.push_back(diagnosticLine(d));
+    for (const std::string& note : setup.notes) report.warnings.push_back(g.sourceFile + ": " + note);
     Evaluator ev(g, frame);
+    DagPathBudget pathBudget;  // one bound for every shape's instance paths together
     std::map<NodeId, std::tuple<std::optional<geom::Bounds3>, size_t, size_t, std::string>> geometry;
 
     for (const Node& n : g.nodes()) {
         if (n.type != "mesh" && n.type != "nurbsSurface") continue;
-        auto paths = g.dagPaths(n.id);
+        const bool cutBefore = pathBudget.exhausted;
+        auto paths = g.dagPaths(n.id, &pathBudget);
+        if (pathBudget.exhausted && !cutBefore)
+            report.warnings.push_back(g.sourceFile + ": " + dagPathBudgetMessage(g, n.id, pathBudget));
         for (size_t instance = 0; instance < paths.size(); ++instance) {
             const auto& path = paths[instance];
             ShapeReport s;
@@ -131,7 +137,7 @@ SceneReport describeScene(const Graph& g, const RenderSetup& setup, double frame
                 auto bounds = objectBounds(ev, n.id, vertices, faces, reason);
                 it = geometry.emplace(n.id, std::make_tuple(bounds, vertices, faces, reason)).first;
                 if (!bounds && s.reason.empty())
-                    report.warnings.push_back(g.sourceFile + ": '" + n.name + "': skipped: " + reason);
+                    report.warnings.push_back(g.sourceFile + ": '" + util::excerpt(n.name) + "': skipped: " + reason);
             }
             auto& [bounds, vertices, faces, reason] = it->second;
             s.vertices = vertices;

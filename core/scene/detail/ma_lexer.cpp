@@ -50,6 +50,12 @@ MaLexer::MaLexer(std::istream& in, size_t bufferBytes) : m_in(&in), m_buffer(buf
         m_cur += 3;
         m_lineStart = 3;
     }
+    checkHeader();
+}
+
+void MaLexer::checkHeader() {
+    static constexpr std::string_view kHeader = "//Maya ASCII";
+    m_mayaHeader = size_t(m_end - m_cur) >= kHeader.size() && std::string_view(m_cur, kHeader.size()) == kHeader;
 }
 
 MaLexer::MaLexer(std::string_view text) : m_eof(true) {
@@ -60,6 +66,7 @@ MaLexer::MaLexer(std::string_view text) : m_eof(true) {
         m_cur += 3;
         m_lineStart = 3;
     }
+    checkHeader();
 }
 
 bool MaLexer::refill() {
@@ -114,13 +121,21 @@ void MaLexer::skipSpaceAndComments() {
         ++m_cur;
         const int second = peekChar();
         if (second == '/') {
-            // Line comment: skip to the newline (left for the whitespace loop to count).
+            // Line comment: skip to the newline (left for the whitespace loop to count), keeping its
+            // first bytes for endsWithEndComment().
+            ++m_cur;
+            m_lastComment.clear();
+            m_lastIsLineComment = true;
             for (;;) {
+                const char* start = m_cur;
                 while (m_cur < m_end && *m_cur != '\n') ++m_cur;
+                for (const char* c = start; c < m_cur && m_lastComment.size() < kCommentKeep; ++c)
+                    if (!m_lastComment.empty() || (*c != ' ' && *c != '\t')) m_lastComment.push_back(*c);
                 if (m_cur < m_end || !refill()) break;
             }
         } else if (second == '*') {
             ++m_cur;
+            m_lastIsLineComment = false;
             bool star = false;
             for (;;) {
                 const int c = peekChar();
@@ -232,6 +247,7 @@ void MaLexer::next(MaToken& token) {
         token.kind = MaTokenKind::End;
         return;
     }
+    m_lastIsLineComment = false;
     const char c = *m_cur;
     switch (classOf(c)) {
         case kWord: readWord(token); return;

@@ -64,6 +64,12 @@ public:
     // Bytes consumed so far.
     uint64_t offset() const { return m_base + uint64_t(m_cur - m_data); }
 
+    // Whether the input starts with the header Maya writes ("//Maya ASCII"), after any BOM.
+    bool hasMayaHeader() const { return m_mayaHeader; }
+    // At end of input: whether the last thing in it is the comment Maya writes last
+    // ("// End of scene.ma"), with nothing but whitespace after it.
+    bool endsWithEndComment() const { return m_lastIsLineComment && m_lastComment.rfind("End of", 0) == 0; }
+
 private:
     bool refill();  // false at end of input; invalidates pointers into the old buffer
     int peekChar() {
@@ -71,6 +77,7 @@ private:
         return static_cast<unsigned char>(*m_cur);
     }
     void skipSpaceAndComments();
+    void checkHeader();
     void readWord(MaToken& token);
     void readString(MaToken& token);
     [[noreturn]] void fail(uint32_t line, uint32_t column, std::string message) const;
@@ -85,6 +92,12 @@ private:
     uint64_t m_lineStart = 0;  // offset of the first byte of the current line
     uint32_t m_line = 1;
     bool m_eof = false;
+    bool m_mayaHeader = false;
+    // The start of the last `//` comment (leading spaces dropped, at most kCommentKeep bytes) and
+    // whether nothing but whitespace followed it so far.
+    static constexpr size_t kCommentKeep = 16;
+    std::string m_lastComment;
+    bool m_lastIsLineComment = false;
     // A '/' that was not a comment, seen just before a buffer refill: the next word starts with it.
     bool m_pendingSlash = false;
     uint32_t m_pendingLine = 0, m_pendingColumn = 0;

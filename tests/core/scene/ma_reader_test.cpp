@@ -77,6 +77,7 @@ requires -nodeType "mayaUsdLayerManager" -dataType "pxrUsdStageData" "mayaUsdPlu
 currentUnit -l meter -a radian -t ntsc;
 fileInfo "application" "maya";
 fileInfo "osv" "Linux\n";
+// End of shot.ma
 )");
     ASSERT_EQ(g.requirements.size(), 3u);
     EXPECT_EQ(g.requirements[0], "maya 2018");
@@ -850,7 +851,9 @@ connectAttr "prop:thing.msg" "grp.msg";
 TEST(MaReader, ReferencesHonourReadOptions) {
     TempDir dir;
     dir.write("a.ma", "createNode transform -n \"x\";\nfile -r -ns \"b\" \"b.ma\";\n");
-    dir.write("b.ma", "createNode transform -n \"y\";\nfile -r -ns \"a\" \"a.ma\";\n");  // a cycle
+    dir.write("b.ma", "createNode transform -n \"y\";\nfile -r -ns \"c\" \"c.ma\";\n");
+    dir.write("c.ma", "createNode transform -n \"z\";\nfile -r -ns \"d\" \"d.ma\";\n");
+    dir.write("d.ma", "createNode transform -n \"w\";\n");
     const fs::path scene = dir.write("s.ma", "file -r -ns \"a\" \"a.ma\";\n");
     ReadOptions off;
     off.loadReferences = false;
@@ -864,9 +867,26 @@ TEST(MaReader, ReferencesHonourReadOptions) {
     Graph g = MaReader::readFile(scene, shallow);
     EXPECT_NE(g.find("a:x"), kNoNode);
     EXPECT_NE(g.find("a:b:y"), kNoNode);
-    EXPECT_NE(g.find("a:b:a:x"), kNoNode);
-    EXPECT_EQ(g.find("a:b:a:b:y"), kNoNode);  // stopped by the depth limit
+    EXPECT_NE(g.find("a:b:c:z"), kNoNode);
+    EXPECT_EQ(g.find("a:b:c:d:w"), kNoNode);  // stopped by the depth limit
     EXPECT_EQ(g.references.size(), 3u);
+}
+
+TEST(MaReader, RecursiveReferenceIsRefusedNamingTheChain) {
+    TempDir dir;
+    dir.write("a.ma", "createNode transform -n \"x\";\nfile -r -ns \"b\" \"b.ma\";\n");
+    dir.write("b.ma", "createNode transform -n \"y\";\nfile -r -ns \"a\" \"./a.ma\";\n");  // a cycle
+    const fs::path scene = dir.write("s.ma", "file -r -ns \"a\" \"a.ma\";\n");
+    Graph g = MaReader::readFile(scene);
+    EXPECT_NE(g.find("a:x"), kNoNode);
+    EXPECT_NE(g.find("a:b:y"), kNoNode);
+    EXPECT_EQ(g.find("a:b:a:x"), kNoNode);  // Maya refuses the recursive reference too
+    EXPECT_EQ(g.references.size(), 2u);
+    ASSERT_EQ(g.warnings().size(), 1u);
+    const Diagnostic& d = g.warnings()[0];
+    EXPECT_NE(d.file.find("b.ma"), std::string::npos) << d.file;
+    EXPECT_EQ(d.line, 2u);
+    EXPECT_NE(d.message.find("already being loaded (a.ma -> b.ma -> a.ma)"), std::string::npos) << d.message;
 }
 
 // ------------------------------------------------------------------ streaming
