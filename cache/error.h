@@ -2,6 +2,7 @@
 // boundaries. Inner loops never throw; they return values (see STYLE.md "Errors").
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -44,6 +45,20 @@ public:
 
 private:
     std::filesystem::path m_path;
+};
+
+// A render needs more memory than its cap (-mm, or $SLURM_MEM_PER_NODE) allows, found before the
+// large allocations were made. The message names what was needed and the cap; the tools exit 33
+// (farm.md §6: "over its own memory cap"), which lets a scheduler retry with more memory.
+class MemoryCapError : public Error {
+public:
+    MemoryCapError(const std::string& message, uint64_t neededBytes, uint64_t capBytes);
+    uint64_t neededBytes() const { return m_neededBytes; }
+    uint64_t capBytes() const { return m_capBytes; }
+
+private:
+    uint64_t m_neededBytes = 0;
+    uint64_t m_capBytes = 0;
 };
 
 }  // namespace pushpin

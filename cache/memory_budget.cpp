@@ -27,6 +27,7 @@ const char* memoryCategoryName(MemoryCategory category) {
         case MemoryCategory::Fragments: return "fragments";
         case MemoryCategory::Shading: return "shading";
         case MemoryCategory::ShadowMaps: return "shadowMaps";
+        case MemoryCategory::Framebuffer: return "framebuffer";
         case MemoryCategory::Other: return "other";
     }
     return "?";

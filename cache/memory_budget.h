@@ -22,11 +22,13 @@ enum class MemoryCategory : uint8_t {
     Fragments,     // EAS fragments and coverage masks
     Shading,       // shading batches and per-tile arenas
     ShadowMaps,    // depth maps
+    Framebuffer,   // the finished frame (colour, alpha, depth) and the image writer's copy of it
     Other,
 };
-constexpr size_t kMemoryCategoryCount = 7;
+constexpr size_t kMemoryCategoryCount = 8;
 
-// "textures", "tessellation", "rayTracing", "fragments", "shading", "shadowMaps", "other".
+// "textures", "tessellation", "rayTracing", "fragments", "shading", "shadowMaps", "framebuffer",
+// "other".
 const char* memoryCategoryName(MemoryCategory category);
 
 // What a budget held at one moment (plain data).

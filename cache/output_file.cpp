@@ -127,14 +127,20 @@ OutputFile::OutputFile(const fs::path& finalPath, const NameSource& nameFor) : m
     // O_NOFOLLOW refuses a link even in the final component. Another random name is tried.
     for (int attempt = 0; attempt < 16; ++attempt) {
         fs::path temp = nameFor(finalPath);
+        // Registered before the file exists, so a signal between open() and registration cannot
+        // leave it behind. Should the open fail, the handler could at worst unlink a file of the
+        // same 64 random bits, which the O_EXCL refusal says someone else holds: unregister first.
+        auto name = std::make_unique<TemporaryName>(temp);
         const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
         if (fd >= 0) {
             m_fd = fd;
             m_temp = std::move(temp);
-            m_name = std::make_unique<TemporaryName>(m_temp);
+            m_name = std::move(name);
             return;
         }
-        if (errno != EEXIST) throw OutputError(finalPath, "cannot create temporary file " + temp.string(), errno);
+        const int e = errno;
+        name.reset();
+        if (e != EEXIST) throw OutputError(finalPath, "cannot create temporary file " + temp.string(), e);
     }
     throw OutputError(finalPath, "cannot create a temporary file: every random name tried exists", EEXIST);
 }

@@ -24,22 +24,34 @@ constexpr int kFill = 0, kHorizontal = 1, kVertical = 2, kOverscan = 3;
 struct CameraReader {
     scene::Evaluator& ev;
     scene::NodeId shape;
-    std::string cameraName;
+    std::string cameraLabel;  // the camera's DAG path, excerpted
 
     [[noreturn]] void fail(const std::string& attr, const std::string& why) const {
-        throw Error("camera '" + cameraName + "': " + attr + " " + why);
+        throw Error("camera '" + cameraLabel + "': " + attr + " " + why);
     }
-    double finite(const char* attr, double fallback) const {
+    // A value the model can use: finite and within [lo, hi]; `range` says so in the message.
+    double ranged(const char* attr, double fallback, double lo, double hi, const char* range) const {
         const double v = ev.getDouble(shape, attr, fallback);
-        if (!std::isfinite(v)) fail(attr, "is " + util::formatNumber(v) + " (must be a finite number)");
-        return v;
-    }
-    double positive(const char* attr, double fallback) const {
-        const double v = finite(attr, fallback);
-        if (!(v > 0.0)) fail(attr, "is " + util::formatNumber(v) + " (must be > 0)");
+        if (!std::isfinite(v) || v < lo || v > hi)
+            fail(attr, util::formatNumber(v, 10) + " is out of range (" + range + ")");
         return v;
     }
 };
+
+// Door ranges of the camera attributes. They are pushpin's, far wider than any real lens or
+// film back, and chosen so that the screen window built from them (camera.h) spans between
+// about 1e-24 and 1e17 on the z = −1 plane: projecting any camera-space point within
+// 2·kMaxSceneCoordinate then gives raster positions below 1e60 pixels, which the binning,
+// rasterizer and depth planes handle in double without overflow.
+constexpr double kMinFocalLengthMm = 1e-3, kMaxFocalLengthMm = 1e7;
+constexpr double kMinApertureInches = 1e-6, kMaxApertureInches = 1e4;
+constexpr double kMaxFilmOffsetInches = 1e4;
+constexpr double kMinFactor = 1e-3, kMaxFactor = 1e3;  // lensSqueezeRatio, overscan, pre/postScale
+constexpr double kMinOrthographicWidth = 1e-6;
+constexpr double kMinNearClipPlane = 1e-6;  // perspective: depth keys are −1/distance
+// A camera transform that shrinks or grows space by more than this makes camera-space
+// coordinates leave the bounds kMaxSceneCoordinate guarantees for world space.
+constexpr double kMinAxisScale = 1e-6, kMaxAxisScale = 1e6;
 
 }  // namespace
 
@@ -82,37 +94,47 @@ RenderCamera makeRenderCamera(scene::Evaluator& ev, const std::vector<scene::Nod
     cam.shape = dagPath.back();
     if (cam.shape >= g.size()) throw Error("camera: DAG path ends at an unknown node");
     cam.name = dagPath.size() >= 2 ? g.node(dagPath[dagPath.size() - 2]).name : g.node(cam.shape).name;
-    CameraReader rd{ev, cam.shape, cam.name};
+    CameraReader rd{ev, cam.shape, util::excerpt(g.dagPathName(dagPath))};
 
     if (width < 1 || height < 1)
-        throw Error("camera '" + cam.name + "': image size " + std::to_string(width) + "x" + std::to_string(height) +
-                    " has no pixels");
+        throw Error("camera '" + rd.cameraLabel + "': image size " + std::to_string(width) + "x" +
+                    std::to_string(height) + " has no pixels");
     if (!std::isfinite(deviceAspectRatio) || !(deviceAspectRatio > 0.0))
-        throw Error("camera '" + cam.name + "': device aspect ratio " + util::formatNumber(deviceAspectRatio) +
+        throw Error("camera '" + rd.cameraLabel + "': device aspect ratio " + util::formatNumber(deviceAspectRatio) +
                     " must be a positive number");
     cam.width = width;
     cam.height = height;
     cam.deviceAspectRatio = deviceAspectRatio;
 
     cam.orthographic = ev.getBool(cam.shape, "orthographic", false);
-    const double focalLength = rd.positive("focalLength", 35.0);
-    const double hfa = rd.positive("horizontalFilmAperture", 1.41732);
-    const double vfa = rd.positive("verticalFilmAperture", 0.94488);
-    const double squeeze = rd.positive("lensSqueezeRatio", 1.0);
-    const double hfo = rd.finite("horizontalFilmOffset", 0.0);
-    const double vfo = rd.finite("verticalFilmOffset", 0.0);
-    const double overscan = rd.positive("overscan", 1.0);
-    const double preScale = rd.positive("preScale", 1.0);
-    const double postScale = rd.positive("postScale", 1.0);
-    const double orthoWidth = cam.orthographic ? rd.positive("orthographicWidth", 10.0) : 0.0;
+    const double focalLength = rd.ranged("focalLength", 35.0, kMinFocalLengthMm, kMaxFocalLengthMm, "0.001..1e7 mm");
+    const double hfa = rd.ranged("horizontalFilmAperture", 1.41732, kMinApertureInches, kMaxApertureInches,
+                                 "1e-6..1e4 inches");
+    const double vfa = rd.ranged("verticalFilmAperture", 0.94488, kMinApertureInches, kMaxApertureInches,
+                                 "1e-6..1e4 inches");
+    const double squeeze = rd.ranged("lensSqueezeRatio", 1.0, kMinFactor, kMaxFactor, "0.001..1000");
+    const double hfo = rd.ranged("horizontalFilmOffset", 0.0, -kMaxFilmOffsetInches, kMaxFilmOffsetInches,
+                                 "-1e4..1e4 inches");
+    const double vfo = rd.ranged("verticalFilmOffset", 0.0, -kMaxFilmOffsetInches, kMaxFilmOffsetInches,
+                                 "-1e4..1e4 inches");
+    const double overscan = rd.ranged("overscan", 1.0, kMinFactor, kMaxFactor, "0.001..1000");
+    const double preScale = rd.ranged("preScale", 1.0, kMinFactor, kMaxFactor, "0.001..1000");
+    const double postScale = rd.ranged("postScale", 1.0, kMinFactor, kMaxFactor, "0.001..1000");
+    const double orthoWidth = cam.orthographic ? rd.ranged("orthographicWidth", 10.0, kMinOrthographicWidth,
+                                                           kMaxSceneCoordinate, "1e-6..1e18 scene units")
+                                               : 0.0;
     const double filmFitValue = ev.getDouble(cam.shape, "filmFit", kHorizontal);
     if (!(filmFitValue >= kFill && filmFitValue <= kOverscan) || filmFitValue != std::floor(filmFitValue))
         rd.fail("filmFit", "is " + util::formatNumber(filmFitValue) + " (must be 0 Fill, 1 Horizontal, 2 Vertical or 3 Overscan)");
     const int filmFit = static_cast<int>(filmFitValue);
-    cam.nearClipPlane = rd.finite("nearClipPlane", 0.1);
-    cam.farClipPlane = rd.finite("farClipPlane", 10000.0);
-    if (!cam.orthographic && !(cam.nearClipPlane > 0.0))
-        rd.fail("nearClipPlane", "is " + util::formatNumber(cam.nearClipPlane) + " (must be > 0 for a perspective camera)");
+    if (cam.orthographic)
+        cam.nearClipPlane = rd.ranged("nearClipPlane", 0.1, -kMaxSceneCoordinate, kMaxSceneCoordinate,
+                                      "-1e18..1e18 scene units");
+    else
+        cam.nearClipPlane = rd.ranged("nearClipPlane", 0.1, kMinNearClipPlane, kMaxSceneCoordinate,
+                                      "1e-6..1e18 scene units for a perspective camera");
+    cam.farClipPlane = rd.ranged("farClipPlane", 10000.0, -kMaxSceneCoordinate, kMaxSceneCoordinate,
+                                 "-1e18..1e18 scene units");
     if (!(cam.nearClipPlane < cam.farClipPlane))
         rd.fail("nearClipPlane", "(" + util::formatNumber(cam.nearClipPlane) + ") is not less than farClipPlane (" +
                                      util::formatNumber(cam.farClipPlane) + ")");
@@ -159,22 +181,35 @@ RenderCamera makeRenderCamera(scene::Evaluator& ev, const std::vector<scene::Nod
     cam.windowRight = centerX + halfW;
     cam.windowBottom = centerY - halfH;
     cam.windowTop = centerY + halfH;
+    // The ranges above keep every term finite; a film offset that dwarfs the window could still
+    // round both edges to one value, which would divide by zero in rasterFromCamera.
     if (!std::isfinite(halfW) || !std::isfinite(halfH) || !(halfW > 0.0) || !(halfH > 0.0) ||
         !std::isfinite(cam.windowLeft) || !std::isfinite(cam.windowRight) || !std::isfinite(cam.windowBottom) ||
-        !std::isfinite(cam.windowTop))
-        rd.fail("film back", "gives no usable screen window");
+        !std::isfinite(cam.windowTop) || !(cam.windowRight > cam.windowLeft) || !(cam.windowTop > cam.windowBottom))
+        rd.fail("film back", "gives no usable screen window (the film offset is too large for the aperture)");
 
     cam.worldFromCamera = ev.worldMatrix(dagPath);
-    bool finiteMatrix = true;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+            const double v = cam.worldFromCamera[c][r];
+            if (!std::isfinite(v))
+                throw Error("camera '" + rd.cameraLabel + "': world matrix is not finite (NaN or Inf on the path)");
+            if (std::abs(v) > kMaxSceneCoordinate)
+                throw Error("camera '" + rd.cameraLabel + "': world matrix entry " + util::formatNumber(v, 10) +
+                            " is out of range (|value| <= 1e18 scene units; a translate or scale on the path is too large)");
+        }
     double columnScale = 1.0;
-    for (int c = 0; c < 4; ++c) {
-        for (int r = 0; r < 4; ++r) finiteMatrix = finiteMatrix && std::isfinite(cam.worldFromCamera[c][r]);
-        if (c < 3) columnScale *= glm::length(glm::dvec3(cam.worldFromCamera[c]));
+    for (int c = 0; c < 3; ++c) {
+        const double axis = glm::length(glm::dvec3(cam.worldFromCamera[c]));
+        columnScale *= axis;
+        if (axis != 0.0 && (axis < kMinAxisScale || axis > kMaxAxisScale))
+            throw Error("camera '" + rd.cameraLabel + "': world matrix scales the camera by " + util::formatNumber(axis, 10) +
+                        " (must be 1e-6..1e6)");
     }
     // Singular when the 3×3 part has lost a dimension relative to the lengths of its axes.
     const double det = glm::determinant(cam.worldFromCamera);
-    if (!finiteMatrix || !std::isfinite(det) || !(std::abs(det) > 1e-12 * columnScale))
-        throw Error("camera '" + cam.name + "': world matrix is singular or not finite (scale 0 or NaN on the path)");
+    if (!std::isfinite(det) || !(std::abs(det) > 1e-12 * columnScale))
+        throw Error("camera '" + rd.cameraLabel + "': world matrix is singular (scale 0 on the path)");
     cam.cameraFromWorld = glm::inverse(cam.worldFromCamera);
     return cam;
 }

@@ -8,6 +8,12 @@
 // The screen window is the rectangle [windowLeft, windowRight] × [windowBottom, windowTop] on the
 // plane z = −1 (perspective: tangents of the view angles) or in camera units (orthographic) that
 // maps onto the full image (0..width, 0..height).
+//
+// Numbers at the door: every camera attribute the model reads has a range (camera.cpp lists them,
+// with the reason for each) and the camera's world matrix must stay within kMaxSceneCoordinate;
+// makeRenderCamera refuses anything else with pushpin::Error, so the projection of any scene
+// point the frame scene accepts (also bounded by kMaxSceneCoordinate) is a finite double.
+// Memory: a RenderCamera is a few hundred bytes and charges nothing to the MemoryBudget.
 #pragma once
 
 #include "core/scene/evaluator.h"
@@ -21,6 +27,14 @@
 #include <vector>
 
 namespace pushpin::render {
+
+// The largest magnitude of a world-space coordinate, a world-matrix entry or a camera distance
+// the renderer accepts, in scene units (cm). Shading works in float: with every coordinate
+// within 1e18, differences of two points stay within 2e18 and their squared lengths (distance
+// falloff, normal lengths) within 1.2e37, inside float's 3.4e38. Objects, lights and cameras
+// beyond it are refused at the door (buildFrameScene skips them with a note; makeRenderCamera
+// throws) instead of overflowing later.
+constexpr double kMaxSceneCoordinate = 1e18;
 
 struct RenderCamera {
     std::string name;           // the camera transform's name ("persp")
@@ -49,8 +63,13 @@ struct RenderCamera {
 
 // Builds the render camera of one camera-shape instance (`dagPath` ends at the shape) at the
 // evaluator's frame for an image of width × height pixels and the given device aspect ratio.
-// Throws pushpin::Error naming the camera when its attributes make no image (focal length or
-// apertures not positive, NaN/Inf values, near >= far, a singular transform).
+// Throws pushpin::Error naming the camera (its DAG path) and the attribute and value when the
+// camera makes no image: a value that is NaN/Inf or outside its range (focalLength 0.001..1e7 mm,
+// film apertures 1e-6..1e4 in, film offsets within ±1e4 in, lensSqueezeRatio, overscan,
+// preScale and postScale 0.001..1000, orthographicWidth 1e-6..1e18, clip planes within
+// ±1e18 with near < far and, for perspective cameras, near >= 1e-6), a filmFit that is no
+// mode, a world matrix with an entry beyond kMaxSceneCoordinate or a singular 3×3 part.
+// Example: "camera '|persp|perspShape': focalLength 1e+308 is out of range (0.001..1e+07 mm)".
 RenderCamera makeRenderCamera(scene::Evaluator& ev, const std::vector<scene::NodeId>& dagPath, int width,
                               int height, double deviceAspectRatio);
 

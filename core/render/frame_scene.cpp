@@ -1,5 +1,7 @@
 #include "core/render/frame_scene.h"
 
+#include "core/render/camera.h"
+#include "core/util/format.h"
 #include "cache/error.h"
 #include "core/geom/nurbs.h"
 #include "core/geom/triangulate.h"
@@ -38,6 +40,28 @@ bool finiteMatrix(const glm::dmat4& m) {
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(m[c][r])) return false;
     return true;
+}
+
+// Why a world matrix cannot place anything the renderer can project, or empty when it can: an
+// entry that is not finite or beyond kMaxSceneCoordinate (camera.h says why that limit).
+std::string matrixProblem(const glm::dmat4& m) {
+    if (!finiteMatrix(m)) return "non-finite world matrix";
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (std::abs(m[c][r]) > kMaxSceneCoordinate)
+                return "world matrix entry " + util::formatNumber(m[c][r], 6) +
+                       " is beyond 1e18 scene units (a translate or scale on the path is too large)";
+    return {};
+}
+
+// Why world-space bounds are beyond what the renderer can project, or empty when they are not.
+std::string boundsProblem(const geom::Bounds3& b) {
+    for (int k = 0; k < 3; ++k) {
+        for (double v : {b.lo[k], b.hi[k]})
+            if (!std::isfinite(v) || std::abs(v) > kMaxSceneCoordinate)
+                return "world-space bounds reach " + util::formatNumber(v, 6) + ", beyond 1e18 scene units";
+    }
+    return {};
 }
 
 // Fills geo.neighbors from the vertex each corner sits on (`cornerVertex`, 3 per triangle): two
@@ -393,12 +417,19 @@ private:
     std::unordered_map<NodeId, std::vector<NodeId>> m_members;
 };
 
-// A number read through the evaluator, `fallback` (with a note) when it is not finite.
+// The largest light value (intensity, angles, dropoff, colour × intensity) kept: shading holds
+// them in float, and sums and products of a few such values must stay within float's 3.4e38.
+constexpr double kMaxLightValue = 1e30;
+
+// A number read through the evaluator, `fallback` (with a note) when it is not finite or its
+// magnitude exceeds kMaxLightValue.
 double finiteValue(scene::Evaluator& ev, NodeId node, const char* attr, double fallback, const std::string& label,
                    std::vector<std::string>& notes) {
     const double v = ev.getDouble(node, attr, fallback);
-    if (std::isfinite(v)) return v;
-    notes.push_back(label + ": non-finite " + attr + " replaced by " + std::to_string(fallback));
+    if (std::isfinite(v) && std::abs(v) <= kMaxLightValue) return v;
+    notes.push_back(label + ": " + (std::isfinite(v) ? attr + std::string(" ") + util::formatNumber(v, 10) + " is beyond 1e30"
+                                                     : "non-finite " + std::string(attr)) +
+                    "; replaced by " + util::formatNumber(fallback, 6));
     return fallback;
 }
 
@@ -429,11 +460,15 @@ void readLights(scene::Evaluator& ev, const scene::RenderSetup& setup, FrameScen
             continue;
         }
         const glm::dmat4 world = ev.worldMatrix(info.path);
+        if (std::string why = matrixProblem(world); !why.empty()) {
+            out.notes.push_back(label + ": " + why + "; light not rendered");
+            continue;
+        }
         const glm::dvec3 position(world * glm::dvec4(0, 0, 0, 1));
         const glm::dvec3 axis(world * glm::dvec4(0, 0, -1, 0));
         const double axisLength = glm::length(axis);
-        if (!finiteMatrix(world) || !(axisLength > 0.0) || !std::isfinite(axisLength)) {
-            out.notes.push_back(label + ": light has a degenerate or non-finite world matrix; not rendered");
+        if (!(axisLength > 0.0) || !std::isfinite(axisLength)) {
+            out.notes.push_back(label + ": degenerate world matrix (scale 0 on the path); light not rendered");
             continue;
         }
         const NodeId n = info.shape;
@@ -447,7 +482,12 @@ void readLights(scene::Evaluator& ev, const scene::RenderSetup& setup, FrameScen
             color = glm::dvec3(1.0);
         }
         const double intensity = finiteValue(ev, n, "intensity", 1.0, label, out.notes);
-        light.color = glm::vec3(color * intensity);
+        const glm::dvec3 emitted = color * intensity;
+        if (!(std::max({std::abs(emitted.x), std::abs(emitted.y), std::abs(emitted.z)}) <= kMaxLightValue)) {
+            out.notes.push_back(label + ": color × intensity is beyond 1e30; light not rendered");
+            continue;
+        }
+        light.color = glm::vec3(emitted);
         light.decayRate = ev.getInt(n, "decayRate", 0);
         if (light.decayRate < 0 || light.decayRate > 3) {
             out.notes.push_back(label + ": decayRate " + std::to_string(light.decayRate) + " out of range, 0 (none) used");
@@ -533,6 +573,31 @@ void evaluateShape(scene::Evaluator& ev, NodeId shape, const std::string& label,
     }
 }
 
+// Numbers at the door for objects: a world matrix with an entry beyond kMaxSceneCoordinate, or
+// world bounds that reach past it (finite entries can still carry float geometry out of range),
+// cannot be projected without overflow, so the object is skipped with a note instead of being
+// culled without a word later. `paths` runs parallel to scene.objects and is compacted with it.
+void dropUnplaceableObjects(FrameScene& scene, std::vector<std::vector<NodeId>>& paths) {
+    size_t kept = 0;
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        RenderObject& o = scene.objects[i];
+        std::string why = matrixProblem(o.worldFromObject);
+        if (why.empty()) why = boundsProblem(o.worldBounds);
+        if (!why.empty()) {
+            scene.notes.push_back(o.name + ": " + why + "; not rendered");
+            ++scene.skippedShapes;
+            continue;
+        }
+        if (kept != i) {
+            scene.objects[kept] = std::move(o);
+            paths[kept] = std::move(paths[i]);
+        }
+        ++kept;
+    }
+    scene.objects.resize(kept);
+    paths.resize(kept);
+}
+
 }  // namespace
 
 std::vector<ObjectTopology> FrameScene::topology() const {
@@ -580,9 +645,12 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
 
     const auto memberships = membershipsByShape(setup);
     std::vector<std::vector<NodeId>> objectPaths;
+    scene::DagPathBudget pathBudget;  // one bound for every shape's instance paths together
     for (const scene::Node& node : g.nodes()) {
         if (node.type != "mesh" && node.type != "nurbsSurface") continue;
-        const auto paths = g.dagPaths(node.id);
+        const bool pathsCutBefore = pathBudget.exhausted;
+        const auto paths = g.dagPaths(node.id, &pathBudget);
+        if (pathBudget.exhausted && !pathsCutBefore) scene.notes.push_back(dagPathBudgetMessage(g, node.id, pathBudget));
         // Geometry is evaluated once per shape, on its first renderable instance.
         ShapeGeometry shape;
         bool evaluated = false;
@@ -730,6 +798,8 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
             objectPaths.push_back(path);
         }
     }
+
+    dropUnplaceableObjects(scene, objectPaths);
 
     std::vector<LightRecord> lightRecords;
     readLights(ev, setup, scene, lightRecords);

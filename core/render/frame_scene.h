@@ -5,7 +5,11 @@
 // frame from an evaluated Graph; immutable afterwards.
 // Thread safety: building is single-threaded (it uses one Evaluator); a finished FrameScene is
 // read by every tile thread at once.
-// Memory: geometry is owned here; the memory-budgeted lazy path is a later stage (tile_plan.h).
+// Numbers at the door: world matrices, world bounds, light positions and light values are checked
+// here (kMaxSceneCoordinate, camera.h); what cannot be rendered without overflow is skipped with
+// a note naming the node, so nothing past this point meets NaN, Inf or an overflowing number.
+// Memory: geometry is owned here and not charged to the MemoryBudget yet; the memory-budgeted
+// lazy path is a later stage (tile_plan.h).
 #pragma once
 
 #include "core/geom/bounds.h"
@@ -96,7 +100,13 @@ struct FrameScene {
 // itself, its transform or a set holding either — with an object side containing the object or
 // the shading group, and no "ignore" does; without any "link" every light lights every slot not
 // ignored); usesDefaultLight when no scene light is rendered and settings.enableDefaultLight is
-// on. Shapes that cannot be evaluated are skipped with a note. Never throws for bad scene content.
+// on. Shapes that cannot be evaluated are skipped with a note, and so are (each with a note naming
+// the DAG path, counted in skippedShapes for shapes) instances whose world matrix is not finite
+// or has an entry beyond kMaxSceneCoordinate, instances whose world-space bounds reach past
+// kMaxSceneCoordinate (e.g. a vertex at 1e30 or a translate of 1e308), and meshes with NaN/Inf
+// points. Lights are skipped with a note for the same matrix problems, a scale 0 on their path,
+// or colour × intensity beyond 1e30; a light attribute that is not finite or beyond 1e30 is
+// replaced by its default with a note. Never throws for bad scene content.
 FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup, const RenderSettings& settings);
 
 // A `faceMaterial` entry for a face that is not rendered (it belongs to no shading group).

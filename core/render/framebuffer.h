@@ -1,6 +1,9 @@
 // core/render/framebuffer.h: the finished pixels of one frame: RGBA (colour as composited, see
 // RenderSettings::composite; alpha = coverage) and, when asked for, camera distance per pixel.
 // Plain data; the renderer writes disjoint tiles from several threads.
+// Memory: renderFrame charges these buffers to the render's MemoryBudget (category "framebuffer",
+// 16 B/pixel for rgba, 4 B/pixel for depth) before resize() and releases the charge when it
+// returns; the caller that keeps the frame afterwards holds it uncharged.
 #pragma once
 
 #include <cstddef>

@@ -4,7 +4,10 @@
 
 #include "core/util/format.h"
 
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <sstream>
 
 namespace pushpin::render {
@@ -144,5 +147,23 @@ RenderSettings readRenderSettings(scene::Evaluator& ev, const scene::RenderSetup
     }
     return s;
 }
+
+MemoryCap memoryCap(const RenderSettings& settings, const char* slurmMemPerNode) {
+    if (settings.maximumMemoryBytes > 0) return {settings.maximumMemoryBytes, "-mm"};
+    if (slurmMemPerNode == nullptr) return {};
+    // Slurm writes a plain count of MiB. Anything else (a unit suffix, a sign, a value that
+    // overflows when turned into bytes) is not trusted as a cap.
+    const char* end = slurmMemPerNode + std::strlen(slurmMemPerNode);
+    uint64_t mebibytes = 0;
+    const auto [last, error] = std::from_chars(slurmMemPerNode, end, mebibytes);
+    if (error != std::errc() || last != end || mebibytes == 0 || mebibytes > (UINT64_MAX >> 20)) return {};
+    return {mebibytes << 20, "$SLURM_MEM_PER_NODE"};
+}
+
+MemoryCap memoryCap(const RenderSettings& settings) {
+    return memoryCap(settings, std::getenv("SLURM_MEM_PER_NODE"));
+}
+
+uint64_t memoryCapBytes(const RenderSettings& settings) { return memoryCap(settings).bytes; }
 
 }  // namespace pushpin::render

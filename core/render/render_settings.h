@@ -2,12 +2,16 @@
 // defaultRenderGlobals, defaultRenderQuality and defaultResolution values in effect
 // (reference/render-globals.md), read from the scene with Maya's defaults where the file is
 // silent, then overridden by the command line. Field names are the Maya attribute long names.
+// The memory cap of a render (memoryCap()) comes from the command line (-mm) or the scheduler
+// ($SLURM_MEM_PER_NODE), never from the scene: Maya's maximumMemory attribute is a tiling hint
+// (default 48 MB, reference/render-globals.md) and is not read.
 // Plain data; thread-safe.
 #pragma once
 
 #include "core/scene/evaluator.h"
 #include "core/scene/render_setup.h"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -48,7 +52,27 @@ struct RenderSettings {
     int left = 0, rght = 0, bot = 0, top = 0;  // inclusive pixels, y from the bottom (Maya's convention)
     // camera outputs (the rendered camera's image/mask/depth unless the command line says)
     std::optional<bool> image, mask, depth;
+    // The memory cap given on the command line (`-mm MB`, 1 MB = 2^20 bytes), in bytes; 0 when
+    // none was given. applyOverrides() fills it; see memoryCap() for the cap a render obeys.
+    uint64_t maximumMemoryBytes = 0;
 };
+
+// The memory cap one render obeys, and where it came from (for messages).
+struct MemoryCap {
+    uint64_t bytes = 0;   // 0: unlimited
+    std::string source;   // "-mm", "$SLURM_MEM_PER_NODE", or empty when unlimited
+};
+
+// The cap of a render: settings.maximumMemoryBytes when the command line gave one (-mm), else
+// `slurmMemPerNode` (the value of $SLURM_MEM_PER_NODE, MiB, farm.md §6 "Memory cap follows the
+// scheduler") when it is a positive whole number, else unlimited. Slurm's 0 ("all the node's
+// memory") and text that is not a number give no cap. Pure; never throws.
+MemoryCap memoryCap(const RenderSettings& settings, const char* slurmMemPerNode);
+// The same with $SLURM_MEM_PER_NODE read from the environment (std::getenv; call it from one
+// thread at a time with anything that changes the environment).
+MemoryCap memoryCap(const RenderSettings& settings);
+// memoryCap(settings).bytes.
+uint64_t memoryCapBytes(const RenderSettings& settings);
 
 // Reads the three render-globals nodes of `setup` at the evaluator's frame. Values that are NaN,
 // Inf or out of range are replaced by Maya's default and reported in `notes` naming the node and

@@ -4,6 +4,9 @@
 #include "core/render/visibility.h"
 #include "core/util/json_writer.h"
 
+#include "cache/error.h"
+#include "cache/memory_budget.h"
+
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -19,7 +22,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <memory>
+#include <optional>
 #include <span>
 #include <unordered_map>
 
@@ -86,6 +91,37 @@ PixelFilter makePixelFilter(const RenderSettings& s) {
     f.radiusY = std::clamp(s.pixelFilterWidthY, 1.0, 3.0) * 0.5;
     f.reach = int(std::ceil(std::max(f.radiusX, f.radiusY) + 0.5));
     return f;
+}
+
+// ---------------------------------------------------------------- frame layout
+// The pixels rendered and the apron each tile needs around it, fixed before anything is
+// allocated (frameMemory() sizes the buffers from it).
+struct FrameLayout {
+    PixelRect region;   // the render region or the whole image
+    bool adaptive = false;
+    int marginLeft = 0, marginRight = 0, marginTop = 0, marginBottom = 0;
+};
+
+FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
+                        const PixelFilter& filter) {
+    FrameLayout l;
+    l.region = {0, 0, camera.width, camera.height};
+    if (settings.useRenderRegion) {
+        // Maya's region counts rows from the bottom, inclusive.
+        PixelRect r{settings.left, camera.height - 1 - settings.top, settings.rght + 1, camera.height - settings.bot};
+        l.region = {std::clamp(r.x0, 0, camera.width), std::clamp(r.y0, 0, camera.height),
+                    std::clamp(r.x1, 0, camera.width), std::clamp(r.y1, 0, camera.height)};
+    }
+    l.adaptive = settings.edgeAntiAliasing == 0 && settings.maxShadingSamples > settings.shadingSamples;
+    for (const RenderObject& o : scene.objects)
+        if (settings.edgeAntiAliasing == 0 && o.shadingSamplesOverride && o.maxShadingSamples > o.shadingSamples)
+            l.adaptive = true;
+    const int reach = filter.reach;
+    l.marginLeft = reach + (l.adaptive ? 2 : 0);
+    l.marginRight = reach + (l.adaptive ? 1 : 0);
+    l.marginTop = reach + (l.adaptive ? 1 : 0);
+    l.marginBottom = reach;
+    return l;
 }
 
 // ---------------------------------------------------------------- per-object camera-space data
@@ -217,6 +253,18 @@ void FrameRenderer::prepareObject(uint32_t index) {
     std::vector<ScreenTriangle>& out = m_objectTriangles[index];
     co.cameraFromObject = m_camera.cameraFromWorld * obj.worldFromObject;
     co.objectFromCamera = glm::inverse(co.cameraFromObject);
+    // An object flattened by a scale of 0 still renders (Maya shows it flat) but has no inverse;
+    // its object-space shading positions are then the origin rather than NaN or overflowing
+    // floats. The same goes for a scale so small that the inverse leaves the scene range.
+    bool invertible = true;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            invertible = invertible && std::isfinite(co.objectFromCamera[c][r]) &&
+                         std::abs(co.objectFromCamera[c][r]) <= kMaxSceneCoordinate;
+    if (!invertible) {
+        co.objectFromCamera = glm::dmat4(0.0);
+        co.objectFromCamera[3][3] = 1.0;
+    }
 
     // Far-plane culling per object, and objects wholly behind the near plane.
     geom::Bounds3 cb = obj.geometry.bounds.transformed(co.cameraFromObject);
@@ -356,10 +404,11 @@ void FrameRenderer::prepare() {
         double y0 = std::min({s.y[0], s.y[1], s.y[2]}) - m_marginBottom;
         double y1 = std::max({s.y[0], s.y[1], s.y[2]}) + m_marginTop;
         if (!(x0 <= x1) || !(y0 <= y1)) continue;  // NaN
-        int c0 = std::clamp(int(std::floor((x0 - m_region.x0) / tw)), 0, cols - 1);
-        int c1 = std::clamp(int(std::floor((x1 - m_region.x0) / tw)), 0, cols - 1);
-        int r0 = std::clamp(int(std::floor((y0 - m_region.y0) / th)), 0, rows - 1);
-        int r1 = std::clamp(int(std::floor((y1 - m_region.y0) / th)), 0, rows - 1);
+        // Clamped in double before converting: a triangle reaching far off screen has raster
+        // positions no int can hold.
+        auto cell = [](double v, int count) { return int(std::clamp(std::floor(v), 0.0, double(count - 1))); };
+        int c0 = cell((x0 - m_region.x0) / tw, cols), c1 = cell((x1 - m_region.x0) / tw, cols);
+        int r0 = cell((y0 - m_region.y0) / th, rows), r1 = cell((y1 - m_region.y0) / th, rows);
         for (int r = r0; r <= r1; ++r)
             for (int c = c0; c <= c1; ++c) m_bins[size_t(r) * cols + c].push_back(i);
     }
@@ -781,24 +830,14 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
 }
 
 Framebuffer FrameRenderer::run() {
+    const FrameLayout layout = frameLayout(m_scene, m_camera, m_settings, m_filter);
+    m_region = layout.region;
+    m_adaptive = layout.adaptive;
+    m_marginLeft = layout.marginLeft;
+    m_marginRight = layout.marginRight;
+    m_marginTop = layout.marginTop;
+    m_marginBottom = layout.marginBottom;
     m_frame.resize(m_camera.width, m_camera.height, m_settings.depth.value_or(false));
-    m_region = {0, 0, m_camera.width, m_camera.height};
-    if (m_settings.useRenderRegion) {
-        // Maya's region counts rows from the bottom, inclusive.
-        PixelRect r{m_settings.left, m_camera.height - 1 - m_settings.top, m_settings.rght + 1,
-                    m_camera.height - m_settings.bot};
-        m_region = {std::clamp(r.x0, 0, m_camera.width), std::clamp(r.y0, 0, m_camera.height),
-                    std::clamp(r.x1, 0, m_camera.width), std::clamp(r.y1, 0, m_camera.height)};
-    }
-    m_adaptive = m_settings.edgeAntiAliasing == 0 && m_settings.maxShadingSamples > m_settings.shadingSamples;
-    for (const RenderObject& o : m_scene.objects)
-        if (m_settings.edgeAntiAliasing == 0 && o.shadingSamplesOverride && o.maxShadingSamples > o.shadingSamples)
-            m_adaptive = true;
-    const int reach = m_filter.reach;
-    m_marginLeft = reach + (m_adaptive ? 2 : 0);
-    m_marginRight = reach + (m_adaptive ? 1 : 0);
-    m_marginTop = reach + (m_adaptive ? 1 : 0);
-    m_marginBottom = reach;
     if (m_options.adaptiveMask) m_options.adaptiveMask->assign(size_t(m_camera.width) * m_camera.height, 0);
     m_topology = m_scene.topology();
 
@@ -836,10 +875,97 @@ Framebuffer FrameRenderer::run() {
 
 }  // namespace
 
+uint64_t imageOutputBytes(int width, int height) {
+    return uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) * 5 * sizeof(float);
+}
+
+FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
+                        const RenderOptions& options, int threads) {
+    FrameMemory m;
+    const FrameLayout layout = frameLayout(scene, camera, settings, makePixelFilter(settings));
+    const uint64_t pixels = uint64_t(std::max(camera.width, 0)) * uint64_t(std::max(camera.height, 0));
+    m.framebufferBytes = pixels * 4 * sizeof(float) + (settings.depth.value_or(false) ? pixels * sizeof(float) : 0) +
+                         (options.adaptiveMask ? pixels : 0) + imageOutputBytes(camera.width, camera.height);
+
+    const int tw = std::max(1, settings.tileWidth), th = std::max(1, settings.tileHeight);
+    const PixelRect& region = layout.region;
+    const uint64_t tiles = uint64_t((region.width() + tw - 1) / tw) * uint64_t((region.height() + th - 1) / th);
+    m.tileBytes = tiles * (sizeof(PixelRect) + sizeof(std::vector<uint32_t>));
+    if (tiles > 0) {
+        // One tile's base region (renderTile): the tile and its apron, per thread.
+        const uint64_t basePixels = uint64_t(std::min(tw, region.width()) + layout.marginLeft + layout.marginRight) *
+                                    uint64_t(std::min(th, region.height()) + layout.marginTop + layout.marginBottom);
+        const uint64_t perBasePixel = sizeof(uint32_t) /* pixelGroupStart */ + sizeof(float) /* nearestDepth */ +
+                                      sizeof(glm::vec3) /* baseColor */ + sizeof(uint8_t) /* adaptive */ +
+                                      sizeof(uint32_t) /* the rasterizer's pixel starts */;
+        const uint64_t perThread = basePixels * perBasePixel + sizeof(Worker) + sizeof(shade::ShadingBatch) +
+                                   sizeof(shade::ShadingResult);
+        m.tileBytes += uint64_t(std::max(1, threads)) * perThread;
+    }
+
+    for (const RenderObject& o : scene.objects) {
+        const uint64_t corners = o.geometry.positions.size(), triangles = o.geometry.triangleCount();
+        m.geometryBytes += sizeof(CameraObject) + sizeof(RenderStats) + sizeof(ObjectTopology) +
+                           corners * (sizeof(glm::dvec3) + sizeof(glm::vec3)) +
+                           triangles * (2 * sizeof(ScreenTriangle) + sizeof(uint32_t) /* one bin entry */);
+    }
+    return m;
+}
+
+namespace {
+
+// "21.5 GB" / "310.2 MB" (binary units, as -mm and $SLURM_MEM_PER_NODE count them).
+std::string formatBytes(uint64_t bytes) {
+    char text[64];
+    if (bytes >= (uint64_t(1) << 30))
+        std::snprintf(text, sizeof text, "%.1f GB", double(bytes) / double(uint64_t(1) << 30));
+    else
+        std::snprintf(text, sizeof text, "%.1f MB", double(bytes) / double(uint64_t(1) << 20));
+    return text;
+}
+
+// Charges a frame's buffers, by category, all or nothing: on refusal the charges made so far are
+// released (the vector's destructor) and MemoryCapError names the need and the cap.
+std::vector<cache::MemoryCharge> chargeFrame(cache::MemoryBudget& budget, const FrameMemory& need,
+                                             const RenderCamera& camera, const std::string& capSource) {
+    const uint64_t inUse = budget.usedBytes();
+    const std::pair<cache::MemoryCategory, uint64_t> parts[] = {
+        {cache::MemoryCategory::Framebuffer, need.framebufferBytes},
+        {cache::MemoryCategory::Fragments, need.tileBytes},
+        {cache::MemoryCategory::Tessellation, need.geometryBytes},
+    };
+    std::vector<cache::MemoryCharge> charges;
+    for (const auto& [category, bytes] : parts) {
+        std::optional<cache::MemoryCharge> charge = cache::MemoryCharge::tryCharge(budget, category, bytes);
+        if (!charge) {
+            const uint64_t cap = budget.capBytes();
+            const std::string capText = cap % (uint64_t(1) << 20) == 0 ? std::to_string(cap >> 20) + " MB" : formatBytes(cap);
+            throw MemoryCapError("the " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                                     " frame needs " + formatBytes(need.totalBytes()) + " of buffers" +
+                                     (inUse > 0 ? " (with " + formatBytes(inUse) + " already in use)" : "") +
+                                     ", over the memory cap of " + capText +
+                                     (capSource.empty() ? "" : " (" + capSource + ")"),
+                                 need.totalBytes() + inUse, cap);
+        }
+        charges.push_back(std::move(*charge));
+    }
+    return charges;
+}
+
+}  // namespace
+
 Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
                         RenderStats& stats, const RenderOptions& options) {
     int threads = settings.numCpusToUse > 0 ? settings.numCpusToUse : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(std::max(1, threads));
+    threads = std::max(1, threads);
+    const MemoryCap cap = memoryCap(settings);
+    std::optional<cache::MemoryBudget> ownBudget;
+    cache::MemoryBudget& budget = options.memoryBudget ? *options.memoryBudget : ownBudget.emplace(cap.bytes);
+    // Charged before the arena and before any buffer is allocated; released when this returns.
+    const std::vector<cache::MemoryCharge> charges =
+        chargeFrame(budget, frameMemory(scene, camera, settings, options, threads), camera,
+                    budget.capBytes() == cap.bytes ? cap.source : std::string());
+    tbb::task_arena arena(threads);
     Framebuffer out;
     arena.execute([&] {
         FrameRenderer renderer(scene, camera, settings, stats, options);

@@ -8,6 +8,14 @@
 // Determinism: the image depends only on the scene, camera and settings — not on the thread
 // count, the tile size or the tile order. Each tile renders an apron of neighbouring pixels so
 // that filters and the contrast test see the same data wherever the tile boundaries fall.
+// Memory: before it allocates, renderFrame charges one MemoryBudget (RenderOptions::memoryBudget,
+// else its own with the cap of memoryCap(settings)) with every buffer whose size it knows
+// (frameMemory()): "framebuffer" for the frame, the image writer's copy and the adaptive mask,
+// "fragments" for the tile list, bins and per-thread tile buffers, "tessellation" for the
+// camera-space copy of the geometry and its screen triangles. A frame the cap cannot hold fails
+// with pushpin::MemoryCapError before any of them is allocated; every charge is released when
+// renderFrame returns or throws. Fragment lists and shading batches that grow with the scene's
+// depth complexity are not charged.
 #pragma once
 
 #include "core/render/camera.h"
@@ -19,6 +27,10 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+
+namespace pushpin::cache {
+class MemoryBudget;
+}
 
 namespace pushpin::render {
 
@@ -45,10 +57,43 @@ struct RenderStats {
 struct RenderOptions {
     // When not null, receives width × height flags: 1 where the pixel took adaptive samples.
     std::vector<uint8_t>* adaptiveMask = nullptr;
+    // The render's memory budget. Null: renderFrame makes one with the cap memoryCap(settings)
+    // (-mm, else $SLURM_MEM_PER_NODE, else unlimited) for the duration of the call.
+    cache::MemoryBudget* memoryBudget = nullptr;
 };
+
+// The buffers of one render whose size is known before it starts, in bytes, by the category
+// renderFrame charges them to. Upper bounds where the exact size depends on clipping.
+struct FrameMemory {
+    // framebuffer: rgba (16 B/pixel), depth (4 B/pixel when kept), the adaptive mask (1 B/pixel
+    // when asked for) and the image writer's conversion buffer (imageOutputBytes()).
+    uint64_t framebufferBytes = 0;
+    // fragments: the tile list and bins, and one set of tile buffers (the tile plus its apron:
+    // surface indices, nearest depths, contrast colours, shading batch and results) per thread.
+    uint64_t tileBytes = 0;
+    // tessellation: each object's corners in camera space (position and normal) and its screen
+    // triangles (two per triangle when the near plane cuts it).
+    uint64_t geometryBytes = 0;
+    uint64_t totalBytes() const { return framebufferBytes + tileBytes + geometryBytes; }
+};
+
+// What renderFrame will charge for this scene, camera and settings with `threads` threads.
+// Pure; thread-safe.
+FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
+                        const RenderOptions& options, int threads);
+
+// The bytes the image writer needs to convert a width × height frame to the file's channels,
+// counted as 5 floats per pixel (colour, alpha and depth). Charged by renderFrame with the frame.
+uint64_t imageOutputBytes(int width, int height);
 
 // Renders `camera`'s view. The framebuffer has the camera's size; pixels outside the render
 // region (settings.useRenderRegion) stay 0. Depth is kept when settings.depth is set.
+// Uses settings.numCpusToUse threads (0: all). Inputs come checked from buildFrameScene and
+// makeRenderCamera (numbers at the door); every pixel written is then finite for finite shading.
+// Memory: charges frameMemory() to the budget (see the top of this file) before allocating and
+// releases it before returning. Throws pushpin::MemoryCapError, with nothing large allocated,
+// when the budget cannot take it, e.g. "the 32768x32768 frame needs 36.0 GB of buffers, over the
+// memory cap of 2048 MB (-mm)". std::bad_alloc passes through.
 Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
                         RenderStats& stats, const RenderOptions& options = {});
 

@@ -6,7 +6,9 @@
 
 #include <limits>
 #include <random>
+#include <set>
 #include <sstream>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -194,6 +196,20 @@ TEST(MemoryBudget, SnapshotPrintsEveryCategoryByName) {
         EXPECT_NE(os.str().find(memoryCategoryName(MemoryCategory(c))), std::string::npos) << os.str();
     EXPECT_NE(os.str().find("rayTracing 7"), std::string::npos) << os.str();
     EXPECT_NE(os.str().find("cap 4096"), std::string::npos) << os.str();
+}
+
+TEST(MemoryBudget, CategoryNamesAreDistinctAndTheFramebufferHasItsOwn) {
+    std::set<std::string> names;
+    for (size_t c = 0; c < kMemoryCategoryCount; ++c) names.insert(memoryCategoryName(MemoryCategory(c)));
+    EXPECT_EQ(names.size(), kMemoryCategoryCount);
+    EXPECT_EQ(names.count("?"), 0u);
+    EXPECT_STREQ(memoryCategoryName(MemoryCategory::Framebuffer), "framebuffer");
+    MemoryBudget b;
+    b.charge(MemoryCategory::Framebuffer, 64);
+    EXPECT_EQ(b.usedBytes(MemoryCategory::Framebuffer), 64u);
+    EXPECT_EQ(b.usedBytes(MemoryCategory::Other), 0u);
+    b.release(MemoryCategory::Framebuffer, 64);
+    EXPECT_EQ(b.usedBytes(), 0u);
 }
 
 }  // namespace

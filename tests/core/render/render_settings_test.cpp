@@ -310,5 +310,29 @@ TEST(RenderSettings, CubicBSplineFilterIsAccepted) {
     EXPECT_TRUE(notes.empty()) << joined(notes);
 }
 
+TEST(RenderSettings, SceneMaximumMemoryIsNoCap) {
+    // Maya's maximumMemory is a tiling hint (render-globals.md); only -mm or the scheduler caps.
+    std::vector<std::string> notes;
+    const RenderSettings s = read("select -ne :defaultRenderGlobals;\n\tsetAttr \".mm\" 4;\n", notes);
+    EXPECT_EQ(s.maximumMemoryBytes, 0u);
+    EXPECT_EQ(memoryCap(s, nullptr).bytes, 0u);
+}
+
+TEST(RenderSettings, MemoryCapComesFromTheCommandLineElseFromSlurm) {
+    RenderSettings s;
+    EXPECT_EQ(memoryCap(s, nullptr).bytes, 0u);
+    EXPECT_EQ(memoryCap(s, nullptr).source, "");
+    EXPECT_EQ(memoryCap(s, "2048").bytes, 2048ull << 20);
+    EXPECT_EQ(memoryCap(s, "2048").source, "$SLURM_MEM_PER_NODE");
+    // Not a plain positive count of MiB: no cap.
+    for (const char* bad : {"", "0", "-5", "2G", "12abc", " 7", "99999999999999999999999"})
+        EXPECT_EQ(memoryCap(s, bad).bytes, 0u) << "'" << bad << "'";
+    // The command line wins over the scheduler.
+    s.maximumMemoryBytes = 512ull << 20;
+    EXPECT_EQ(memoryCap(s, "2048").bytes, 512ull << 20);
+    EXPECT_EQ(memoryCap(s, "2048").source, "-mm");
+    EXPECT_EQ(memoryCap(s, nullptr).bytes, 512ull << 20);
+}
+
 }  // namespace
 }  // namespace pushpin::render

@@ -1,0 +1,230 @@
+// The memory cap of a frame (core/render/renderer.h frameMemory, renderFrame with a MemoryBudget;
+// render_settings.h memoryCap): the sizes charged, a frame the cap cannot hold refused before any
+// large allocation with pushpin::MemoryCapError, a cap that fits giving the same image as no cap,
+// and every byte charged released again.
+#include "core/render/renderer.h"
+
+#include "cache/error.h"
+#include "cache/memory_budget.h"
+#include "core/render/camera.h"
+#include "core/render/frame_scene.h"
+#include "core/render/render_settings.h"
+#include "core/scene/ma_reader.h"
+#include "core/scene/render_setup.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pushpin::render {
+namespace {
+
+using cache::MemoryBudget;
+using cache::MemoryCategory;
+
+constexpr const char* kScene = R"(//Maya ASCII 2018 scene
+requires maya "2018";
+currentUnit -l centimeter -a degree -t film;
+createNode transform -n "persp";
+	setAttr ".t" -type "double3" 0 0 10;
+createNode camera -n "perspShape" -p "persp";
+	setAttr ".rnd" yes;
+createNode transform -n "box";
+	setAttr ".r" -type "double3" 30 40 0;
+createNode mesh -n "boxShape" -p "box";
+createNode polyCube -n "boxCreator";
+connectAttr "boxCreator.out" "boxShape.i";
+createNode lambert -n "grey";
+createNode shadingEngine -n "greySG";
+connectAttr "grey.oc" "greySG.ss";
+connectAttr "boxShape.iog" "greySG.dsm" -na;
+createNode transform -n "bulb";
+	setAttr ".t" -type "double3" 3 4 5;
+createNode pointLight -n "bulbShape" -p "bulb";
+)";
+
+// The scene built once; cameras are made per test at the size asked for.
+struct Frame {
+    scene::Graph graph = scene::MaReader::readString(kScene, "memory.ma");
+    scene::RenderSetup setup = scene::extractRenderSetup(graph);
+    scene::Evaluator ev{graph, 1.0};
+    RenderSettings settings;
+    FrameScene frameScene;
+
+    Frame(int width, int height) {
+        settings.width = width;
+        settings.height = height;
+        settings.deviceAspectRatio = double(width) / height;
+        frameScene = buildFrameScene(ev, setup, settings);
+    }
+    RenderCamera camera() {
+        return makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), settings.width, settings.height,
+                                settings.deviceAspectRatio);
+    }
+};
+
+// The process's peak resident set (VmHWM), in bytes; 0 where /proc does not say.
+uint64_t peakResidentBytes() {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line))
+        if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+    return 0;
+}
+
+// Sets an environment variable for one scope and puts the old value back.
+class ScopedEnv {
+public:
+    ScopedEnv(const char* name, const char* value) : m_name(name) {
+        if (const char* old = std::getenv(name)) m_old = old;
+        ::setenv(name, value, 1);
+    }
+    ~ScopedEnv() {
+        if (m_old) ::setenv(m_name, m_old->c_str(), 1);
+        else ::unsetenv(m_name);
+    }
+
+private:
+    const char* m_name;
+    std::optional<std::string> m_old;
+};
+
+TEST(FrameMemory, CountsTheFramebufferAndTheWritersCopyPerPixel) {
+    Frame f(32768, 32768);
+    const RenderCamera cam = f.camera();
+    const uint64_t pixels = uint64_t(32768) * 32768;
+    EXPECT_EQ(imageOutputBytes(32768, 32768), pixels * 5 * sizeof(float));
+    EXPECT_EQ(frameMemory(f.frameScene, cam, f.settings, {}, 1).framebufferBytes, pixels * (4 + 5) * sizeof(float));
+    f.settings.depth = true;
+    EXPECT_EQ(frameMemory(f.frameScene, cam, f.settings, {}, 1).framebufferBytes, pixels * (4 + 1 + 5) * sizeof(float));
+    // Tile buffers grow with the thread count; geometry with the scene.
+    const FrameMemory one = frameMemory(f.frameScene, cam, f.settings, {}, 1);
+    const FrameMemory four = frameMemory(f.frameScene, cam, f.settings, {}, 4);
+    EXPECT_GT(four.tileBytes, one.tileBytes);
+    EXPECT_GT(one.geometryBytes, 0u);
+    EXPECT_EQ(one.totalBytes(), one.framebufferBytes + one.tileBytes + one.geometryBytes);
+}
+
+TEST(FrameMemory, FrameOverTheCapFailsAtOnceWithNothingAllocated) {
+    Frame f(32768, 32768);
+    const RenderCamera cam = f.camera();
+    MemoryBudget budget(uint64_t(2048) << 20);
+    RenderOptions options;
+    options.memoryBudget = &budget;
+    RenderStats stats;
+    const uint64_t residentBefore = peakResidentBytes();
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        (void)renderFrame(f.frameScene, cam, f.settings, stats, options);
+        ADD_FAILURE() << "a 32768x32768 frame was rendered under a 2048 MB cap";
+    } catch (const MemoryCapError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("the 32768x32768 frame needs 36.0 GB of buffers"), std::string::npos) << message;
+        EXPECT_NE(message.find("over the memory cap of 2048 MB"), std::string::npos) << message;
+        EXPECT_EQ(e.capBytes(), uint64_t(2048) << 20);
+        EXPECT_GT(e.neededBytes(), e.capBytes());
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_LT(seconds, 1.0);
+    // Nothing was charged, so nothing was held, and the process never touched gigabytes.
+    EXPECT_EQ(budget.usedBytes(), 0u);
+    EXPECT_EQ(budget.peakBytes(), 0u);
+    EXPECT_EQ(stats.tiles, 0u);
+    EXPECT_LT(peakResidentBytes() - residentBefore, uint64_t(256) << 20);
+}
+
+TEST(FrameMemory, MaximumMemoryBytesIsTheCapWithoutABudget) {
+    Frame f(32768, 32768);
+    const RenderCamera cam = f.camera();
+    f.settings.maximumMemoryBytes = uint64_t(2048) << 20;
+    RenderStats stats;
+    try {
+        (void)renderFrame(f.frameScene, cam, f.settings, stats);
+        ADD_FAILURE() << "rendered over the -mm cap";
+    } catch (const MemoryCapError& e) {
+        EXPECT_NE(std::string(e.what()).find("over the memory cap of 2048 MB (-mm)"), std::string::npos) << e.what();
+    }
+}
+
+TEST(FrameMemory, SlurmMemoryPerNodeIsTheCapWhenNoneIsGiven) {
+    Frame f(640, 480);
+    const RenderCamera cam = f.camera();
+    RenderStats stats;
+    {
+        ScopedEnv env("SLURM_MEM_PER_NODE", "1");  // 1 MiB: far less than a 640x480 frame
+        EXPECT_EQ(memoryCapBytes(f.settings), uint64_t(1) << 20);
+        try {
+            (void)renderFrame(f.frameScene, cam, f.settings, stats);
+            ADD_FAILURE() << "rendered over the scheduler's cap";
+        } catch (const MemoryCapError& e) {
+            EXPECT_NE(std::string(e.what()).find("over the memory cap of 1 MB ($SLURM_MEM_PER_NODE)"), std::string::npos)
+                << e.what();
+        }
+    }
+    ScopedEnv env("SLURM_MEM_PER_NODE", "4096");
+    EXPECT_NO_THROW((void)renderFrame(f.frameScene, cam, f.settings, stats));
+}
+
+TEST(FrameMemory, CapThatFitsGivesTheSameImageAndReleasesEveryCharge) {
+    Frame f(64, 48);
+    f.settings.depth = true;
+    const RenderCamera cam = f.camera();
+    RenderStats stats;
+    const Framebuffer free = renderFrame(f.frameScene, cam, f.settings, stats);
+
+    const int threads = 2;
+    f.settings.numCpusToUse = threads;
+    const FrameMemory need = frameMemory(f.frameScene, cam, f.settings, {}, threads);
+    MemoryBudget budget(need.totalBytes());  // exactly what the frame charges
+    RenderOptions options;
+    options.memoryBudget = &budget;
+    const Framebuffer capped = renderFrame(f.frameScene, cam, f.settings, stats, options);
+
+    ASSERT_EQ(capped.rgba.size(), free.rgba.size());
+    ASSERT_EQ(capped.depth.size(), free.depth.size());
+    EXPECT_EQ(std::memcmp(capped.rgba.data(), free.rgba.data(), free.rgba.size() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(capped.depth.data(), free.depth.data(), free.depth.size() * sizeof(float)), 0);
+    // Charged equals released: nothing is held after the render, and the peaks show what was.
+    EXPECT_EQ(budget.usedBytes(), 0u);
+    EXPECT_EQ(budget.peakBytes(), need.totalBytes());
+    EXPECT_EQ(budget.peakBytes(MemoryCategory::Framebuffer), need.framebufferBytes);
+    EXPECT_EQ(budget.peakBytes(MemoryCategory::Fragments), need.tileBytes);
+    EXPECT_EQ(budget.peakBytes(MemoryCategory::Tessellation), need.geometryBytes);
+    for (size_t c = 0; c < cache::kMemoryCategoryCount; ++c) EXPECT_EQ(budget.usedBytes(MemoryCategory(c)), 0u);
+}
+
+TEST(FrameMemory, OneByteShortFailsAndLeavesNothingCharged) {
+    Frame f(64, 48);
+    const RenderCamera cam = f.camera();
+    f.settings.numCpusToUse = 1;
+    const FrameMemory need = frameMemory(f.frameScene, cam, f.settings, {}, 1);
+    MemoryBudget budget(need.totalBytes() - 1);
+    RenderOptions options;
+    options.memoryBudget = &budget;
+    RenderStats stats;
+    EXPECT_THROW((void)renderFrame(f.frameScene, cam, f.settings, stats, options), MemoryCapError);
+    EXPECT_EQ(budget.usedBytes(), 0u);  // the categories charged before the refusal were given back
+    EXPECT_EQ(stats.tiles, 0u);
+
+    // Memory others hold counts against the cap too, and the message says so.
+    MemoryBudget shared(need.totalBytes());
+    shared.charge(MemoryCategory::Textures, 4096);
+    options.memoryBudget = &shared;
+    try {
+        (void)renderFrame(f.frameScene, cam, f.settings, stats, options);
+        ADD_FAILURE() << "rendered over a shared cap";
+    } catch (const MemoryCapError& e) {
+        EXPECT_NE(std::string(e.what()).find("already in use"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(shared.usedBytes(), 4096u);
+}
+
+}  // namespace
+}  // namespace pushpin::render
