@@ -55,7 +55,7 @@ std::string lower(std::string_view s) {
 }
 
 [[noreturn]] void bad(std::string_view flag, std::string_view value, const std::string& why) {
-    throw Error(std::string(flag) + ": '" + std::string(value) + "' " + why);
+    throw UsageError(std::string(flag) + ": '" + util::excerpt(value) + "' " + why);
 }
 
 long long parseInt(std::string_view flag, std::string_view text, double lo, double hi) {
@@ -152,7 +152,7 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string_view a = args[i];
         auto value = [&]() -> std::string_view {
-            if (i + 1 >= args.size()) throw Error(std::string(a) + " needs a value");
+            if (i + 1 >= args.size()) throw UsageError(util::excerpt(a) + " needs a value");
             return args[++i];
         };
         if (a == "-h" || a == "--help" || a == "-help") {
@@ -169,6 +169,8 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
             cl.loadReferences = false;
         } else if (a == "--quiet") {
             cl.quiet = true;
+        } else if (a == "--allow-scene-output-paths") {
+            cl.allowSceneOutputPaths = true;
         } else if (a == "--frame") {
             const std::string_view v = value();
             cl.frame = parseFloat(a, v, -kFrameLimit, kFrameLimit);
@@ -191,7 +193,7 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
         } else if (const FlagSpec* spec = overrideSpec(a)) {
             std::string text;
             if (spec->kind == Kind::Region) {
-                if (i + 4 >= args.size()) throw Error(std::string(a) + " needs 4 values (left right bottom top)");
+                if (i + 4 >= args.size()) throw UsageError(std::string(a) + " needs 4 values (left right bottom top)");
                 long long r[4];
                 for (int k = 0; k < 4; ++k) r[k] = parseInt(a, args[++i], 0, 32767);
                 if (r[0] > r[1]) bad(a, std::to_string(r[0]) + " " + std::to_string(r[1]), "has left after right");
@@ -227,7 +229,7 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
                         try {
                             (void)imageFormatCodeFromName(v);
                         } catch (const Error& e) {
-                            throw Error(std::string(a) + ": " + e.what());
+                            throw UsageError(std::string(a) + ": " + e.what());
                         }
                         text = lower(v);
                         break;
@@ -236,17 +238,18 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
             }
             cl.overrides.push_back({std::string(a), std::move(text)});
         } else if (isOption(a)) {
-            throw Error("unknown option '" + std::string(a) + "' (see pushpin --help)");
+            throw UsageError("unknown option '" + util::excerpt(a) + "' (see pushpin --help)");
         } else {
             if (!cl.scene.empty())
-                throw Error("more than one scene given: '" + cl.scene + "' and '" + std::string(a) + "'");
+                throw UsageError("more than one scene given: '" + util::excerpt(cl.scene) + "' and '" + util::excerpt(a) +
+                                 "'");
             cl.scene = std::string(a);
         }
     }
     if (ss && mss && *mss < *ss)
-        throw Error("-mss: '" + std::to_string(*mss) + "' is less than -ss " + std::to_string(*ss));
+        throw UsageError("-mss: '" + std::to_string(*mss) + "' is less than -ss " + std::to_string(*ss));
     if (start && end && *end < *start)
-        throw Error("-e: '" + util::formatNumber(*end) + "' is before -s " + util::formatNumber(*start));
+        throw UsageError("-e: '" + util::formatNumber(*end) + "' is before -s " + util::formatNumber(*start));
     return cl;
 }
 
@@ -310,7 +313,8 @@ void applyOverrides(const CommandLine& commandLine, RenderSettings& s) {
         else if (f == "-rgb") s.image = asBool();
         else if (f == "-alpha") s.mask = asBool();
         else if (f == "-depth") s.depth = asBool();
-        // -mm stays in `overrides` for the memory budget; it is no render-globals field here.
+        // -mm is the render's memory cap, never the scene's maximumMemory (render_settings.h).
+        else if (f == "-mm") s.maximumMemoryBytes = uint64_t(std::stoll(v)) << 20;
     }
     if (sizeGiven && !aspectGiven && std::isfinite(pixelAspect) && pixelAspect > 0)
         s.deviceAspectRatio = pixelAspect * s.width / s.height;
@@ -340,14 +344,19 @@ pushpin options:
   --frame F           render (or report) frame F only; overrides -s/-e/-b
   --stats FILE        write render statistics as JSON to FILE
   --quiet             no progress lines on stderr
+  --allow-scene-output-paths
+                      let an image prefix (the scene's imageFilePrefix or -im) put images
+                      outside the output folder: an absolute path, or one climbing out with ..
 
 renderer:
   -r sw               the Maya Software renderer (the only one; other names are refused)
 
 cameras and output:
   -cam NAME           render this camera (repeatable); without -cam the renderable cameras
-  -rd DIR             output folder (default: the current folder)
-  -im NAME, -p NAME   image file prefix (imageFilePrefix); tokens <Scene> <Camera> <RenderLayer>
+  -rd DIR             output folder (default: the images folder of the Maya project holding
+                      the scene, found by its workspace.mel, else the current folder)
+  -im NAME, -p NAME   image file prefix (imageFilePrefix); tokens <Scene> <Camera> <RenderLayer>;
+                      a relative path inside the output folder (.. may not leave it)
   -of FORMAT          image format: iff, iff16/maya16, tif/tiff, tif16/tiff16, sgi/rgb, sgi16,
                       jpg/jpeg, png, tga/targa, bmp, gif, rla, exr, hdr
   -fnc CONV           file name convention: 1 name, 2 name.ext, 3 name.#.ext, 4 name.ext.#,
@@ -380,7 +389,16 @@ anti-aliasing and sampling (defaultRenderQuality):
 performance:
   -n N                threads, 0 = all cores (numCpusToUse)
   -tw N, -th N        force the tile width/height, 16..256 pixels
-  -mm MB              memory cap in megabytes (maximumMemory)
+  -mm MB              memory cap in MiB (default $SLURM_MEM_PER_NODE, else none); a frame
+                      that needs more stops with exit 33
+
+exit status:
+  0    every frame written            1    scene or input error (do not retry)
+  2    usage error (do not retry)     33   over the memory cap (retry with more memory)
+  75   an image could not be written (full disk, I/O error): retry; nothing partial is left
+  130, 143  stopped by SIGINT, SIGTERM; temporary files are removed
+Errors are one line on stderr starting "Error: ". A sequence stops at the first frame that
+cannot be written.
 )";
 }
 

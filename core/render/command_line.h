@@ -1,11 +1,12 @@
 // core/render/command_line.h: the pushpin command line: the `Render -r sw` flags that apply
 // (reference/render-cli.md) plus pushpin's own long options, parsed into one value. Flags and
 // arguments are separate tokens; booleans take on/yes/true/1 and off/no/false/0; `-eaa` and
-// `-pft` take Maya's numbers or the old keywords. Unknown flags and bad values throw
-// pushpin::Error naming the flag and the value.
+// `-pft` take Maya's numbers or the old keywords. Unknown flags and bad values throw UsageError
+// naming the flag and the value (at most util::kMaxQuotedChars of it).
 // Pure functions; thread-safe.
 #pragma once
 
+#include "cache/error.h"
 #include "core/render/render_settings.h"
 
 #include <optional>
@@ -15,6 +16,12 @@
 
 namespace pushpin::render {
 
+// The command line itself is wrong: an unknown flag, a missing or bad value, no scene. The tools
+// exit 2 for it (farm.md §6: a usage error, not worth a retry), where a bad scene exits 1.
+class UsageError : public Error {
+public:
+    using Error::Error;
+};
 
 struct CommandLine {
     std::string scene;             // the .ma file (empty with --demo)
@@ -29,6 +36,9 @@ struct CommandLine {
     std::string outputDir;         // -rd
     std::string statsPath;         // --stats out.json
     bool quiet = false;            // --quiet: no progress lines on stderr
+    // --allow-scene-output-paths: images may go where the image prefix says even outside the
+    // output folder (an absolute imageFilePrefix, or one that climbs out with "..").
+    bool allowSceneOutputPaths = false;
     // Render-globals overrides, in the order given; see applyOverrides().
     struct Override {
         std::string flag;   // as written, for messages
@@ -37,13 +47,13 @@ struct CommandLine {
     std::vector<Override> overrides;
 };
 
-// Parses argv[1..]. Throws pushpin::Error("-x: 'abc' is not an integer"), ("unknown option '-zz'"),
+// Parses argv[1..]. Throws UsageError("-x: 'abc' is not an integer"), ("unknown option '-zz'"),
 // ("-reg needs 4 values") … A second scene file is an error.
 CommandLine parseCommandLine(const std::vector<std::string_view>& args);
 
 // Applies the command line's render-globals overrides (-x -y -eaa -ss -mss -ufil -pft -pfx -pfy
-// -rct -gct -bct -cct -s -e -b -pad -im -of -fnc -g -n -tw -th -reg -premul -rgb -alpha -depth …)
-// to settings read from the scene.
+// -rct -gct -bct -cct -s -e -b -pad -im -of -fnc -g -n -tw -th -reg -premul -rgb -alpha -depth
+// -mm …) to settings read from the scene. -mm MB sets maximumMemoryBytes (MB · 2^20).
 void applyOverrides(const CommandLine& commandLine, RenderSettings& settings);
 
 // The --help text.

@@ -3,19 +3,31 @@
 #include "core/render/image_output.h"
 
 #include "cache/error.h"
+#include "cache/output_file.h"
+#include "core/util/format.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
+#include <vector>
 
 namespace pushpin::render {
 
@@ -198,24 +210,6 @@ std::string stemFor(const fs::path& path, const OutputFormat& format) {
     return name;
 }
 
-// A temporary file that is removed unless renamed into place: every failure path of writeImage leaves
-// nothing behind.
-struct TempFile {
-    fs::path path;  // cleared once renamed into place
-    ~TempFile() {
-        if (!path.empty()) {
-            std::error_code ec;
-            fs::remove(path, ec);
-        }
-    }
-};
-
-fs::path temporaryPath(const fs::path& target, const std::string& stem, const std::string& ext) {
-    static std::atomic<unsigned> counter{0};
-    return target.parent_path() /
-           (stem + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1)) + "." + ext);
-}
-
 uint64_t mix64(uint64_t z) {
     z += 0x9e3779b97f4a7c15ull;
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
@@ -231,27 +225,163 @@ double ditherOffset(int x, int y, int channel) {
     return (static_cast<double>(h >> 40) + 0.5) / 16777216.0 - 0.5;
 }
 
-// Writes `pixels` (float, `spec.nchannels` per pixel) to `tmp` with writer `oiioName`. Returns
-// the empty string on success, else OpenImageIO's message.
-std::string writeWithOiio(const std::string& oiioName, const fs::path& tmp, const OIIO::ImageSpec& spec,
-                          const std::vector<float>& pixels) {
-    auto out = OIIO::ImageOutput::create(oiioName);
-    if (!out) {
-        const std::string message = OIIO::geterror();
-        return "OpenImageIO has no '" + oiioName + "' writer" + (message.empty() ? "" : ": " + message);
+// An encoded image held in memory until it is published. OpenImageIO's writers for several
+// formats (PNG, Targa, BMP, SGI, GIF among them) do not check their own write calls, and the
+// JPEG writer lets libjpeg end the process on one, so no codec writes a real file: a codec that
+// takes an IOProxy (every writable format but SGI and RLA) writes a vector in memory
+// (Filesystem::IOVecOutput), where a write cannot come up short; SGI and RLA write an anonymous
+// memfd through its /proc/self/fd/<n> name, and are read back whole before they count as
+// encoded, since a write there can still fail unseen (the file size limit applies to a memfd;
+// memory can run out). Publishing is then a plain copy whose every write is checked
+// (cache::OutputFile).
+class EncodedImage {
+public:
+    explicit EncodedImage(const fs::path& finalPath) : m_final(finalPath) {}
+    ~EncodedImage() {
+        if (m_fd >= 0) ::close(m_fd);
     }
-    if (!out->open(tmp.string(), spec)) {
-        const std::string message = out->geterror();
-        return message.empty() ? "cannot open for writing" : message;
+    EncodedImage(const EncodedImage&) = delete;
+    EncodedImage& operator=(const EncodedImage&) = delete;
+
+    // Encodes a w × h image of `spec` with writer `oiioName`; `fill(y0, y1, rows)` writes rows
+    // [y0, y1) as floats, spec.nchannels per pixel, into `rows`. Converting a strip at a time
+    // keeps the float copy of the frame to a few megabytes. Returns the empty string on success,
+    // else the reason. Throws OutputError when the bytes were cut by the file size limit (an
+    // output condition, like a full disk). Any exception a codec throws is caught here
+    // (std::bad_alloc is passed on, so the tool reports memory).
+    std::string encode(const std::string& oiioName, const OIIO::ImageSpec& spec,
+                       const std::function<void(int, int, float*)>& fill) {
+        try {
+            return encodeUnchecked(oiioName, spec, fill);
+        } catch (const std::bad_alloc&) {
+            throw;
+        } catch (const OutputError&) {
+            throw;
+        } catch (const std::exception& e) {
+            return std::string("OpenImageIO's '") + oiioName + "' writer failed: " + util::excerpt(e.what());
+        } catch (...) {
+            return "OpenImageIO's '" + oiioName + "' writer failed with an unknown exception";
+        }
     }
-    bool ok = out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
-    std::string message = ok ? std::string() : out->geterror();
-    if (!out->close() && ok) {
-        ok = false;
-        message = out->geterror();
+
+    // Copies the encoded bytes into `out` (every write checked; throws OutputError).
+    void copyInto(cache::OutputFile& out) const {
+        if (m_fd >= 0) out.copyFrom(m_fd, "the in-memory image of " + util::excerpt(m_final.string()));
+        else out.write(m_bytes.data(), m_bytes.size());
     }
-    if (!ok && message.empty()) message = "write failed";
-    return ok ? std::string() : message;
+
+private:
+    std::string encodeUnchecked(const std::string& oiioName, const OIIO::ImageSpec& spec,
+                                const std::function<void(int, int, float*)>& fill) {
+        // Declared before the writer so it outlives it: a writer's destructor closes the file,
+        // and may still write through the proxy (the Targa writer does after a failed open).
+        std::unique_ptr<OIIO::Filesystem::IOVecOutput> proxy;
+        auto out = OIIO::ImageOutput::create(oiioName);
+        if (!out) {
+            const std::string message = OIIO::geterror();
+            return "OpenImageIO has no '" + oiioName + "' writer" + (message.empty() ? "" : ": " + message);
+        }
+        std::string name;
+        if (out->supports("ioproxy")) {
+            proxy = std::make_unique<OIIO::Filesystem::IOVecOutput>(m_bytes);
+            if (!out->set_ioproxy(proxy.get())) return "the '" + oiioName + "' writer refused an in-memory target";
+            name = m_final.filename().string();
+        } else {
+            std::string problem = openMemfd();
+            if (!problem.empty()) return problem;
+            name = m_codecPath;
+        }
+        auto failure = [&](const char* step) {
+            std::string message = out->geterror();
+            if (message.empty()) message = OIIO::geterror();
+            return std::string(step) + (message.empty() ? "" : ": " + util::excerpt(message, 400));
+        };
+        if (!out->open(name, spec)) return failure("cannot start the image");
+        // About 64k pixels a strip: at most a few MB of floats however wide the frame is. A writer
+        // that makes the file tiled (IFF picks 64 × 64 tiles in open()) takes whole rows of tiles.
+        const int w = spec.width, h = spec.height, nch = spec.nchannels;
+        const int tileRows = out->spec().tile_width > 0 ? std::max(out->spec().tile_height, 1) : 0;
+        int rowsPerStrip = std::clamp(65536 / std::max(w, 1), 1, h);
+        if (tileRows > 0) rowsPerStrip = (rowsPerStrip + tileRows - 1) / tileRows * tileRows;
+        std::vector<float> strip(size_t(std::min(rowsPerStrip, h)) * size_t(w) * size_t(nch));
+        for (int y0 = 0; y0 < h; y0 += rowsPerStrip) {
+            const int y1 = std::min(h, y0 + rowsPerStrip);
+            fill(y0, y1, strip.data());
+            const bool written = tileRows > 0
+                                     ? out->write_tiles(0, w, y0, y1, 0, 1, OIIO::TypeDesc::FLOAT, strip.data())
+                                     : out->write_scanlines(y0, y1, 0, OIIO::TypeDesc::FLOAT, strip.data());
+            if (!written) {
+                std::string message = failure("cannot encode the image");
+                (void)out->close();
+                checkMemfd(oiioName, spec);
+                return message;
+            }
+        }
+        if (!out->close()) {
+            std::string message = failure("cannot finish the image");
+            checkMemfd(oiioName, spec);
+            return message;
+        }
+        out.reset();
+        if (m_fd >= 0) checkMemfd(oiioName, spec);
+        if (size() == 0) return "the '" + oiioName + "' writer produced no bytes";
+        return {};
+    }
+
+    std::string openMemfd() {
+        m_fd = ::memfd_create("pushpin-image", MFD_CLOEXEC);
+        if (m_fd < 0) return std::string("cannot make an in-memory file to encode into: ") + std::strerror(errno);
+        m_codecPath = "/proc/self/fd/" + std::to_string(m_fd);
+        if (::access(m_codecPath.c_str(), W_OK) != 0)
+            return "this format is encoded through /proc/self/fd, and /proc is not available";
+        return {};
+    }
+
+    // A memfd's bytes count as the image only when they read back as the whole image: the SGI
+    // and RLA writers ignore failed writes. Cut bytes are an output failure (OutputError): the
+    // file size limit (`ulimit -f`, EFBIG) or memory ran out, as a full disk would.
+    void checkMemfd(const std::string& oiioName, const OIIO::ImageSpec& spec) const {
+        if (m_fd < 0) return;
+        struct rlimit limit;
+        const bool limited = ::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY;
+        if (limited && size() >= uint64_t(limit.rlim_cur))
+            throw OutputError(m_final, "the image is larger than the file size limit (ulimit -f) of " +
+                                           std::to_string(uint64_t(limit.rlim_cur)) + " bytes",
+                              EFBIG);
+        auto in = OIIO::ImageInput::create(oiioName);
+        OIIO::ImageSpec opened;
+        bool whole = in && in->open(m_codecPath, opened) && opened.width == spec.width && opened.height == spec.height;
+        if (whole) {
+            const int w = spec.width, nch = opened.nchannels;
+            const int rowsPerStrip = std::clamp(65536 / std::max(w, 1), 1, spec.height);
+            std::vector<float> strip(size_t(rowsPerStrip) * size_t(w) * size_t(nch));
+            for (int y0 = 0; whole && y0 < spec.height; y0 += rowsPerStrip)
+                whole = in->read_scanlines(0, 0, y0, std::min(spec.height, y0 + rowsPerStrip), 0, 0, nch,
+                                           OIIO::TypeDesc::FLOAT, strip.data());
+        }
+        if (in) (void)in->geterror();
+        (void)OIIO::geterror();
+        if (!whole)
+            throw OutputError(m_final, "the encoded image does not read back whole (a write into memory failed)",
+                              limited ? EFBIG : ENOMEM);
+    }
+
+    uint64_t size() const {
+        if (m_fd < 0) return m_bytes.size();
+        struct stat st;
+        return ::fstat(m_fd, &st) == 0 ? uint64_t(st.st_size) : 0;
+    }
+
+    fs::path m_final;
+    int m_fd = -1;                         // the memfd of a format without IOProxy support
+    std::string m_codecPath;               // "/proc/self/fd/<m_fd>"
+    std::vector<unsigned char> m_bytes;    // the IOProxy target
+};
+
+// writeImage's guard: a path the file system cannot hold is refused before any work.
+void checkPathLength(const fs::path& path) {
+    const std::string problem = imagePathProblem(path);
+    if (!problem.empty()) throw IoError(util::excerpt(path.string()), problem);
 }
 
 }  // namespace
@@ -329,6 +459,22 @@ fs::path imageFilePath(const RenderSettings& settings, const OutputFormat& forma
     return dir / folder / name;
 }
 
+std::string imagePathProblem(const fs::path& path) {
+    // Linux's NAME_MAX and PATH_MAX (less the terminating NUL), which the file systems farms use
+    // share. A longer name fails every system call with ENAMETOOLONG, so it is reported up front
+    // and quoted short instead of repeated whole in every message on the way.
+    constexpr size_t kNameMax = 255, kPathMax = 4095;
+    if (path.native().size() > kPathMax)
+        return "the path is " + std::to_string(path.native().size()) + " bytes long; a path holds at most " +
+               std::to_string(kPathMax);
+    for (const fs::path& part : path)
+        if (part.native().size() > kNameMax)
+            return "the name '" + util::excerpt(part.string()) + "' in the path is " +
+                   std::to_string(part.native().size()) + " bytes long; a file or folder name holds at most " +
+                   std::to_string(kNameMax);
+    return {};
+}
+
 fs::path depthImagePath(const fs::path& imagePath, const OutputFormat& format) {
     return imagePath.parent_path() / (stemFor(imagePath, format) + "_depth.exr");
 }
@@ -337,6 +483,7 @@ void writeImage(const Framebuffer& frame, const fs::path& path, const OutputForm
                 const RenderSettings& settings, bool writeDepth) {
     const int w = frame.width, h = frame.height;
     const size_t count = static_cast<size_t>(std::max(w, 0)) * static_cast<size_t>(std::max(h, 0));
+    checkPathLength(path);
     if (w < 1 || h < 1 || frame.rgba.size() != count * 4)
         throw IoError(path, "framebuffer " + std::to_string(w) + "x" + std::to_string(h) + " holds " +
                                 std::to_string(frame.rgba.size()) + " values, not a whole RGBA image");
@@ -347,14 +494,8 @@ void writeImage(const Framebuffer& frame, const fs::path& path, const OutputForm
                                 std::to_string(w) + "x" + std::to_string(h));
     const bool depthWanted = writeDepth && frame.depth.size() == count;
     const bool exr = format.oiioName == "openexr";
-
-    std::error_code ec;
-    if (!path.parent_path().empty()) {
-        fs::create_directories(path.parent_path(), ec);
-        if (ec || !fs::is_directory(path.parent_path()))
-            throw IoError(path, "cannot create folder '" + path.parent_path().string() + "': " +
-                                    (ec ? ec.message() : std::string("not a folder")));
-    }
+    const fs::path depthPath = depthWanted && !exr ? depthImagePath(path, format) : fs::path();
+    if (!depthPath.empty()) checkPathLength(depthPath);
 
     bool alpha = settings.mask.value_or(true);
     if (alpha) {
@@ -401,53 +542,163 @@ void writeImage(const Framebuffer& frame, const fs::path& path, const OutputForm
     const double invGamma = applyGamma ? 1.0 / gamma : 1.0;
     const bool dither = settings.jitterFinalColor && !format.floatPixels;
     const double lsb = format.bitsPerChannel == 16 ? 1.0 / 65535.0 : 1.0 / 255.0;
-    std::vector<float> pixels(count * nch);
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            const size_t i = static_cast<size_t>(y) * w + x;
-            const float* src = frame.rgba.data() + i * 4;
-            float* dst = pixels.data() + i * nch;
-            for (int c = 0; c < 4; ++c) {
-                if (c == 3 && !alpha) break;
-                double v = src[c];
-                if (std::isnan(v)) v = 0.0;
-                if (c < 3 && applyGamma && v > 0.0) v = std::pow(v, invGamma);
-                if (settings.clipFinalShadedColor) v = std::clamp(v, 0.0, 1.0);
-                if (c < 3 && dither) v += ditherOffset(x, y, c) * lsb;
-                dst[c] = static_cast<float>(v);
+    auto fillColour = [&](int y0, int y1, float* rows) {
+        for (int y = y0; y < y1; ++y) {
+            for (int x = 0; x < w; ++x) {
+                const size_t i = static_cast<size_t>(y) * w + x;
+                const float* src = frame.rgba.data() + i * 4;
+                float* dst = rows + (static_cast<size_t>(y - y0) * w + x) * nch;
+                for (int c = 0; c < 4; ++c) {
+                    if (c == 3 && !alpha) break;
+                    double v = src[c];
+                    if (std::isnan(v)) v = 0.0;
+                    if (c < 3 && applyGamma && v > 0.0) v = std::pow(v, invGamma);
+                    if (settings.clipFinalShadedColor) v = std::clamp(v, 0.0, 1.0);
+                    if (c < 3 && dither) v += ditherOffset(x, y, c) * lsb;
+                    dst[c] = static_cast<float>(v);
+                }
+                if (zChannel) dst[nch - 1] = frame.depth[i];
             }
-            if (zChannel) dst[nch - 1] = frame.depth[i];
         }
-    }
+    };
 
-    const std::string stem = stemFor(path, format);
-    TempFile imageTmp{temporaryPath(path, stem, format.extension)};
-    std::string message = writeWithOiio(format.oiioName, imageTmp.path, spec, pixels);
+    // Both files are encoded in memory before anything is created in the output folder, so a
+    // frame OpenImageIO cannot encode (a size the format cannot hold) leaves the folder as it was.
+    EncodedImage image(path);
+    std::string message = image.encode(format.oiioName, spec, fillColour);
     if (!message.empty()) throw IoError(path, message);
-
-    fs::path depthPath;
-    TempFile depthTmp;
-    if (depthWanted && !zChannel) {
-        depthPath = depthImagePath(path, format);
-        depthTmp.path = temporaryPath(path, stem + "_depth", "exr");
+    std::unique_ptr<EncodedImage> depth;
+    if (!depthPath.empty()) {
         OIIO::ImageSpec zspec(w, h, 1, OIIO::TypeDesc::FLOAT);
         zspec.channelnames = {"Z"};
         zspec.z_channel = 0;
         zspec.attribute("compression", "zip");
         zspec.attribute("Software", "pushpin");
-        message = writeWithOiio("openexr", depthTmp.path, zspec, frame.depth);
+        depth = std::make_unique<EncodedImage>(depthPath);
+        message = depth->encode("openexr", zspec, [&](int y0, int y1, float* rows) {
+            std::copy(frame.depth.begin() + static_cast<ptrdiff_t>(y0) * w,
+                      frame.depth.begin() + static_cast<ptrdiff_t>(y1) * w, rows);
+        });
         if (!message.empty()) throw IoError(depthPath, message);
     }
 
-    // Both files are complete; the renames make them visible whole.
-    if (!depthPath.empty()) {
-        fs::rename(depthTmp.path, depthPath, ec);
-        if (ec) throw IoError(depthPath, "cannot rename '" + depthTmp.path.string() + "': " + ec.message());
-        depthTmp.path.clear();
+    std::error_code ec;
+    if (!path.parent_path().empty()) {
+        fs::create_directories(path.parent_path(), ec);
+        if (ec || !fs::is_directory(path.parent_path()))
+            throw OutputError(path, "cannot create folder '" + util::excerpt(path.parent_path().string()) + "'",
+                              ec ? ec.value() : ENOTDIR);
     }
-    fs::rename(imageTmp.path, path, ec);
-    if (ec) throw IoError(path, "cannot rename '" + imageTmp.path.string() + "': " + ec.message());
-    imageTmp.path.clear();
+
+    // Publishing: each file is copied whole into its own exclusive temporary name and flushed to
+    // disk before either is renamed, so a full disk or an I/O error stops the frame with nothing
+    // published and the previous files untouched. The depth file is renamed first: once the image
+    // (what -skipExistingFrames and a farm look for) is in place, so is its depth. Only a failed
+    // rename of the image after the depth's succeeded, which needs the folder to change under
+    // us, can leave the new depth beside the old image.
+    cache::OutputFile imageOut(path);
+    image.copyInto(imageOut);
+    std::unique_ptr<cache::OutputFile> depthOut;
+    if (depth) {
+        depthOut = std::make_unique<cache::OutputFile>(depthPath);
+        depth->copyInto(*depthOut);
+    }
+    for (cache::OutputFile* out : {&imageOut, depthOut.get()})
+        if (out && ::fsync(out->fd()) != 0)
+            throw OutputError(out->path(), "cannot flush " + util::excerpt(out->temporaryPath().string()) + " to disk", errno);
+    if (depthOut) depthOut->commit();
+    imageOut.commit();
+}
+
+std::optional<std::string> workspaceImagesRule(std::string_view text) {
+    // MEL statements split into words: bare words, and "quoted strings" with backslash escapes.
+    std::optional<std::string> rule;
+    std::vector<std::string> words;
+    std::vector<bool> quoted;
+    auto statement = [&] {
+        if (words.size() >= 4 && !quoted[0] && words[0] == "workspace")
+            for (size_t i = 1; i + 2 < words.size(); ++i)
+                if (!quoted[i] && (words[i] == "-fr" || words[i] == "-fileRule") && quoted[i + 1] && quoted[i + 2] &&
+                    words[i + 1] == "images")
+                    rule = words[i + 2];
+        words.clear();
+        quoted.clear();
+    };
+    size_t i = 0;
+    while (i < text.size()) {
+        const char c = text[i];
+        if (c == '/' && i + 1 < text.size() && text[i + 1] == '/') {  // a comment to the end of the line
+            while (i < text.size() && text[i] != '\n') ++i;
+        } else if (c == ';') {
+            statement();
+            ++i;
+        } else if (c == '"') {
+            std::string word;
+            for (++i; i < text.size() && text[i] != '"'; ++i) {
+                if (text[i] == '\\' && i + 1 < text.size()) ++i;
+                word += text[i];
+            }
+            ++i;
+            words.push_back(std::move(word));
+            quoted.push_back(true);
+        } else if (std::isspace(static_cast<unsigned char>(c))) {
+            ++i;
+        } else {
+            std::string word;
+            while (i < text.size() && !std::isspace(static_cast<unsigned char>(text[i])) && text[i] != ';' &&
+                   text[i] != '"')
+                word += text[i++];
+            words.push_back(std::move(word));
+            quoted.push_back(false);
+        }
+    }
+    statement();
+    return rule;
+}
+
+fs::path projectImagesFolder(const fs::path& sceneFile) {
+    std::error_code ec;
+    fs::path dir = fs::absolute(sceneFile, ec).parent_path();
+    if (ec) return {};
+    // The scene's folder and three above it: scenes usually sit in <project>/scenes, sometimes a
+    // level or two deeper (scenes/shot/v003).
+    for (int level = 0; level < 4 && !dir.empty(); ++level) {
+        const fs::path workspace = dir / "workspace.mel";
+        if (fs::is_regular_file(workspace, ec)) {
+            std::string text;
+            std::ifstream in(workspace, std::ios::binary);
+            // workspace.mel holds a few dozen short rules; a larger file is not one Maya wrote.
+            constexpr size_t kMaxWorkspaceBytes = size_t(1) << 20;
+            text.resize(kMaxWorkspaceBytes);
+            in.read(text.data(), static_cast<std::streamsize>(text.size()));
+            text.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+            const std::optional<std::string> rule = workspaceImagesRule(text);
+            // An empty rule names the project folder itself, as `workspace -fre` resolves it.
+            if (!rule) return dir / "images";
+            return rule->empty() ? dir : dir / *rule;
+        }
+        const fs::path parent = dir.parent_path();
+        if (parent == dir) break;
+        dir = parent;
+    }
+    return {};
+}
+
+bool isInsideFolder(const fs::path& path, const fs::path& folder) {
+    std::error_code ec;
+    const fs::path p = fs::absolute(path, ec).lexically_normal();
+    if (ec) return false;
+    const fs::path f = fs::absolute(folder, ec).lexically_normal();
+    if (ec) return false;
+    // Component-wise prefix: "/out" holds "/out/a.png" but not "/outside/a.png". The empty last
+    // component of a folder spelled with a trailing separator ("/out/") is no part of the name.
+    auto pi = p.begin();
+    for (const fs::path& part : f) {
+        if (part.empty()) continue;
+        if (pi == p.end() || *pi != part) return false;
+        ++pi;
+    }
+    return true;
 }
 
 }  // namespace pushpin::render

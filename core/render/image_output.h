@@ -1,15 +1,22 @@
 // core/render/image_output.h: writing finished frames through OpenImageIO (DESIGN.md step 8):
 // the output format from imageFormat/imfPluginKey or -of, Maya's file naming (image prefix with
 // <Scene>/<Camera> tokens, frame number, padding, name.#.ext and the other conventions), the final
-// colour steps (gamma, clip, dither), and an atomic write: the image goes to a temporary name in
-// the target folder and is renamed when complete, so a frame on disk is always whole.
-// Thread safety: functions are reentrant; concurrent writes to different paths are safe.
+// colour steps (gamma, clip, dither), the folder images go to (-rd, a Maya project's images folder)
+// and the rule that keeps them inside it, and a whole-or-nothing write: each image is encoded in
+// memory, copied into an exclusive temporary name in the target folder with every write checked,
+// flushed, and renamed into place, so a frame on disk is always whole and a failed write leaves
+// the folder as it was.
+// Thread safety: functions are reentrant; concurrent writes (even to the same path, from any
+// number of processes) are safe: the last rename wins and every file is whole.
+// Memory: writeImage holds the encoded file(s) in memory (at most about 5 floats a pixel, an
+// uncompressed float EXR with Z) and converts the frame a strip of rows at a time.
 #pragma once
 
 #include "core/render/framebuffer.h"
 #include "core/render/render_settings.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -48,6 +55,10 @@ std::filesystem::path imageFilePath(const RenderSettings& settings, const Output
                                     const std::filesystem::path& dir, std::string_view sceneName,
                                     std::string_view cameraName, double frame, bool severalCameras);
 
+// Why the file system cannot hold `path` (a name over 255 bytes, or a path over 4095), quoting at
+// most util::kMaxQuotedChars of the name; the empty string when it can. Pure.
+std::string imagePathProblem(const std::filesystem::path& path);
+
 // The companion depth file writeImage() writes beside `imagePath` for formats without a Z channel:
 // the file name without the format's extension, plus "_depth.exr" ("shot.0001.png" →
 // "shot.0001_depth.exr").
@@ -56,11 +67,37 @@ std::filesystem::path depthImagePath(const std::filesystem::path& imagePath, con
 // Writes RGBA (and Z when `writeDepth` and the framebuffer has depth; EXR gets a "Z" channel, other
 // formats a companion "<name>_depth.exr") after gamma (gammaCorrection), clipping
 // (clipFinalShadedColor) and, for integer formats, a deterministic dither (jitterFinalColor).
-// Writes to a temporary file beside `path` and renames it; on any failure removes the temporary
-// file and throws pushpin::IoError naming the path and OpenImageIO's message. Creates missing
-// parent folders. Channels: R G B, then A unless `settings.mask` is false or the format has no
-// alpha (JPEG); NaN colour values are written as 0.
+// Channels: R G B, then A unless `settings.mask` is false or the format has no alpha (JPEG); NaN
+// colour values are written as 0. Creates missing parent folders.
+// The image (and the depth file) are encoded in memory first; then each is copied into a
+// cache::OutputFile beside its final path, both are flushed, and they are renamed, depth first,
+// so a run that sees the image also sees its depth. Failures:
+//   - pushpin::IoError naming the path when the frame cannot be encoded (a malformed framebuffer,
+//     a size the format cannot hold, a name longer than the file system allows, a codec error or
+//     exception): nothing in the output folder is touched;
+//   - pushpin::OutputError (errorCode() = errno) when the output folder cannot be created or
+//     written (a full disk, an I/O error): every temporary file is removed and the files the final
+//     paths held before are unchanged;
+//   - std::bad_alloc passes through.
+// No codec writes the output folder itself, and none can end the process.
 void writeImage(const Framebuffer& frame, const std::filesystem::path& path, const OutputFormat& format,
                 const RenderSettings& settings, bool writeDepth);
+
+// The images folder of the Maya project that holds `sceneFile`, or an empty path when there is
+// none. The project is the nearest of the scene's folder and its three parents that holds a
+// `workspace.mel`; its images folder is that file's `workspace -fr "images" "<folder>";` rule
+// (relative to the project, or absolute), and `images` when the file has no such rule. Never
+// throws; an unreadable workspace.mel counts as one without a rule.
+std::filesystem::path projectImagesFolder(const std::filesystem::path& sceneFile);
+
+// The images rule of a workspace.mel text (`workspace -fr "images" "<folder>";`, also spelled
+// -fileRule), or nullopt when it has none. The last rule wins, as when Maya sources the file.
+std::optional<std::string> workspaceImagesRule(std::string_view workspaceMel);
+
+// Whether `path` lies inside `folder` (or is it) once both are made absolute against the working
+// folder and lexically normalised ("a/b/../c" → "a/c"). Symbolic links are not resolved: the
+// check is about what a prefix spells, not about links the user made. Pure apart from reading the
+// working folder.
+bool isInsideFolder(const std::filesystem::path& path, const std::filesystem::path& folder);
 
 }  // namespace pushpin::render

@@ -185,9 +185,10 @@ TEST(PushpinCli, EveryPublicSceneReportsWithExitZero) {
     EXPECT_GT(files, 0u);
 }
 
-TEST(PushpinCli, MissingFileExitsTwoNamingThePath) {
+TEST(PushpinCli, MissingFileExitsOneNamingThePath) {
     CliRun r = runPushpin("--info /nonexistent/dir/scene.ma");
-    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.err.rfind("Error: ", 0), 0u) << r.err;
     EXPECT_NE(r.err.find("/nonexistent/dir/scene.ma"), std::string::npos) << r.err;
     EXPECT_TRUE(r.out.empty());
 }
@@ -195,8 +196,8 @@ TEST(PushpinCli, MissingFileExitsTwoNamingThePath) {
 TEST(PushpinCli, MalformedFileGivesOneLineWithFileLineAndColumn) {
     fs::path file = writeFile("bad.ma", "//Maya ASCII 2018 scene\ncreateNode transform -n \"a\";\n\tsetAttr \".t\" -type \"double3\" 1 2;\n");
     CliRun r = runPushpin("--info '" + file.string() + "'");
-    EXPECT_EQ(r.exitCode, 2);
-    EXPECT_EQ(r.err.rfind(file.string() + ":3:", 0), 0u) << r.err;
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.err.rfind("Error: " + file.string() + ":3:", 0), 0u) << r.err;
     EXPECT_EQ(count(r.err, "\n"), 1u) << r.err;
     EXPECT_TRUE(r.out.empty());
 }
@@ -215,6 +216,31 @@ TEST(PushpinCli, BadOptionsAreNamed) {
     CliRun none = runPushpin("");
     EXPECT_EQ(none.exitCode, 2);
     EXPECT_NE(none.err.find("usage"), std::string::npos);
+    EXPECT_EQ(none.err.rfind("Error: ", 0), 0u) << none.err;
+    CliRun both = runPushpin("--demo --info scene.ma");
+    EXPECT_EQ(both.exitCode, 2);
+    EXPECT_NE(both.err.find("--demo"), std::string::npos) << both.err;
+}
+
+// The exit status of farm.md §6 for each kind of failure: the command line (2), the scene (1).
+TEST(PushpinCli, ExitCodesSeparateUsageFromInput) {
+    fs::path dir = tempDir() / "codes";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "scene-folder.ma");
+    CliRun folder = runPushpin("--info '" + (dir / "scene-folder.ma").string() + "'");
+    EXPECT_EQ(folder.exitCode, 1);
+    EXPECT_NE(folder.err.find("scene-folder.ma"), std::string::npos) << folder.err;
+    EXPECT_NE(folder.err.find("folder"), std::string::npos) << folder.err;
+    CliRun ok = runPushpin("--demo --info");
+    EXPECT_EQ(ok.exitCode, 0) << ok.err;
+    CliRun renderer = runPushpin("--demo --info -r mayaHardware");
+    EXPECT_EQ(renderer.exitCode, 2);
+    CliRun range = runPushpin("--demo -s 5 -e 1");
+    EXPECT_EQ(range.exitCode, 2);
+    EXPECT_NE(range.err.find("-e"), std::string::npos) << range.err;
+    CliRun format = runPushpin("--demo -of avi");
+    EXPECT_EQ(format.exitCode, 2);
+    EXPECT_NE(format.err.find("-of"), std::string::npos) << format.err;
 }
 
 TEST(PushpinCli, FrameOptionEvaluatesAnimation) {
@@ -299,17 +325,17 @@ TEST(PushpinCli, BadRenderFlagsAreNamedAndWriteNothing) {
     fs::path dir = tempDir() / "bad";
     fs::remove_all(dir);
     CliRun x = runPushpin("--demo -x abc -rd '" + dir.string() + "'");
-    EXPECT_EQ(x.exitCode, 2);
+    EXPECT_EQ(x.exitCode, 2);  // usage
     EXPECT_NE(x.err.find("-x"), std::string::npos) << x.err;
     CliRun unknown = runPushpin("--demo -zz 3 -rd '" + dir.string() + "'");
     EXPECT_EQ(unknown.exitCode, 2);
     EXPECT_NE(unknown.err.find("-zz"), std::string::npos) << unknown.err;
     CliRun cam = runPushpin("--demo -cam nosuchcamera -rd '" + dir.string() + "'");
-    EXPECT_EQ(cam.exitCode, 2);
+    EXPECT_EQ(cam.exitCode, 1);  // the scene has no such camera
     EXPECT_NE(cam.err.find("nosuchcamera"), std::string::npos) << cam.err;
     fs::path bad = writeFile("broken.ma", "//Maya ASCII 2018 scene\ncreateNode mesh -n \"m\";\n\tsetAttr \".vt[0]\" -type \"float3\" 1 2;\n");
     CliRun malformed = runPushpin("-rd '" + dir.string() + "' '" + bad.string() + "'");
-    EXPECT_EQ(malformed.exitCode, 2);
+    EXPECT_EQ(malformed.exitCode, 1);
     EXPECT_NE(malformed.err.find("broken.ma:3:"), std::string::npos) << malformed.err;
     EXPECT_FALSE(fs::exists(dir) && !fs::is_empty(dir));
 }

@@ -1,7 +1,18 @@
 // pushpin: renders Maya ASCII scenes. This front end parses the command line, loads the scene,
 // renders every requested frame and camera (or prints the --info report) and writes the images;
-// every error ends here as one line on stderr and a non-zero exit, with no partial image on disk.
+// every error ends here as one line on stderr starting "Error: " (farm.md §6: the line farm
+// parsers look for) and the exit status of farm.md §6, with no partial image on disk:
+//   0   every frame written
+//   1   scene or input error: a missing, unreadable or malformed scene, a bad value in it, an
+//       image prefix in the scene that leaves the output folder
+//   2   usage error: the command line itself (render::UsageError), no scene given
+//   33  over the memory cap (MemoryCapError, or an allocation that failed)
+//   75  an image or the --stats file could not be written (OutputError: a full disk, an I/O
+//       error); the sequence stops at that frame, and frames before it are whole
+//   130, 143  SIGINT, SIGTERM: cache::installTemporaryFileCleanup() removes the temporary files
+//   4   an unexpected internal exception
 #include "cache/error.h"
+#include "cache/output_file.h"
 #include "core/render/camera.h"
 #include "core/render/command_line.h"
 #include "core/render/frame_scene.h"
@@ -13,6 +24,7 @@
 #include "core/scene/ma_reader.h"
 #include "core/scene/render_setup.h"
 #include "core/scene/scene_info.h"
+#include "core/util/format.h"
 #include "core/util/json_writer.h"
 
 #include <chrono>
@@ -20,11 +32,10 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <fstream>
+#include <new>
 #include <set>
 #include <string>
 #include <string_view>
-#include <unistd.h>
 #include <vector>
 
 namespace {
@@ -32,14 +43,26 @@ namespace {
 namespace fs = std::filesystem;
 using namespace pushpin;
 
+constexpr int kExitInput = 1;
 constexpr int kExitUsage = 2;
-constexpr int kExitInput = 2;
+constexpr int kExitMemory = 33;
+constexpr int kExitOutput = 75;
+constexpr int kExitInternal = 4;
 
-// One line, whatever the message holds, so scripts can read the first line of stderr.
-std::string oneLine(std::string s) {
+// One line, whatever the message holds, so scripts can read the first line of stderr. Messages
+// quote tokens through util::excerpt already; the bound here keeps one line short even when a
+// message is built from several of them.
+std::string oneLine(std::string_view text) {
+    constexpr size_t kMaxLineChars = 2000;
+    std::string s = util::excerpt(text, kMaxLineChars);
     for (char& c : s)
         if (c == '\n' || c == '\r') c = ' ';
     return s;
+}
+
+void reportError(int exitCode, std::string_view message) {
+    std::fprintf(stderr, "Error: pushpin: %s%s\n", oneLine(message).c_str(),
+                 exitCode == kExitOutput ? " (nothing partial was written; the frame can be retried)" : "");
 }
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
@@ -64,8 +87,8 @@ std::vector<const scene::CameraInfo*> selectCameras(const scene::Graph& graph, c
             if (!found) {
                 std::string known;
                 for (const scene::CameraInfo& c : setup.cameras) known += (known.empty() ? "" : ", ") + c.transformName;
-                throw Error("-cam: no camera '" + name + "' in " + sceneName + " (cameras: " +
-                            (known.empty() ? "none" : known) + ")");
+                throw Error("-cam: no camera '" + util::excerpt(name) + "' in " + util::excerpt(sceneName) +
+                            " (cameras: " + (known.empty() ? "none" : util::excerpt(known)) + ")");
             }
             out.push_back(found);
         }
@@ -73,7 +96,7 @@ std::vector<const scene::CameraInfo*> selectCameras(const scene::Graph& graph, c
     }
     for (const scene::CameraInfo& c : setup.cameras)
         if (c.renderable) out.push_back(&c);
-    if (out.empty()) throw Error(sceneName + ": no renderable camera (name one with -cam)");
+    if (out.empty()) throw Error(util::excerpt(sceneName) + ": no renderable camera (name one with -cam)");
     return out;
 }
 
@@ -93,26 +116,61 @@ std::vector<double> framesToRender(const render::CommandLine& cl, const render::
     return frames;
 }
 
-void writeFileAtomically(const fs::path& path, const std::string& text) {
-    fs::path tmp = path;
-    tmp += ".tmp-" + std::to_string(::getpid());
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw IoError(tmp, "cannot create the file", errno);
-        out << text;
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw IoError(tmp, "cannot write the file", errno);
-        }
+// Writes `text` to `path` whole or not at all (cache::OutputFile). Throws OutputError.
+void writeWholeFile(const fs::path& path, const std::string& text) {
+    cache::OutputFile out(path);
+    out.write(text.data(), text.size());
+    out.commit();
+}
+
+// The folder images go to: -rd, else the images folder of the Maya project holding the scene
+// (render::projectImagesFolder: the nearest workspace.mel at or above the scene's folder), else
+// the working folder.
+fs::path outputFolder(const render::CommandLine& cl) {
+    if (!cl.outputDir.empty()) return fs::path(cl.outputDir);
+    if (!cl.demo) {
+        fs::path images = render::projectImagesFolder(cl.scene);
+        if (!images.empty()) return images;
     }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw IoError(path, "cannot rename the finished file into place: " + ec.message());
-    }
+    return fs::path(".");
+}
+
+// Where the image prefix came from, for messages: the command line (-im/-p) or the scene.
+struct PrefixSource {
+    bool commandLine = false;
+    std::string flag;  // "-im" or "-p" when commandLine
+};
+
+PrefixSource prefixSource(const render::CommandLine& cl) {
+    PrefixSource source;
+    for (const render::CommandLine::Override& o : cl.overrides)
+        if (o.flag == "-im" || o.flag == "-p") source = {true, o.flag};
+    return source;
+}
+
+// Images go only under the output folder (see --help): a scene cannot aim a render at any file
+// the user can write. An image prefix that is absolute, or that climbs out of the folder with "..",
+// after token expansion, is refused unless --allow-scene-output-paths is given; one from the
+// scene is a scene error (exit 1) naming defaultRenderGlobals.imageFilePrefix, one from -im a
+// usage error (exit 2). "..", inside the folder ("shots/../a"), is fine. The path is also one the
+// file system can hold.
+void checkImagePath(const fs::path& path, const fs::path& outputDir, const render::CommandLine& cl,
+                    const render::RenderSettings& settings) {
+    const PrefixSource source = prefixSource(cl);
+    const std::string what = source.commandLine ? source.flag + " '" + util::excerpt(settings.imageFilePrefix) + "'"
+                                                : "defaultRenderGlobals.imageFilePrefix '" +
+                                                      util::excerpt(settings.imageFilePrefix) + "'";
+    auto fail = [&](const std::string& message) {
+        if (source.commandLine) throw render::UsageError(message);
+        throw Error(message);
+    };
+    const std::string problem = render::imagePathProblem(path);
+    if (!problem.empty()) fail(what + " gives an image path the file system cannot hold: " + problem);
+    if (!cl.allowSceneOutputPaths && !render::isInsideFolder(path, outputDir))
+        fail(what + " puts images at " + util::excerpt(path.string()) + ", outside the output folder " +
+             util::excerpt(outputDir.string()) +
+             (source.commandLine ? "; choose the folder with -rd, or give --allow-scene-output-paths"
+                                 : "; override the prefix with -im, or give --allow-scene-output-paths to allow it"));
 }
 
 int run(int argc, char** argv) {
@@ -132,11 +190,24 @@ int run(int argc, char** argv) {
         std::fwrite(text.data(), 1, text.size(), stdout);
         return 0;
     }
-    if (cl.demo && !cl.scene.empty()) throw Error("give either --demo or a scene file, not both");
+    if (cl.demo && !cl.scene.empty()) throw render::UsageError("give either --demo or a scene file, not both");
     if (!cl.demo && cl.scene.empty()) {
+        reportError(kExitUsage, "no scene file given (name a .ma file, or --demo)");
         std::string help = render::commandLineHelp();
         std::fwrite(help.data(), 1, help.size(), stderr);
         return kExitUsage;
+    }
+    if (!cl.statsPath.empty()) {
+        const std::string problem = render::imagePathProblem(cl.statsPath);
+        if (!problem.empty()) throw render::UsageError("--stats: " + problem);
+    }
+    if (!cl.demo) {
+        // A folder (or a device, a FIFO) given as the scene is an input error, not an empty scene.
+        std::error_code ec;
+        const fs::file_status status = fs::status(cl.scene, ec);
+        if (!ec && fs::exists(status) && !fs::is_regular_file(status))
+            throw IoError(util::excerpt(cl.scene),
+                          fs::is_directory(status) ? "is a folder, not a scene file" : "is not a regular file");
     }
 
     auto tLoad = std::chrono::steady_clock::now();
@@ -164,7 +235,7 @@ int run(int argc, char** argv) {
         render::applyOverrides(cl, s);
         frames = framesToRender(cl, s, graph);
     }
-    const fs::path outputDir = cl.outputDir.empty() ? fs::path(".") : fs::path(cl.outputDir);
+    const fs::path outputDir = outputFolder(cl);
     const std::string sceneStem = fs::path(sceneName).stem().string();
     std::error_code ec;
     const fs::path scenePath = cl.demo ? fs::path() : fs::weakly_canonical(fs::path(cl.scene), ec);
@@ -180,6 +251,7 @@ int run(int argc, char** argv) {
     };
     for (const auto& w : graph.warnings())
         note(w.file + ":" + std::to_string(w.line) + ": " + (w.node.empty() ? "" : "node '" + w.node + "': ") + w.message);
+    for (const std::string& n : setup.notes) note(n);
     for (const auto& [type, count] : graph.unsupportedTypes())
         note("unsupported node type '" + type + "' (" + std::to_string(count) + " node" + (count == 1 ? "" : "s") + ")");
 
@@ -198,27 +270,49 @@ int run(int argc, char** argv) {
             note((d.node.empty() ? "" : "node '" + d.node + "': ") + d.message);
         const double sceneSeconds = secondsSince(tScene);
 
+        // A camera whose values cannot be used (render::makeRenderCamera says which) is an error
+        // when -cam names it; among the scene's renderable cameras it is skipped with a note, and
+        // it is an error only when no camera is left.
+        std::string unusableCamera;
+        size_t usableCameras = 0;
         for (const scene::CameraInfo* cameraInfo : cameras) {
-            render::RenderCamera camera =
-                render::makeRenderCamera(ev, cameraInfo->path, settings.width, settings.height, settings.deviceAspectRatio);
+            render::RenderCamera camera;
+            try {
+                camera = render::makeRenderCamera(ev, cameraInfo->path, settings.width, settings.height,
+                                                  settings.deviceAspectRatio);
+            } catch (const MemoryCapError&) {
+                throw;
+            } catch (const Error& e) {
+                if (!cl.cameras.empty()) throw;
+                note("camera '" + util::excerpt(cameraInfo->transformName) + "' not rendered: " + e.what());
+                if (unusableCamera.empty()) unusableCamera = e.what();
+                continue;
+            }
+            ++usableCameras;
             render::RenderSettings cameraSettings = settings;
             if (!cameraSettings.depth) cameraSettings.depth = ev.getBool(cameraInfo->shape, "depth", false);
             fs::path path = render::imageFilePath(cameraSettings, format, outputDir, sceneStem, camera.name, frame,
                                                   cameras.size() > 1);
+            checkImagePath(path, outputDir, cl, cameraSettings);
             if (!scenePath.empty() && fs::weakly_canonical(path, ec) == scenePath)
-                throw Error("the image path " + path.string() + " is the scene file itself; choose another -im or -rd");
+                throw Error("the image path " + util::excerpt(path.string()) +
+                            " is the scene file itself; choose another -im or -rd");
 
             render::RenderStats renderStats;
             auto tRender = std::chrono::steady_clock::now();
             render::Framebuffer image = render::renderFrame(frameScene, camera, cameraSettings, renderStats);
             const double renderSeconds = secondsSince(tRender);
             auto tWrite = std::chrono::steady_clock::now();
+            // Throws OutputError when the image cannot be written: the sequence stops here (exit 75)
+            // with this frame's files as they were and every earlier frame whole.
             render::writeImage(image, path, format, cameraSettings, cameraSettings.depth.value_or(false));
             const double writeSeconds = secondsSince(tWrite);
 
+            // Printed only once the image is renamed into place (writeImage has returned).
             if (!cl.quiet)
-                std::fprintf(stderr, "pushpin: frame %g, camera %s: %dx%d in %.2f s -> %s\n", frame, camera.name.c_str(),
-                             image.width, image.height, renderSeconds, path.string().c_str());
+                std::fprintf(stderr, "pushpin: frame %g, camera %s: %dx%d in %.2f s -> %s\n", frame,
+                             util::excerpt(camera.name).c_str(), image.width, image.height, renderSeconds,
+                             util::excerpt(path.string(), 1000).c_str());
             stats.beginObject();
             stats.field("frame", frame).field("camera", camera.name).field("path", path.string());
             stats.field("width", image.width).field("height", image.height);
@@ -230,6 +324,7 @@ int run(int argc, char** argv) {
             render::writeRenderStats(stats, renderStats);
             stats.endObject();
         }
+        if (usableCameras == 0) throw Error(unusableCamera);
     }
     stats.endArray();
     stats.key("notes").beginArray();
@@ -244,26 +339,40 @@ int run(int argc, char** argv) {
         if (notes.size() > kShown)
             std::fprintf(stderr, "pushpin: note: ... and %zu more (see --stats)\n", notes.size() - kShown);
     }
-    if (!cl.statsPath.empty()) writeFileAtomically(cl.statsPath, stats.str() + "\n");
+    if (!cl.statsPath.empty()) writeWholeFile(cl.statsPath, stats.str() + "\n");
     return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    // First: from here on SIGINT, SIGTERM and exit() remove every temporary file still open.
+    cache::installTemporaryFileCleanup();
     try {
         return run(argc, argv);
+    } catch (const render::UsageError& e) {
+        reportError(kExitUsage, e.what());
+        return kExitUsage;
+    } catch (const OutputError& e) {
+        reportError(kExitOutput, e.what());
+        return kExitOutput;
+    } catch (const MemoryCapError& e) {
+        reportError(kExitMemory, e.what());
+        return kExitMemory;
     } catch (const scene::ParseError& e) {
-        std::fprintf(stderr, "%s\n", oneLine(e.what()).c_str());
+        // The message begins with file:line:column.
+        std::fprintf(stderr, "Error: %s\n", oneLine(e.what()).c_str());
         return kExitInput;
     } catch (const Error& e) {
-        std::fprintf(stderr, "pushpin: %s\n", oneLine(e.what()).c_str());
+        reportError(kExitInput, e.what());
         return kExitInput;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "pushpin: out of memory\n");
-        return 3;
+        // An allocation the cap did not foresee failed: the frame needs more memory than this
+        // process could get, which a scheduler treats like the cap (retry with more memory).
+        reportError(kExitMemory, "out of memory: an allocation failed (run with more memory, or a smaller -x/-y)");
+        return kExitMemory;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "pushpin: internal error: %s\n", oneLine(e.what()).c_str());
-        return 4;
+        reportError(kExitInternal, std::string("internal error: ") + e.what());
+        return kExitInternal;
     }
 }

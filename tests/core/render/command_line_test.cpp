@@ -279,8 +279,46 @@ TEST(CommandLine, HelpListsEveryFlag) {
                              "--stats", "--quiet", "-cam", "-rd", "-im", "-p ", "-of", "-fnc", "-pad", "-s F", "-e F",
                              "-b F", "-x N", "-y N", "-reg", "-eaa", "-ss", "-mss", "-ufil", "-pft", "-pfx", "-pfy",
                              "-rct", "-gct", "-bct", "-cct", "-g ", "-n N", "-tw", "-th", "-premul", "-rgb", "-alpha",
-                             "-depth", "-ard", "-mm", "-r sw"})
+                             "-depth", "-ard", "-mm", "-r sw", "--allow-scene-output-paths"})
         EXPECT_NE(help.find(flag), std::string::npos) << flag;
+    // The exit status table of farm.md §6.
+    for (const char* code : {"0 ", "1 ", "2 ", "33 ", "75 ", "130, 143"}) EXPECT_NE(help.find(code), std::string::npos) << code;
+}
+
+// Command-line mistakes are UsageError (exit 2 in the tools), told apart from scene errors.
+TEST(CommandLine, MistakesAreUsageErrors) {
+    for (const std::vector<std::string_view>& args :
+         std::vector<std::vector<std::string_view>>{{"-x", "abc"}, {"-zz"}, {"a.ma", "b.ma"}, {"-reg", "1"},
+                                                    {"-of", "avi"}, {"-r", "mayaHardware"}, {"-s", "5", "-e", "1"},
+                                                    {"-ss", "8", "-mss", "4"}, {"--stats"}}) {
+        std::string line;
+        for (auto a : args) line += std::string(a) + " ";
+        EXPECT_THROW((void)parseCommandLine(args), UsageError) << line;
+    }
+}
+
+TEST(CommandLine, HugeValuesAreQuotedShort) {
+    const std::string huge(1 << 20, 'x');
+    const std::string flag = "-" + huge;
+    for (const std::vector<std::string_view>& args :
+         std::vector<std::vector<std::string_view>>{{"-x", huge}, {flag}, {"a.ma", huge}, {"-cam", "c", "-pad", huge}}) {
+        try {
+            (void)parseCommandLine(args);
+            ADD_FAILURE() << "no error";
+        } catch (const UsageError& e) {
+            EXPECT_LT(std::string(e.what()).size(), 600u);
+            EXPECT_NE(std::string(e.what()).find("bytes)"), std::string::npos) << std::string(e.what()).substr(0, 300);
+        }
+    }
+}
+
+TEST(CommandLine, SceneOutputPathsAndMemoryCap) {
+    EXPECT_FALSE(parse({"s.ma"}).allowSceneOutputPaths);
+    EXPECT_TRUE(parse({"--allow-scene-output-paths", "s.ma"}).allowSceneOutputPaths);
+    // -mm MB is the render's cap in bytes (MiB); without it there is none from the command line.
+    EXPECT_EQ(applied({"-mm", "512"}).maximumMemoryBytes, uint64_t(512) << 20);
+    EXPECT_EQ(applied({}).maximumMemoryBytes, 0u);
+    EXPECT_EQ(memoryCap(applied({"-mm", "64"}), "4096").bytes, uint64_t(64) << 20);
 }
 
 }  // namespace

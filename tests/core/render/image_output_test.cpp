@@ -8,10 +8,12 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -445,7 +447,7 @@ TEST(ImageOutput, UnwritableFolderThrowsAndLeavesNoFile) {
     try {
         writeImage(testFrame(2, 2), path, outputFormatFromName("png"), plainSettings(), false);
         ADD_FAILURE() << "no error";
-    } catch (const IoError& e) {
+    } catch (const OutputError& e) {  // an output failure: the tools exit 75
         EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
     }
     EXPECT_EQ(dir.files(), std::vector<std::string>{"blocker"});
@@ -464,6 +466,8 @@ TEST(ImageOutput, ExistingFileIsReplacedOnlyByAWholeImage) {
     } catch (const IoError& e) {
         EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
         EXPECT_EQ(e.path(), path);
+        // The frame cannot be encoded at all: not an output failure worth a retry.
+        EXPECT_EQ(dynamic_cast<const OutputError*>(&e), nullptr) << e.what();
     }
     EXPECT_EQ(fileBytes(path), "old frame");
     EXPECT_EQ(dir.files(), std::vector<std::string>{"frame.tga"});
@@ -496,6 +500,90 @@ TEST(ImageOutput, MalformedFramebufferThrows) {
     Framebuffer empty;
     EXPECT_THROW(writeImage(empty, dir.path / "y.png", outputFormatFromName("png"), plainSettings(), false), IoError);
     EXPECT_TRUE(dir.files().empty());
+}
+
+// Every writable format, through the in-memory encoders: each file reads back whole, the folder
+// holds exactly the images (no temporary files), and the depth companion comes with them.
+TEST(ImageOutput, EveryFormatWritesAWholeFileAndNothingElse) {
+    for (const char* name : {"exr", "tif", "tiff16", "png", "jpg", "iff", "sgi", "tga", "bmp", "gif", "hdr", "rla"}) {
+        TempDir dir;
+        const OutputFormat format = outputFormatFromName(name);
+        const fs::path path = dir.path / ("f." + format.extension);
+        // Wider than one conversion strip (65536 pixels) and taller than one IFF tile row.
+        writeImage(testFrame(700, 130, true), path, format, plainSettings(), true);
+        const ReadBack r = readImage(path);
+        EXPECT_EQ(r.width, 700) << name;
+        EXPECT_EQ(r.height, 130) << name;
+        std::vector<std::string> expected{"f." + format.extension};
+        if (format.oiioName != "openexr") expected.push_back("f_depth.exr");
+        std::sort(expected.begin(), expected.end());
+        EXPECT_EQ(dir.files(), expected) << name;
+    }
+}
+
+// A name longer than a file system holds is refused before anything is written, quoted short.
+TEST(ImageOutput, OverlongNamesAreRefusedShort) {
+    TempDir dir;
+    const fs::path path = dir.path / (std::string(100000, 'n') + ".png");
+    try {
+        writeImage(testFrame(2, 2), path, outputFormatFromName("png"), plainSettings(), false);
+        ADD_FAILURE() << "no error";
+    } catch (const IoError& e) {
+        EXPECT_LT(std::string(e.what()).size(), 1000u);
+        EXPECT_EQ(dynamic_cast<const OutputError*>(&e), nullptr);
+    }
+    EXPECT_TRUE(dir.files().empty());
+    EXPECT_TRUE(imagePathProblem(dir.path / std::string(255, 'a')).empty());
+    EXPECT_NE(imagePathProblem(dir.path / std::string(256, 'a')).find("256 bytes"), std::string::npos);
+    std::string deep;
+    for (int i = 0; i < 30; ++i) deep += std::string(200, 'd') + "/";
+    EXPECT_NE(imagePathProblem(deep + "x.png").find("a path holds at most 4095"), std::string::npos);
+}
+
+TEST(ImageOutput, WorkspaceImagesRule) {
+    EXPECT_EQ(workspaceImagesRule("//Maya 2018 Project Definition\n\nworkspace -fr \"images\" \"images\";\n"),
+              std::optional<std::string>("images"));
+    EXPECT_EQ(workspaceImagesRule("workspace -fr \"scene\" \"scenes\";\nworkspace -fileRule \"images\" \"out/img dir\";"),
+              std::optional<std::string>("out/img dir"));
+    EXPECT_EQ(workspaceImagesRule("workspace -fr \"images\" \"a\";\nworkspace -fr \"images\" \"b\";"),
+              std::optional<std::string>("b"));  // the last rule wins
+    EXPECT_EQ(workspaceImagesRule("// workspace -fr \"images\" \"commented\";\nworkspace -fr \"sourceImages\" \"x\";"),
+              std::nullopt);
+    EXPECT_EQ(workspaceImagesRule("workspace -fr \"images\" \"\";"), std::optional<std::string>(""));
+    EXPECT_EQ(workspaceImagesRule(""), std::nullopt);
+    EXPECT_EQ(workspaceImagesRule("workspace -fr \"images"), std::nullopt);  // cut short
+}
+
+TEST(ImageOutput, ProjectImagesFolderSearchesUpward) {
+    TempDir dir;
+    const fs::path project = dir.path / "proj";
+    fs::create_directories(project / "scenes" / "a" / "b");
+    EXPECT_TRUE(projectImagesFolder(project / "scenes" / "s.ma").empty());
+    { std::ofstream(project / "workspace.mel") << "workspace -fr \"images\" \"renders\";\n"; }
+    EXPECT_EQ(projectImagesFolder(project / "scenes" / "s.ma"), project / "renders");
+    EXPECT_EQ(projectImagesFolder(project / "scenes" / "a" / "b" / "s.ma"), project / "renders");
+    EXPECT_EQ(projectImagesFolder(project / "s.ma"), project / "renders");
+    { std::ofstream(project / "workspace.mel") << "workspace -fr \"scene\" \"scenes\";\n"; }
+    EXPECT_EQ(projectImagesFolder(project / "scenes" / "s.ma"), project / "images");  // Maya's default
+    { std::ofstream(project / "workspace.mel") << "workspace -fr \"images\" \"/farm/out\";\n"; }
+    EXPECT_EQ(projectImagesFolder(project / "scenes" / "s.ma"), fs::path("/farm/out"));
+    // Four levels up is too far.
+    fs::create_directories(project / "scenes" / "a" / "b" / "c");
+    EXPECT_TRUE(projectImagesFolder(project / "scenes" / "a" / "b" / "c" / "s.ma").empty());
+}
+
+TEST(ImageOutput, IsInsideFolderIsLexical) {
+    EXPECT_TRUE(isInsideFolder("/out/a.png", "/out"));
+    EXPECT_TRUE(isInsideFolder("/out/x/../a.png", "/out/"));
+    EXPECT_TRUE(isInsideFolder("/out/./cam/a.png", "/out"));
+    EXPECT_FALSE(isInsideFolder("/out/../a.png", "/out"));
+    EXPECT_FALSE(isInsideFolder("/outside/a.png", "/out"));
+    EXPECT_FALSE(isInsideFolder("/etc/passwd", "/out"));
+    EXPECT_TRUE(isInsideFolder("a/b.png", "."));
+    EXPECT_TRUE(isInsideFolder("a/b.png", "a"));
+    EXPECT_FALSE(isInsideFolder("../b.png", "."));
+    EXPECT_FALSE(isInsideFolder("a/../../b.png", "a"));
+    EXPECT_TRUE(isInsideFolder("/anything", "/"));
 }
 
 }  // namespace

@@ -1,0 +1,297 @@
+// Hostile but fair inputs, generated at test time, run through the `pushpin` program the way a
+// farm runs it: each must end with its documented exit status (README "Exit status") within the
+// wall-clock bound and the peak memory stated beside it, never crash, and never leave output.
+// Bounds are several times what these inputs take on a 2-core machine, so they catch a return of
+// quadratic or unbounded work, not a slow day.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        std::string tmpl = (fs::temp_directory_path() / "pushpin-hostile-XXXXXX").string();
+        if (!::mkdtemp(tmpl.data())) std::abort();
+        path = tmpl;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+};
+
+struct Outcome {
+    int exitCode = -1;      // -1: killed (by the bound or a signal)
+    bool timedOut = false;
+    double seconds = 0;
+    double peakMiB = 0;     // the child's peak resident set (getrusage via wait4)
+    std::string output;     // stdout and stderr
+};
+
+// Runs pushpin with `args` in `dir`, killing it after `limitSeconds`.
+Outcome runPushpin(const std::vector<std::string>& args, const fs::path& dir, double limitSeconds) {
+    const fs::path log = dir / "pushpin-output.txt";
+    const std::string exe = (fs::path(PUSHPIN_BINARY_DIR) / "pushpin").string();
+    const auto t0 = std::chrono::steady_clock::now();
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        if (::chdir(dir.c_str()) != 0) ::_exit(126);
+        FILE* f = std::fopen(log.c_str(), "w");
+        if (!f) ::_exit(126);
+        ::dup2(fileno(f), 1);
+        ::dup2(fileno(f), 2);
+        std::vector<char*> argv{const_cast<char*>(exe.c_str())};
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        ::execv(exe.c_str(), argv.data());
+        ::_exit(127);
+    }
+    Outcome o;
+    int status = 0;
+    struct rusage usage{};
+    for (;;) {
+        const pid_t done = ::wait4(pid, &status, WNOHANG, &usage);
+        if (done == pid) break;
+        o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (o.seconds > limitSeconds && !o.timedOut) {
+            o.timedOut = true;
+            ::kill(pid, SIGKILL);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    o.peakMiB = double(usage.ru_maxrss) / 1024.0;
+    o.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(log, std::ios::binary);
+    o.output.assign(std::istreambuf_iterator<char>(in), {});
+    std::error_code ec;
+    fs::remove(log, ec);
+    return o;
+}
+
+std::ostream& operator<<(std::ostream& os, const Outcome& o) {
+    return os << "exit " << o.exitCode << (o.timedOut ? " (killed at the time bound)" : "") << ", " << o.seconds
+              << " s, peak " << o.peakMiB << " MiB, output: " << o.output.substr(0, 2000);
+}
+
+// The same small scene every case builds on: a camera looking at whatever the case adds.
+constexpr const char* kHeader =
+    "//Maya ASCII 2018 scene\n"
+    "//Name: hostile.ma\n"
+    "requires maya \"2018\";\n"
+    "currentUnit -l centimeter -a degree -t film;\n"
+    "createNode transform -n \"cam\";\n"
+    "\tsetAttr \".t\" -type \"double3\" 0 0 20 ;\n"
+    "createNode camera -n \"camShape\" -p \"cam\";\n"
+    "\tsetAttr \".rnd\" yes;\n";
+
+constexpr const char* kCube =
+    "createNode mesh -n \"boxShape\" -p \"%s\";\n"
+    "createNode polyCube -n \"polyCube1\";\n"
+    "connectAttr \"polyCube1.out\" \"boxShape.i\";\n"
+    "connectAttr \"boxShape.iog\" \":initialShadingGroup.dsm\" -na;\n";
+
+std::string cubeUnder(const std::string& parent) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, kCube, parent.c_str());
+    return buf;
+}
+
+void writeFile(const fs::path& p, const std::string& text) {
+    std::ofstream(p, std::ios::binary).write(text.data(), std::streamsize(text.size()));
+}
+
+std::vector<std::string> filesIn(const fs::path& dir) {
+    std::vector<std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) out.push_back(e.path().lexically_relative(dir).string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// A million connections in a row: unitConversion i feeds unitConversion i+1, the last feeds the
+// cube's translateX. The value must come through (2.5 × 1.0 a million times).
+TEST(HostileScene, MillionConnectionChainEvaluatesInLinearTime) {
+    TempDir dir;
+    constexpr int kChain = 1000000;
+    std::string text = kHeader;
+    text.reserve(size_t(kChain) * 90);
+    text += "createNode transform -n \"box\";\n" + cubeUnder("box");
+    for (int i = 0; i < kChain; ++i) {
+        text += "createNode unitConversion -n \"u" + std::to_string(i) + "\";\n";
+        if (i == 0) text += "\tsetAttr \".i\" 2.5;\n";
+    }
+    for (int i = 1; i < kChain; ++i)
+        text += "connectAttr \"u" + std::to_string(i - 1) + ".o\" \"u" + std::to_string(i) + ".i\";\n";
+    text += "connectAttr \"u" + std::to_string(kChain - 1) + ".o\" \"box.tx\";\n";
+    text += "// End of hostile.ma\n";
+    writeFile(dir.path / "chain.ma", text);
+    text.clear();
+    text.shrink_to_fit();
+
+    const Outcome o = runPushpin({"--info", "chain.ma"}, dir.path, 60);
+    EXPECT_EQ(o.exitCode, 0) << o;
+    EXPECT_LT(o.peakMiB, 3072) << o;
+    // The cube spans [-0.5, 0.5] about its translate: 2.5 → x from 2 to 3.
+    EXPECT_NE(o.output.find("\"boxShape\""), std::string::npos) << o;
+    const size_t bounds = o.output.find("\"bounds\"", o.output.find("\"boxShape\""));
+    ASSERT_NE(bounds, std::string::npos) << o;
+    // "bounds": {"min": [x, y, z], ...} pretty-printed: the first number after "min" is x.
+    const size_t min = o.output.find('[', o.output.find("\"min\"", bounds));
+    ASSERT_NE(min, std::string::npos) << o.output.substr(bounds, 200);
+    EXPECT_DOUBLE_EQ(std::strtod(o.output.c_str() + min + 1, nullptr), 2.0) << o.output.substr(bounds, 200);
+}
+
+// A DAG a million transforms deep with a cube at the bottom; each level moves by 1e-6, so the
+// cube sits at x = 1. Loading, --info and a render all stay linear.
+TEST(HostileScene, MillionDeepDagLoadsReportsAndRenders) {
+    TempDir dir;
+    constexpr int kDepth = 1000000;
+    std::string text = kHeader;
+    text.reserve(size_t(kDepth) * 80);
+    for (int i = 0; i < kDepth; ++i) {
+        text += "createNode transform -n \"t" + std::to_string(i) + "\"";
+        if (i > 0) text += " -p \"t" + std::to_string(i - 1) + "\"";
+        text += ";\n\tsetAttr \".tx\" 1e-06;\n";
+    }
+    text += cubeUnder("t" + std::to_string(kDepth - 1));
+    text += "// End of hostile.ma\n";
+    writeFile(dir.path / "deep.ma", text);
+    text.clear();
+    text.shrink_to_fit();
+
+    const Outcome info = runPushpin({"--info", "deep.ma"}, dir.path, 60);
+    EXPECT_EQ(info.exitCode, 0) << info;
+    EXPECT_LT(info.peakMiB, 3072) << info;
+    const Outcome render = runPushpin({"-x", "32", "-y", "24", "-of", "png", "-rd", "out", "deep.ma"}, dir.path, 60);
+    EXPECT_EQ(render.exitCode, 0) << render;
+    EXPECT_LT(render.peakMiB, 3072) << render;
+    EXPECT_TRUE(fs::exists(dir.path / "out" / "deep.png")) << render;
+}
+
+// A 400-byte file that references itself ten times: the cycle is refused, the load ends at once.
+TEST(HostileScene, SelfReferenceTenTimesIsRefusedQuickly) {
+    TempDir dir;
+    std::string text = kHeader;
+    for (int i = 0; i < 10; ++i) text += "file -r -ns \"n" + std::to_string(i) + "\" \"self.ma\";\n";
+    text += "createNode transform -n \"box\";\n" + cubeUnder("box") + "// End of hostile.ma\n";
+    writeFile(dir.path / "self.ma", text);
+    const Outcome o = runPushpin({"--info", "self.ma"}, dir.path, 20);
+    EXPECT_EQ(o.exitCode, 0) << o;
+    EXPECT_LT(o.peakMiB, 1024) << o;
+    EXPECT_NE(o.output.find("self.ma"), std::string::npos) << o;
+}
+
+// Ten references to the next level, six levels deep: a million files' worth of loading. The
+// reference budget ends it with an input error naming a file.
+TEST(HostileScene, ReferenceFanOutHitsTheBudget) {
+    TempDir dir;
+    constexpr int kLevels = 6;
+    for (int level = 0; level < kLevels; ++level) {
+        std::string text = kHeader;
+        if (level + 1 < kLevels)
+            for (int i = 0; i < 10; ++i)
+                text += "file -r -ns \"r" + std::to_string(i) + "\" \"level" + std::to_string(level + 1) + ".ma\";\n";
+        text += "createNode transform -n \"box\";\n" + cubeUnder("box") + "// End of hostile.ma\n";
+        writeFile(dir.path / ("level" + std::to_string(level) + ".ma"), text);
+    }
+    const Outcome o = runPushpin({"--info", "level0.ma"}, dir.path, 60);
+    EXPECT_EQ(o.exitCode, 1) << o;
+    EXPECT_LT(o.peakMiB, 3072) << o;
+    EXPECT_NE(o.output.find("level"), std::string::npos) << o;
+    EXPECT_LT(o.output.size(), 4096u) << o;
+}
+
+// Repeated createNode lines with one name: Maya renames each to the next free number. 20 MB of
+// them (about 760,000 nodes) must load at the reader's usual pace, not in quadratic time.
+TEST(HostileScene, DuplicateNamesRenameInConstantTime) {
+    TempDir dir;
+    const std::string line = "createNode transform -n \"x\";\n";
+    std::string text = kHeader;
+    const size_t count = (size_t(20) << 20) / line.size();
+    text.reserve(count * line.size() + 4096);
+    for (size_t i = 0; i < count; ++i) text += line;
+    text += "// End of hostile.ma\n";
+    writeFile(dir.path / "dupes.ma", text);
+    const Outcome o = runPushpin({"--info", "dupes.ma"}, dir.path, 60);
+    EXPECT_EQ(o.exitCode, 0) << o;
+    EXPECT_LT(o.peakMiB, 3072) << o;
+    // The last one is x<count - 1> (the first keeps "x").
+    EXPECT_NE(o.output.find("\"transform\": " + std::to_string(count + 1)), std::string::npos) << o.output.substr(0, 600);
+}
+
+// A frame the memory cap cannot hold stops at once with exit 33 and writes nothing.
+TEST(HostileScene, FrameOverTheMemoryCapExits33) {
+    TempDir dir;
+    writeFile(dir.path / "box.ma", std::string(kHeader) + "createNode transform -n \"box\";\n" + cubeUnder("box") +
+                                       "// End of hostile.ma\n");
+    fs::create_directories(dir.path / "out");
+    const Outcome o = runPushpin({"-x", "32768", "-y", "32768", "-mm", "2048", "-rd", "out", "box.ma"}, dir.path, 20);
+    EXPECT_EQ(o.exitCode, 33) << o;
+    EXPECT_LT(o.peakMiB, 1024) << o;
+    EXPECT_TRUE(filesIn(dir.path / "out").empty()) << o;
+}
+
+// Numbers that overflow: the camera and the object are reported, not rendered into NaN, and
+// the process is clean (the tests also run under UBSan in the sanitizer build).
+TEST(HostileScene, OverflowingNumbersAreNotedNotRendered) {
+    TempDir dir;
+    std::string text = kHeader;
+    text += "createNode transform -n \"far\";\n\tsetAttr \".t\" -type \"double3\" 1e308 0 0 ;\n" + cubeUnder("far");
+    text += "// End of hostile.ma\n";
+    writeFile(dir.path / "far.ma", text);
+    const Outcome far = runPushpin({"-x", "16", "-y", "12", "-rd", "out", "far.ma"}, dir.path, 20);
+    EXPECT_EQ(far.exitCode, 0) << far;
+    EXPECT_NE(far.output.find("far"), std::string::npos) << far;
+
+    std::string cam = kHeader;
+    cam += "\tsetAttr \".fl\" 1e308;\ncreateNode transform -n \"box\";\n" + cubeUnder("box") + "// End of hostile.ma\n";
+    writeFile(dir.path / "focal.ma", cam);
+    const Outcome focal = runPushpin({"-x", "16", "-y", "12", "-rd", "out2", "focal.ma"}, dir.path, 20);
+    EXPECT_EQ(focal.exitCode, 1) << focal;
+    EXPECT_NE(focal.output.find("camShape"), std::string::npos) << focal;
+    EXPECT_FALSE(fs::exists(dir.path / "out2" / "focal.iff")) << focal;
+}
+
+// A folder given as the scene is an input error, not an empty scene.
+TEST(HostileScene, DirectoryIsNotAScene) {
+    TempDir dir;
+    fs::create_directories(dir.path / "scene.ma");
+    const Outcome o = runPushpin({"scene.ma"}, dir.path, 20);
+    EXPECT_EQ(o.exitCode, 1) << o;
+    EXPECT_NE(o.output.find("scene.ma"), std::string::npos) << o;
+}
+
+// A 50 MB token is quoted, not echoed: the error stays one short line.
+TEST(HostileScene, HugeTokenIsQuotedShort) {
+    TempDir dir;
+    std::string text = kHeader;
+    text += "createNode transform -n \"" + std::string(size_t(50) << 20, 'q') + "\" -p \"nowhere\";\n";
+    text += "// End of hostile.ma\n";
+    writeFile(dir.path / "token.ma", text);
+    const Outcome o = runPushpin({"--info", "token.ma"}, dir.path, 30);
+    EXPECT_TRUE(o.exitCode == 0 || o.exitCode == 1) << o.exitCode;
+    EXPECT_LT(o.output.size(), 2048u) << o.output.size() << " bytes of output";
+
+    const Outcome prefix =
+        runPushpin({"--demo", "-x", "8", "-y", "6", "-rd", "out", "-im", std::string(120000, 'p')}, dir.path, 30);
+    EXPECT_TRUE(prefix.exitCode == 1 || prefix.exitCode == 2) << prefix;
+    EXPECT_LT(prefix.output.size(), 2048u) << prefix.output.size() << " bytes of output";
+}
+
+}  // namespace
