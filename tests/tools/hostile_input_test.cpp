@@ -5,6 +5,8 @@
 // quadratic or unbounded work, not a slow day.
 #include <gtest/gtest.h>
 
+#include "tests/support/temp_folder.h"
+
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -23,17 +25,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string tmpl = (fs::temp_directory_path() / "pushpin-hostile-XXXXXX").string();
-        if (!::mkdtemp(tmpl.data())) std::abort();
-        path = tmpl;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
+struct TempDir : pushpin::test::TempFolder {
+    TempDir() : TempFolder("hostile") {}
 };
 
 struct Outcome {
@@ -113,9 +106,7 @@ std::string cubeUnder(const std::string& parent) {
     return buf;
 }
 
-void writeFile(const fs::path& p, const std::string& text) {
-    std::ofstream(p, std::ios::binary).write(text.data(), std::streamsize(text.size()));
-}
+void writeFile(const fs::path& p, const std::string& text) { pushpin::test::writeWholeFile(p, text); }
 
 std::vector<std::string> filesIn(const fs::path& dir) {
     std::vector<std::string> out;

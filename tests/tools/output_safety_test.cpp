@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/temp_folder.h"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/inotify.h>
@@ -35,29 +37,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string tmpl = (fs::temp_directory_path() / "pushpin-output-XXXXXX").string();
-        if (!::mkdtemp(tmpl.data())) std::abort();
-        path = tmpl;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
+struct TempDir : pushpin::test::TempFolder {
+    TempDir() : TempFolder("output") {}
 };
 
-std::string readAll(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream os;
-    os << in.rdbuf();
-    return os.str();
-}
+std::string readAll(const fs::path& p) { return pushpin::test::readWholeFile(p); }
 
-void writeFile(const fs::path& p, const std::string& text) {
-    std::ofstream(p, std::ios::binary).write(text.data(), std::streamsize(text.size()));
-}
+void writeFile(const fs::path& p, const std::string& text) { pushpin::test::writeWholeFile(p, text); }
 
 struct Outcome {
     int exitCode = -1;  // the exit status, or -1 when a signal ended the process
