@@ -118,6 +118,24 @@ bool isAnimCurveNode(const Node& n) { return isA(n, "animCurve") || startsWith(n
 // animCurveT* are driven by time, animCurveU* by their `input` plug (set driven keys).
 bool timeDrivenCurve(const Node& n) { return startsWith(n.type, "animCurveT") || !startsWith(n.type, "animCurveU"); }
 
+// The plug path of the numeric compound whose component `spec` is (translate for translateX),
+// given the parsed path `segs` that ends in the component.
+std::string parentCompoundPath(const Node& n, const std::vector<PlugSegment>& segs, const AttrSpec* parentSpec) {
+    std::vector<PlugSegment> parentSegs(segs.begin(), segs.end() - 1);
+    if (parentSegs.empty() || n.findAttr(parentSegs.back().name) != parentSpec)
+        parentSegs.push_back(PlugSegment{parentSpec->longName});
+    return formatPlugPath(parentSegs);
+}
+
+// The plug path of component `child` of the compound at `path` (parsed as `segs`): translateX
+// for translate, colorEntryList[0].colorR style for an indexed compound.
+std::string componentChildPath(const std::string& path, const std::vector<PlugSegment>& segs, const AttrSpec& child) {
+    if (segs.back().indexed()) return path + "." + child.longName;
+    std::vector<PlugSegment> childSegs = segs;
+    childSegs.back().name = child.longName;
+    return formatPlugPath(childSegs);
+}
+
 }  // namespace
 
 std::vector<Plug> Evaluator::dependencies(NodeId node, const std::string& path) const {
@@ -143,24 +161,14 @@ std::vector<Plug> Evaluator::dependencies(NodeId node, const std::string& path) 
     auto segs = parsePlugPath(path);
     const AttrSpec* spec = segs ? n.findAttr(segs->back().name) : nullptr;
     const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
-    if (parentSpec && isNumericCompound(*parentSpec)) {
-        std::vector<PlugSegment> parentSegs(segs->begin(), segs->end() - 1);
-        if (parentSegs.empty() || n.findAttr(parentSegs.back().name) != parentSpec)
-            parentSegs.push_back(PlugSegment{parentSpec->longName});
-        if (const Plug* parentSrc = m_graph.sourceOfCanonical(node, formatPlugPath(parentSegs))) deps.push_back(*parentSrc);
-    }
+    if (parentSpec && isNumericCompound(*parentSpec))
+        if (const Plug* parentSrc = m_graph.sourceOfCanonical(node, parentCompoundPath(n, *segs, parentSpec)))
+            deps.push_back(*parentSrc);
     if (spec && isNumericCompound(*spec)) {
-        const auto children = componentChildren(n, *spec);
-        for (const AttrSpec* child : children) {
+        for (const AttrSpec* child : componentChildren(n, *spec)) {
             if (!child) continue;
-            std::string childPath;
-            if (segs->back().indexed()) childPath = path + "." + child->longName;
-            else {
-                std::vector<PlugSegment> childSegs = *segs;
-                childSegs.back().name = child->longName;
-                childPath = formatPlugPath(childSegs);
-            }
-            if (const Plug* childSrc = m_graph.sourceOfCanonical(node, childPath)) deps.push_back(*childSrc);
+            if (const Plug* childSrc = m_graph.sourceOfCanonical(node, componentChildPath(path, *segs, *child)))
+                deps.push_back(*childSrc);
         }
     }
     return deps;
@@ -187,10 +195,7 @@ bool Evaluator::computePlug(NodeId node, const std::string& path, std::vector<do
     const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
     if (parentSpec && isNumericCompound(*parentSpec)) {
         // translateX with `translate` connected as a whole: take the component of the source.
-        std::vector<PlugSegment> parentSegs(segs->begin(), segs->end() - 1);
-        if (parentSegs.empty() || n.findAttr(parentSegs.back().name) != parentSpec)
-            parentSegs.push_back(PlugSegment{parentSpec->longName});
-        if (auto parentSrc = m_graph.source(node, formatPlugPath(parentSegs))) {
+        if (auto parentSrc = m_graph.source(node, parentCompoundPath(n, *segs, parentSpec))) {
             std::vector<double> whole;
             if (evaluatePlug(parentSrc->node, parentSrc->path, whole) && size_t(spec->component) < whole.size()) {
                 out.assign(1, whole[size_t(spec->component)]);
@@ -204,14 +209,7 @@ bool Evaluator::computePlug(NodeId node, const std::string& path, std::vector<do
         const auto children = componentChildren(n, *spec);
         for (size_t k = 0; k < children.size() && k < out.size(); ++k) {
             if (!children[k]) continue;
-            std::string childPath;
-            if (segs->back().indexed()) childPath = path + "." + children[k]->longName;
-            else {
-                std::vector<PlugSegment> childSegs = *segs;
-                childSegs.back().name = children[k]->longName;
-                childPath = formatPlugPath(childSegs);
-            }
-            if (auto childSrc = m_graph.source(node, childPath)) {
+            if (auto childSrc = m_graph.source(node, componentChildPath(path, *segs, *children[k]))) {
                 std::vector<double> v;
                 if (evaluatePlug(childSrc->node, childSrc->path, v) && !v.empty()) out[k] = v[0];
             }

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/temp_folder.h"
+
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,7 +25,6 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <random>
 #include <set>
 #include <string>
 
@@ -106,21 +107,30 @@ void set(Graph& g, NodeId n, const char* path, std::vector<double> v, Numbers::K
     g.setValue(n, *parsePlugPath(path), Numbers{kind, width, std::move(v)});
 }
 
+// `levels` levels of two transforms ("a<i>", "b<i>"), each a child of both transforms of the
+// level above, and a mesh "shape" under both of the last: 2^levels DAG paths to the shape.
+NodeId addDiamondDag(Graph& g, int levels) {
+    NodeId above[2] = {g.createNode("transform", "a0"), g.createNode("transform", "b0")};
+    for (int level = 1; level < levels; ++level) {
+        NodeId here[2];
+        for (int k = 0; k < 2; ++k) {
+            here[k] = g.createNode("transform", std::string(k ? "b" : "a") + std::to_string(level), above[0]);
+            g.setParent(here[k], above[1], true);
+        }
+        above[0] = here[0];
+        above[1] = here[1];
+    }
+    const NodeId shape = g.createNode("mesh", "shape", above[0]);
+    g.setParent(shape, above[1], true);
+    return shape;
+}
+
 // A temporary folder removed at the end of a test.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::random_device rd;
-        path = fs::temp_directory_path() / ("pushpin_bounded_" + std::to_string(rd()) + std::to_string(rd()));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
+struct TempDir : pushpin::test::TempFolder {
+    TempDir() : TempFolder("bounded") {}
     fs::path write(const std::string& name, const std::string& text) const {
         fs::path p = path / name;
-        std::ofstream(p, std::ios::binary) << text;
+        pushpin::test::writeWholeFile(p, text);
         return p;
     }
 };
@@ -216,18 +226,7 @@ TEST(BoundedWork, DiamondDagPathsStopAtTheBudget) {
     // 40 levels of two nodes, each a child of both nodes of the level above: 2^40 paths to the
     // shape. Enumeration stops at the budget, and name lookups do not walk every path.
     Graph g;
-    NodeId above[2] = {g.createNode("transform", "a0"), g.createNode("transform", "b0")};
-    for (int level = 1; level < 40; ++level) {
-        NodeId here[2];
-        for (int k = 0; k < 2; ++k) {
-            here[k] = g.createNode("transform", std::string(k ? "b" : "a") + std::to_string(level), above[0]);
-            g.setParent(here[k], above[1], true);
-        }
-        above[0] = here[0];
-        above[1] = here[1];
-    }
-    const NodeId shape = g.createNode("mesh", "shape", above[0]);
-    g.setParent(shape, above[1], true);
+    const NodeId shape = addDiamondDag(g, 40);
     DagPathBudget budget;
     budget.maxPaths = 5000;
     const auto start = std::chrono::steady_clock::now();
@@ -252,18 +251,7 @@ TEST(BoundedWork, DiamondDagInTheSceneReportIsCutWithOneWarning) {
     // 2 shared cores: 4.3 s, 410 MiB.
     const ChildRun run = runInChild([] {
         Graph g;
-        NodeId above[2] = {g.createNode("transform", "a0"), g.createNode("transform", "b0")};
-        for (int level = 1; level < 25; ++level) {
-            NodeId here[2];
-            for (int k = 0; k < 2; ++k) {
-                here[k] = g.createNode("transform", std::string(k ? "b" : "a") + std::to_string(level), above[0]);
-                g.setParent(here[k], above[1], true);
-            }
-            above[0] = here[0];
-            above[1] = here[1];
-        }
-        const NodeId shape = g.createNode("mesh", "shape", above[0]);
-        g.setParent(shape, above[1], true);
+        addDiamondDag(g, 25);
         const SceneReport report = describeScene(g, 1.0);
         int cut = 0;
         for (const std::string& w : report.warnings)
