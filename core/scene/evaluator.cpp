@@ -1,5 +1,6 @@
 #include "core/scene/evaluator.h"
 
+#include "cache/error.h"
 #include "core/scene/anim_curve.h"
 #include "core/scene/transform.h"
 #include "core/util/format.h"
@@ -36,6 +37,8 @@ bool isA(const Node& node, std::string_view type) {
     return node.type == type || (node.schema && node.schema->isA(type));
 }
 
+bool isAnimCurveNode(const Node& n) { return isA(n, "animCurve") || startsWith(n.type, "animCurve"); }
+
 }  // namespace
 
 Evaluator::Evaluator(const Graph& graph, double frame) : m_graph(graph), m_frame(frame) {}
@@ -43,9 +46,45 @@ Evaluator::Evaluator(const Graph& graph, double frame) : m_graph(graph), m_frame
 bool Evaluator::numbers(NodeId node, std::string_view plugPath, std::vector<double>& out) {
     out.clear();
     if (node >= m_graph.size()) return false;
+    // A node nothing drives and that computes nothing holds its stored values: read them directly.
+    if (m_graph.node(node).inConnections.empty() && !computesOutputs(node)) return m_graph.numbers(node, plugPath, out);
     auto segs = parsePlugPath(plugPath);
     if (!segs) return false;
     return evaluatePlug(node, m_graph.canonicalPath(node, *segs), out);
+}
+
+bool Evaluator::computesOutputs(NodeId node) {
+    if (m_computesOutputs.size() != m_graph.size()) m_computesOutputs.resize(m_graph.size(), 0);
+    uint8_t& known = m_computesOutputs[node];
+    if (known == 0) {
+        const Node& n = m_graph.node(node);
+        known = isAnimCurveNode(n) || isA(n, "unitConversion") || isA(n, "time") ? 1 : 2;
+    }
+    return known == 1;
+}
+
+uint64_t Evaluator::plugHash(NodeId node, std::string_view path) {
+    return util::hashCombine(util::hashBytes(path), uint64_t(node) * 0x9E3779B97F4A7C15ull);
+}
+
+uint32_t Evaluator::findEntry(NodeId node, std::string_view path) const {
+    return m_entryIndex.find(plugHash(node, path), [&](uint32_t e) {
+        return m_entries[e].node == node && m_entries[e].path == path;
+    });
+}
+
+uint32_t Evaluator::addEntry(NodeId node, std::string path) {
+    if (m_entries.size() >= kNoEntry) throw Error("evaluation: more than 4 billion plugs cached");
+    const uint32_t e = uint32_t(m_entries.size());
+    m_entryIndex.insert(plugHash(node, path), e);
+    CacheEntry& entry = m_entries.emplace_back();
+    entry.node = node;
+    entry.path = std::move(path);
+    return e;
+}
+
+void Evaluator::readEntry(const CacheEntry& e, std::vector<double>& out) const {
+    out.assign(m_values.begin() + ptrdiff_t(e.valueOffset), m_values.begin() + ptrdiff_t(e.valueOffset + e.valueCount));
 }
 
 void Evaluator::reportCycle(NodeId node, const std::string& path) {
@@ -59,9 +98,9 @@ void Evaluator::reportCycle(NodeId node, const std::string& path) {
 bool Evaluator::evaluatePlug(NodeId node, const std::string& path, std::vector<double>& out) {
     out.clear();
     if (node >= m_graph.size()) return false;
-    if (auto it = m_cache.find(PlugKey{node, path}); it != m_cache.end()) {
-        switch (it->second.state) {
-            case CacheEntry::State::Ready: out = it->second.value; return true;
+    if (const uint32_t e = findEntry(node, path); e != kNoEntry) {
+        switch (m_entries[e].state) {
+            case CacheEntry::State::Ready: readEntry(m_entries[e], out); return true;
             case CacheEntry::State::Missing: return false;
             case CacheEntry::State::Evaluating:
                 // A connection cycle: break it here with the plug's static value, and say so once.
@@ -72,48 +111,53 @@ bool Evaluator::evaluatePlug(NodeId node, const std::string& path, std::vector<d
     if (!needsCache(node, path)) return computePlug(node, path, out);
 
     // Depth-first over the dependencies with an explicit stack: a plug is computed once all the
-    // plugs it reads are in the cache, so computePlug never has to descend itself.
+    // plugs it reads are in the cache, so computePlug never has to descend itself. Entries are
+    // referred to by number, since m_entries grows as the walk opens new plugs.
     struct Frame {
-        const PlugKey* key;
-        CacheEntry* entry;
+        uint32_t entry;
         uint32_t next;  // dependencies already pushed or skipped
     };
-    std::vector<Frame> stack;
-    auto open = [&](PlugKey key) {
-        auto it = m_cache.emplace(std::move(key), CacheEntry{}).first;
-        stack.push_back(Frame{&it->first, &it->second, 0});
-    };
-    open(PlugKey{node, path});
+    std::vector<Frame> stack{{addEntry(node, path), 0}};
     std::vector<double> value;
+    std::vector<Plug> deps;
     while (!stack.empty()) {
         Frame& top = stack.back();
         // Recomputed on each visit rather than kept per frame: a plug has a few dependencies, and a
-        // million-deep chain then costs 16 bytes of stack per plug.
-        std::vector<Plug> deps = dependencies(top.key->node, top.key->path);
+        // million-deep chain then costs 8 bytes of stack per plug.
+        {
+            const CacheEntry& e = m_entries[top.entry];
+            deps = dependencies(e.node, e.path);
+        }
         bool descended = false;
         while (top.next < deps.size()) {
             Plug& d = deps[top.next++];
-            if (d.node >= m_graph.size() || m_cache.count(PlugKey{d.node, d.path}) || !needsCache(d.node, d.path))
+            if (d.node >= m_graph.size() || findEntry(d.node, d.path) != kNoEntry || !needsCache(d.node, d.path))
                 continue;  // invalid, done, on the stack (a cycle, met in computePlug), or read directly
-            open(PlugKey{d.node, std::move(d.path)});  // invalidates `top`
+            const uint32_t opened = addEntry(d.node, std::move(d.path));
+            stack.push_back(Frame{opened, 0});  // invalidates `top`
             descended = true;
             break;
         }
         if (descended) continue;
-        const bool ok = computePlug(top.key->node, top.key->path, value);
-        top.entry->state = ok ? CacheEntry::State::Ready : CacheEntry::State::Missing;
-        top.entry->value = ok ? value : std::vector<double>();
+        const uint32_t current = top.entry;
+        const bool ok = computePlug(m_entries[current].node, m_entries[current].path, value);
+        CacheEntry& e = m_entries[current];
+        e.state = ok ? CacheEntry::State::Ready : CacheEntry::State::Missing;
+        if (ok) {
+            e.valueOffset = m_values.size();
+            e.valueCount = uint32_t(value.size());
+            m_values.insert(m_values.end(), value.begin(), value.end());
+        }
         stack.pop_back();
     }
-    const CacheEntry& done = m_cache.at(PlugKey{node, path});
+    const CacheEntry& done = m_entries[findEntry(node, path)];
     if (done.state != CacheEntry::State::Ready) return false;
-    out = done.value;
+    readEntry(done, out);
     return true;
 }
 
 namespace {
 
-bool isAnimCurveNode(const Node& n) { return isA(n, "animCurve") || startsWith(n.type, "animCurve"); }
 
 // animCurveT* are driven by time, animCurveU* by their `input` plug (set driven keys).
 bool timeDrivenCurve(const Node& n) { return startsWith(n.type, "animCurveT") || !startsWith(n.type, "animCurveU"); }

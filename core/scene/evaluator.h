@@ -15,6 +15,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include <deque>
 #include <string>
 #include <string_view>
 #include <optional>
@@ -65,26 +66,25 @@ public:
     const std::vector<Diagnostic>& diagnostics() const { return m_diagnostics; }
 
 private:
-    // A plug as a cache key: node and canonical attribute path.
-    struct PlugKey {
-        NodeId node;
-        std::string path;
-        bool operator==(const PlugKey&) const = default;
-    };
-    struct PlugKeyHash {
-        // Not noexcept, so that the table keeps each hash code instead of recomputing it.
-        size_t operator()(const PlugKey& k) const {
-            return std::hash<std::string>()(k.path) ^ (size_t(k.node) * 0x9E3779B97F4A7C15ull);
-        }
-    };
     // A cached plug: being evaluated (on the stack; met again it is a cycle), without a value, or
-    // with one. Plugs read straight from the Graph (no connection, not a computed output) are not
-    // cached, so a deep DAG does not keep every transform attribute it read.
+    // with one (valueCount numbers at valueOffset in m_values). Plugs read straight from the Graph
+    // (no connection, not a computed output) are not cached, so a deep DAG does not keep every
+    // transform attribute it read.
     struct CacheEntry {
         enum class State : uint8_t { Evaluating, Missing, Ready };
+        NodeId node = kNoNode;
         State state = State::Evaluating;
-        std::vector<double> value;
+        uint32_t valueCount = 0;
+        size_t valueOffset = 0;
+        std::string path;  // canonical
     };
+    static constexpr uint32_t kNoEntry = util::IndexTable::kNone;
+    static uint64_t plugHash(NodeId node, std::string_view path);
+    uint32_t findEntry(NodeId node, std::string_view path) const;  // kNoEntry if not cached
+    uint32_t addEntry(NodeId node, std::string path);              // a new entry, Evaluating
+    void readEntry(const CacheEntry& e, std::vector<double>& out) const;
+    // Whether `node` computes outputs of its own (animCurve, unitConversion, time); per node, once.
+    bool computesOutputs(NodeId node);
 
     bool evaluatePlug(NodeId node, const std::string& canonicalPath, std::vector<double>& out);
     // The plugs whose values `node.path` is computed from: every plug computePlug may read (more
@@ -103,8 +103,12 @@ private:
 
     const Graph& m_graph;
     double m_frame;
-    // Values at this frame; entries stay put when the map grows, so the stack may point into it.
-    std::unordered_map<PlugKey, CacheEntry, PlugKeyHash> m_cache;
+    // Values at this frame: entries by (node, path) through an index table, their numbers side by
+    // side in one array. A deque, so that a path being computed stays put while entries are added.
+    std::deque<CacheEntry> m_entries;
+    util::IndexTable m_entryIndex;
+    std::vector<double> m_values;
+    std::vector<uint8_t> m_computesOutputs;            // per node: 0 unknown, 1 yes, 2 no
     std::unordered_set<std::string> m_reportedCycles;
     std::vector<uint8_t> m_nodeVisible;                 // per node: 0 unknown, 1 visible, 2 hidden
     std::vector<uint8_t> m_singlePath;                  // per node: 0 unknown, 1 one DAG path, 2 more

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <functional>
 #include <iterator>
+#include <stdexcept>
 #include <unordered_set>
 
 namespace pushpin::scene {
@@ -31,6 +32,14 @@ bool isNumericCompound(AttrType t) {
         case AttrType::Short2: case AttrType::Short3: return true;
         default: return false;
     }
+}
+
+// A plug path that is one attribute name, without a '.' or an index: "translate".
+bool isPlainName(std::string_view s) {
+    if (s.empty() || !isNameStart(s.front())) return false;
+    for (char c : s)
+        if (!isNameChar(c)) return false;
+    return true;
 }
 
 std::vector<double> defaultNumbers(const AttrSpec& spec) {
@@ -185,7 +194,7 @@ uint32_t MultiStore::endIndex() const {
 // ------------------------------------------------------------------ Node
 
 bool Node::isDag() const {
-    if (schema) return schema->isA("dagNode");
+    if (schema) return schema->isDag();
     return !parents.empty() || !children.empty();
 }
 
@@ -195,6 +204,12 @@ const AttrSpec* Node::findAttr(std::string_view attrName) const {
     for (const AttrSpec& s : dynamicAttrs)
         if (s.longName == attrName || s.shortName == attrName) return &s;
     return nullptr;
+}
+
+// ------------------------------------------------------------------ NodeStore
+
+const Node& NodeStore::outOfRange(size_t i) {
+    throw std::out_of_range("node id " + std::to_string(i) + " out of range");
 }
 
 // ------------------------------------------------------------------ Graph
@@ -238,10 +253,12 @@ Graph::Graph() {
 
 const Node* Graph::clashingNode(std::string_view type, std::string_view name, NodeId parent) const {
     const NodeSchema* schema = findSchema(type);
-    const bool dag = schema ? schema->isA("dagNode") : parent != kNoNode;
-    auto range = m_byName.equal_range(std::string(name));
-    for (auto it = range.first; it != range.second; ++it) {
-        const Node& other = m_nodes[it->second];
+    return clashing(schema ? schema->isDag() : parent != kNoNode, name, parent);
+}
+
+const Node* Graph::clashing(bool dag, std::string_view name, NodeId parent) const {
+    for (NodeId at = firstNamed(name); at != kNoNode; at = m_nodes[at].nextSameName) {
+        const Node& other = m_nodes[at];
         bool clash = !dag || !other.isDag();
         if (!clash) {
             bool otherWorld = other.parents.empty();
@@ -255,8 +272,8 @@ const Node* Graph::clashingNode(std::string_view type, std::string_view name, No
 
 NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId parent, uint32_t line) {
     const NodeSchema* schema = findSchema(type);
-    bool dag = schema ? schema->isA("dagNode") : parent != kNoNode;
-    if (const Node* other = clashingNode(type, name, parent))
+    const bool dag = schema ? schema->isDag() : parent != kNoNode;
+    if (const Node* other = clashing(dag, name, parent))
         throw Error("a node named '" + util::excerpt(name) + "' already exists (" + other->type + ")");
     if (parent != kNoNode && parent >= m_nodes.size()) throw Error("createNode: invalid parent id");
     Node n;
@@ -266,11 +283,11 @@ NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId pa
     n.schema = schema;
     n.line = line;
     if (!schema) ++m_unsupportedTypes[n.type];
+    const NodeId id = n.id;
     m_nodes.push_back(std::move(n));
-    NodeId id = m_nodes.back().id;
-    m_byName.emplace(m_nodes.back().name, id);
+    indexName(id);
     if (parent != kNoNode) setParent(id, parent, true);
-    else m_nodes.back().underWorld = dag;
+    else m_nodes[id].underWorld = dag;
     return id;
 }
 
@@ -320,20 +337,53 @@ bool Graph::isAncestorOrSelf(NodeId ancestor, NodeId node) const {
     return false;
 }
 
+NodeId Graph::firstNamed(std::string_view name) const {
+    const uint32_t head = m_byName.find(util::hashBytes(name), [&](uint32_t id) { return m_nodes[id].name == name; });
+    return head == util::IndexTable::kNone ? kNoNode : NodeId(head);
+}
+
+// A node joins its name's chain second, after the head, so the table is written only for a new name.
+void Graph::indexName(NodeId id) {
+    Node& n = m_nodes[id];
+    const NodeId head = firstNamed(n.name);
+    if (head == kNoNode) {
+        n.nextSameName = kNoNode;
+        m_byName.insert(util::hashBytes(n.name), id);
+        return;
+    }
+    n.nextSameName = m_nodes[head].nextSameName;
+    m_nodes[head].nextSameName = id;
+}
+
+void Graph::unindexName(NodeId id) {
+    Node& n = m_nodes[id];
+    const uint64_t hash = util::hashBytes(n.name);
+    const NodeId head = firstNamed(n.name);
+    if (head == id) {
+        auto isHead = [&](uint32_t e) { return e == id; };
+        if (n.nextSameName == kNoNode) m_byName.erase(hash, isHead);
+        else m_byName.replace(hash, isHead, n.nextSameName);
+    } else {
+        NodeId at = head;
+        while (at != kNoNode && m_nodes[at].nextSameName != id) at = m_nodes[at].nextSameName;
+        if (at != kNoNode) m_nodes[at].nextSameName = n.nextSameName;
+    }
+    n.nextSameName = kNoNode;
+}
+
 void Graph::rename(NodeId id, std::string_view newName) {
-    Node& n = m_nodes.at(id);
-    auto range = m_byName.equal_range(n.name);
-    for (auto it = range.first; it != range.second; ++it)
-        if (it->second == id) {
-            m_byName.erase(it);
-            break;
-        }
-    n.name = std::string(newName);
-    m_byName.emplace(n.name, id);
+    m_nodes.at(id);
+    unindexName(id);
+    m_nodes[id].name = std::string(newName);
+    indexName(id);
 }
 
 std::string Graph::canonicalPath(NodeId nodeId, const std::vector<PlugSegment>& segments) const {
     const Node& n = m_nodes.at(nodeId);
+    if (segments.size() == 1 && !segments[0].indexed()) {
+        const AttrSpec* spec = n.findAttr(segments[0].name);
+        return spec ? spec->longName : segments[0].name;
+    }
     std::vector<PlugSegment> out = segments;
     for (PlugSegment& s : out)
         if (const AttrSpec* spec = n.findAttr(s.name)) s.name = spec->longName;
@@ -454,6 +504,12 @@ void Graph::warn(Diagnostic d) { m_warnings.push_back(std::move(d)); }
 NodeId Graph::find(std::string_view text) const {
     if (!text.empty() && text.front() == ':') text.remove_prefix(1);
     if (text.empty()) return kNoNode;
+    if (text.find('|') == std::string_view::npos) {
+        // A plain name, the common case: the first created node of that name.
+        NodeId best = kNoNode;
+        for (NodeId at = firstNamed(text); at != kNoNode; at = m_nodes[at].nextSameName) best = std::min(best, at);
+        return best;
+    }
     bool absolute = text.front() == '|';
     std::vector<std::string_view> parts;
     size_t start = absolute ? 1 : 0;
@@ -466,12 +522,12 @@ NodeId Graph::find(std::string_view text) const {
         parts.push_back(part);
         start = bar + 1;
     }
-    auto range = m_byName.equal_range(std::string(parts.back()));
+    const NodeId named = firstNamed(parts.back());
     auto rootOk = [&](NodeId id) { return !absolute || m_nodes[id].underWorld || m_nodes[id].parents.empty(); };
     NodeId best = kNoNode;
     if (parts.size() == 1) {
-        for (auto it = range.first; it != range.second; ++it)
-            if (rootOk(it->second)) best = std::min(best, it->second);
+        for (NodeId at = named; at != kNoNode; at = m_nodes[at].nextSameName)
+            if (rootOk(at)) best = std::min(best, at);
         return best;
     }
     // A path "a|b|c": first the nodes named b that are parents of a candidate c, then the nodes named
@@ -479,7 +535,7 @@ NodeId Graph::find(std::string_view text) const {
     // matching parent on the level above. Each level is a set, so the cost is linear in the nodes
     // the path can touch, not in the number of ways to walk it (a diamond-shaped DAG has 2^depth).
     std::vector<std::vector<NodeId>> reach(parts.size());
-    for (auto it = range.first; it != range.second; ++it) reach.back().push_back(it->second);
+    for (NodeId at = named; at != kNoNode; at = m_nodes[at].nextSameName) reach.back().push_back(at);
     for (size_t k = parts.size() - 1; k-- > 0;) {
         for (NodeId id : reach[k + 1])
             for (NodeId p : m_nodes[id].parents)
@@ -591,11 +647,16 @@ std::string Graph::dagPathName(const std::vector<NodeId>& path) const {
 
 const AttrData* Graph::findAttr(NodeId node, std::string_view key) const {
     const auto& attrs = m_nodes.at(node).attrs;
-    auto it = attrs.find(std::string(key));
+    auto it = attrs.find(key);
     return it == attrs.end() ? nullptr : &it->second;
 }
 
 const Value* Graph::value(NodeId node, std::string_view plugPath) const {
+    if (isPlainName(plugPath)) {
+        const AttrSpec* spec = m_nodes.at(node).findAttr(plugPath);
+        const AttrData* a = findAttr(node, spec ? std::string_view(spec->longName) : plugPath);
+        return a && a->hasValue ? &a->value : nullptr;
+    }
     auto segs = parsePlugPath(plugPath);
     if (!segs) return nullptr;
     const PlugSegment last = segs->back();
@@ -612,6 +673,24 @@ const Value* Graph::value(NodeId node, std::string_view plugPath) const {
 
 bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double>& out) const {
     out.clear();
+    if (isPlainName(plugPath)) {
+        // One attribute name, the usual question ("translate", "visibility"): no path to parse.
+        // Components of numeric compounds (translateX) take the general way below.
+        const Node& n = m_nodes.at(nodeId);
+        const AttrSpec* spec = n.findAttr(plugPath);
+        if (!spec || spec->component < 0) {
+            if (const AttrData* a = findAttr(nodeId, spec ? std::string_view(spec->longName) : plugPath); a && a->hasValue)
+                if (auto* nums = std::get_if<Numbers>(&a->value)) {
+                    out = nums->values;
+                    return true;
+                }
+            if (spec && componentCount(spec->type) > 0) {
+                out = defaultNumbers(*spec);
+                return true;
+            }
+            return false;
+        }
+    }
     auto segs = parsePlugPath(plugPath);
     if (!segs) return false;
     const Node& n = m_nodes.at(nodeId);
@@ -686,6 +765,7 @@ std::string Graph::getString(NodeId node, std::string_view plugPath, std::string
 }
 
 std::optional<Plug> Graph::source(NodeId node, std::string_view plugPath) const {
+    if (m_nodes.at(node).inConnections.empty()) return std::nullopt;
     auto segs = parsePlugPath(plugPath);
     if (!segs) return std::nullopt;
     std::string path = canonicalPath(node, *segs);

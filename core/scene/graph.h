@@ -10,6 +10,7 @@
 #include "core/scene/schema.h"
 #include "core/scene/units.h"
 #include "core/scene/value.h"
+#include "core/util/index_table.h"
 
 #include <cstdint>
 #include <map>
@@ -79,10 +80,11 @@ struct Node {
     std::vector<NodeId> parents;       // DAG parents; more than one = instanced
     bool underWorld = false;           // also (or only) a child of the world: a DAG path starts here
     std::vector<NodeId> children;
-    std::map<std::string, AttrData> attrs;  // canonical path (long names, indices) → data
+    std::map<std::string, AttrData, std::less<>> attrs;  // canonical path (long names, indices) → data
     std::vector<AttrSpec> dynamicAttrs;     // from addAttr
     std::vector<size_t> inConnections;      // indices into Graph::connections()
     std::vector<size_t> outConnections;
+    NodeId nextSameName = kNoNode;     // the next node with this name (the Graph's name index)
     uint32_t line = 0;                 // source line of the createNode (0 for implicit defaults)
     bool shared = false;               // createNode -s
     bool locked = false;               // lockNode
@@ -90,6 +92,53 @@ struct Node {
 
     // Attribute spec by long or short name, including addAttr'ed ones; nullptr if unknown.
     const AttrSpec* findAttr(std::string_view name) const;
+};
+
+// The nodes of a Graph, in creation order, stored in fixed-size chunks: adding a node never moves
+// the others (references to nodes stay valid) and a million-node file never copies its nodes to
+// grow.
+class NodeStore {
+public:
+    static constexpr size_t kChunkBits = 12;
+    static constexpr size_t kChunkSize = size_t(1) << kChunkBits;
+
+    size_t size() const { return m_size; }
+    bool empty() const { return m_size == 0; }
+    const Node& operator[](size_t i) const { return m_chunks[i >> kChunkBits][i & (kChunkSize - 1)]; }
+    Node& operator[](size_t i) { return m_chunks[i >> kChunkBits][i & (kChunkSize - 1)]; }
+    const Node& at(size_t i) const { return i < m_size ? (*this)[i] : outOfRange(i); }
+    Node& at(size_t i) { return i < m_size ? (*this)[i] : const_cast<Node&>(outOfRange(i)); }
+    Node& back() { return (*this)[m_size - 1]; }
+    Node& push_back(Node&& node) {
+        if (m_chunks.empty() || m_chunks.back().size() == kChunkSize) m_chunks.emplace_back().reserve(kChunkSize);
+        ++m_size;
+        return m_chunks.back().emplace_back(std::move(node));
+    }
+
+    template <class Store, class Value>
+    class Iterator {
+    public:
+        Iterator(Store* store, size_t i) : m_store(store), m_i(i) {}
+        Value& operator*() const { return (*m_store)[m_i]; }
+        Value* operator->() const { return &(*m_store)[m_i]; }
+        Iterator& operator++() {
+            ++m_i;
+            return *this;
+        }
+        bool operator==(const Iterator& o) const { return m_i == o.m_i; }
+
+    private:
+        Store* m_store;
+        size_t m_i;
+    };
+    using const_iterator = Iterator<const NodeStore, const Node>;
+    const_iterator begin() const { return {this, 0}; }
+    const_iterator end() const { return {this, m_size}; }
+
+private:
+    [[noreturn]] static const Node& outOfRange(size_t i);
+    std::vector<std::vector<Node>> m_chunks;  // each reserved to kChunkSize, so never reallocated
+    size_t m_size = 0;
 };
 
 struct Plug {
@@ -167,7 +216,7 @@ public:
     size_t size() const { return m_nodes.size(); }
     const Node& node(NodeId id) const { return m_nodes[id]; }
     Node& node(NodeId id) { return m_nodes[id]; }
-    const std::vector<Node>& nodes() const { return m_nodes; }
+    const NodeStore& nodes() const { return m_nodes; }
     // Finds a node by name or DAG path: "pCube1", "|group1|pCube1", "group1|pCube1", ":lambert1",
     // "ns:name". An ambiguous short DAG name returns the first created. kNoNode if none.
     NodeId find(std::string_view nameOrPath) const;
@@ -220,8 +269,14 @@ public:
 
 private:
     Plug canonicalPlug(const Plug& p) const;
-    std::vector<Node> m_nodes;
-    std::unordered_multimap<std::string, NodeId> m_byName;
+    NodeStore m_nodes;
+    // Name → the first node of its chain of same-named nodes (DAG nodes under different parents
+    // share names); Node::nextSameName links the rest.
+    util::IndexTable m_byName;
+    NodeId firstNamed(std::string_view name) const;
+    const Node* clashing(bool dag, std::string_view name, NodeId parent) const;
+    void indexName(NodeId id);
+    void unindexName(NodeId id);
     bool isAncestorOrSelf(NodeId ancestor, NodeId node) const;
     std::vector<Connection> m_connections;
     std::vector<Relationship> m_relationships;

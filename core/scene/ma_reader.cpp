@@ -252,7 +252,20 @@ private:
 
     NodeId m_current = kNoNode;
     bool m_currentMissing = false;  // the selected node lives in a reference that was not loaded
-    std::string m_errorNode;        // node named in errors
+    // The node named in errors: a node of the graph, else a name as written (quoted short when used).
+    NodeId m_errorNodeId = kNoNode;
+    std::string m_errorNode;
+    std::string errorNodeName() const {
+        return util::excerpt(m_errorNodeId != kNoNode ? std::string_view(m_g.node(m_errorNodeId).name) : std::string_view(m_errorNode));
+    }
+    void setErrorNode(NodeId id) {
+        m_errorNodeId = id;
+        m_errorNode.clear();
+    }
+    void setErrorNode(std::string_view name) {
+        m_errorNodeId = kNoNode;
+        m_errorNode.assign(name);
+    }
     std::vector<PlugSegment> m_segScratch;
 };
 
@@ -339,11 +352,11 @@ void Parser::skipCommand() {
 // ------------------------------------------------------------------ errors
 
 void Parser::fail(uint32_t line, uint32_t column, const std::string& message) const {
-    throw ParseError(m_file, line, column, m_errorNode, message);
+    throw ParseError(m_file, line, column, errorNodeName(), message);
 }
 
 void Parser::warn(uint32_t line, uint32_t column, const std::string& message) {
-    m_g.warn(Diagnostic{m_file, line, column, m_errorNode, message});
+    m_g.warn(Diagnostic{m_file, line, column, errorNodeName(), message});
 }
 
 std::string Parser::describe(const MaToken& t) const {
@@ -421,7 +434,7 @@ NodeId Parser::lookupNode(std::string_view name, uint32_t line, uint32_t column,
         warn(line, column, "no node named '" + util::excerpt(full) + "' (it may live in a reference that was not loaded); ignored");
         return kNoNode;
     }
-    m_errorNode = util::excerpt(full);
+    setErrorNode(full);
     fail(line, column, "no node named '" + util::excerpt(full) + "'");
 }
 
@@ -453,20 +466,20 @@ bool Parser::resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out) 
             failAt(t, "plug \"" + util::excerpt(t.text) + "\" names no node and no node is selected");
         }
         out.node = m_current;
-        m_errorNode = util::excerpt(m_g.node(m_current).name);
+        setErrorNode(m_current);
         return true;
     }
     bool tolerated = false;
     out.node = lookupNode(nodePart, t.line, t.column, &tolerated);
     if (tolerated) return false;
-    m_errorNode = util::excerpt(m_g.node(out.node).name);
+    setErrorNode(out.node);
     return true;
 }
 
 void Parser::setCurrent(NodeId id) {
     m_current = id;
     m_currentMissing = false;
-    m_errorNode = id == kNoNode ? std::string() : util::excerpt(m_g.node(id).name);
+    setErrorNode(id);
 }
 
 // ------------------------------------------------------------------ driver
@@ -490,7 +503,7 @@ void Parser::run() {
             failAt(m_tok, "expected a command, found " + describe(m_tok));
         const std::string command = m_tok.text;
         const uint32_t line = m_tok.line, column = m_tok.column;
-        m_errorNode = m_current == kNoNode ? std::string() : util::excerpt(m_g.node(m_current).name);
+        setErrorNode(m_current);
         try {
             dispatch(command, line, column);
         } catch (const ParseError&) {
@@ -625,12 +638,11 @@ void Parser::cmdCreateNode(uint32_t line) {
         // Maya names an unnamed node after its type: mesh1, mesh2, …
         nodeName = freeName(qualify(type->text));
     }
-    m_errorNode = util::excerpt(nodeName);
+    setErrorNode(nodeName);
 
     // An existing node of that name at that place in the DAG: reused for -s and implicit defaults.
     {
-        const std::string path = parent ? qualify(parent->text) + "|" + nodeName : nodeName;
-        NodeId existing = m_g.find(path);
+        NodeId existing = parent ? m_g.find(qualify(parent->text) + "|" + nodeName) : m_g.find(nodeName);
         if (existing != kNoNode && !parent && !m_g.node(existing).parents.empty()) existing = kNoNode;
         if (existing != kNoNode) {
             const Node& n = m_g.node(existing);
@@ -695,7 +707,7 @@ void Parser::cmdRename() {
     const std::string oldName = m_g.node(id).name;
     m_g.rename(id, full);
     if (m_g.find(oldName) == kNoNode) nameFreed(oldName);
-    if (id == m_current) m_errorNode = util::excerpt(full);
+    if (id == m_current) setErrorNode(full);
 }
 
 void Parser::cmdFile() {
@@ -872,7 +884,7 @@ void Parser::cmdParent() {
         bool tolerated = false;
         NodeId child = lookupNode(c.text, c.line, c.column, &tolerated);
         if (tolerated) continue;
-        m_errorNode = util::excerpt(m_g.node(child).name);
+        setErrorNode(child);
         if (add && parentId != kNoNode) {
             const auto& ps = m_g.node(child).parents;
             if (std::find(ps.begin(), ps.end(), parentId) != ps.end()) {
@@ -1086,7 +1098,7 @@ void Parser::cmdAddAttr() {
         failAt(m_tok, "addAttr: no node selected");
     }
     Node& node = m_g.node(nodeId);
-    m_errorNode = util::excerpt(node.name);
+    setErrorNode(node.id);
     if (const AttrSpec* existing = node.findAttr(spec.longName) ? node.findAttr(spec.longName) : node.findAttr(spec.shortName)) {
         // Attributes some Maya versions add dynamically may be part of pushpin's schema already.
         bool dynamic = false;

@@ -24,11 +24,8 @@ int componentCount(AttrType type) {
 NodeSchema::NodeSchema(std::string type, const NodeSchema* base) : m_type(std::move(type)), m_base(base) {}
 
 const AttrSpec* NodeSchema::find(std::string_view name) const {
-    for (const NodeSchema* s = this; s; s = s->m_base) {
-        auto it = s->m_byName.find(std::string(name));
-        if (it != s->m_byName.end()) return &s->m_attrs[it->second];
-    }
-    return nullptr;
+    auto it = m_byName.find(name);
+    return it == m_byName.end() ? nullptr : it->second;
 }
 
 bool NodeSchema::isA(std::string_view type) const {
@@ -37,11 +34,16 @@ bool NodeSchema::isA(std::string_view type) const {
     return false;
 }
 
-void NodeSchema::add(AttrSpec spec) {
-    size_t index = m_attrs.size();
-    m_byName.emplace(spec.longName, index);
-    if (!spec.shortName.empty()) m_byName.emplace(spec.shortName, index);
-    m_attrs.push_back(std::move(spec));
+void NodeSchema::add(AttrSpec spec) { m_attrs.push_back(std::move(spec)); }
+
+void NodeSchema::finalize() {
+    m_dag = isA("dagNode");
+    m_byName.clear();
+    for (const NodeSchema* s = this; s; s = s->m_base)
+        for (const AttrSpec& spec : s->m_attrs) {
+            m_byName.emplace(spec.longName, &spec);
+            if (!spec.shortName.empty()) m_byName.emplace(spec.shortName, &spec);
+        }
 }
 
 namespace {
@@ -132,6 +134,9 @@ public:
     }
 
     std::map<std::string, std::unique_ptr<NodeSchema>, std::less<>> m_types;
+    // The same types by name for lookups, filled once the table is complete (the views point at
+    // the keys of m_types, whose nodes never move).
+    std::unordered_map<std::string_view, const NodeSchema*> m_byType;
 
 private:
     NodeSchema* m_current = nullptr;
@@ -670,6 +675,10 @@ const Table& table() {
         addAnimationTypes(t);
         addHistoryTypes(t);
         addMiscTypes(t);
+        for (auto& [name, schema] : t.m_types) {
+            schema->finalize();
+            t.m_byType.emplace(name, schema.get());
+        }
         return t;
     }();
     return instance;
@@ -678,9 +687,9 @@ const Table& table() {
 }  // namespace
 
 const NodeSchema* findSchema(std::string_view type) {
-    const auto& types = table().m_types;
+    const auto& types = table().m_byType;
     auto it = types.find(type);
-    return it == types.end() ? nullptr : it->second.get();
+    return it == types.end() ? nullptr : it->second;
 }
 
 std::vector<std::string> schemaTypes() {

@@ -50,16 +50,26 @@ public:
     const AttrSpec* find(std::string_view name) const;
     // True if this type is `type` or derives from it (e.g. blinn isA "lambert", mesh isA "dagNode").
     bool isA(std::string_view type) const;
+    bool isDag() const { return m_dag; }  // isA("dagNode")
     // Attributes declared on this type (not its bases).
     const std::vector<AttrSpec>& ownAttributes() const { return m_attrs; }
 
     void add(AttrSpec spec);  // used while building the tables
+    // Builds the lookup of every name, own and inherited, once all the tables are built.
+    void finalize();
 
 private:
+    struct NameHash {
+        using is_transparent = void;
+        size_t operator()(std::string_view s) const { return std::hash<std::string_view>()(s); }
+    };
     std::string m_type;
     const NodeSchema* m_base;
+    bool m_dag = false;
     std::vector<AttrSpec> m_attrs;
-    std::unordered_map<std::string, size_t> m_byName;  // long and short names → index in m_attrs
+    // Long and short names of this type's and its bases' attributes; a name declared here hides
+    // the same name on a base. Filled by finalize().
+    std::unordered_map<std::string, const AttrSpec*, NameHash, std::equal_to<>> m_byName;
 };
 
 // The schema of a node type, or nullptr if pushpin does not model that type.

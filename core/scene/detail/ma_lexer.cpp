@@ -38,6 +38,7 @@ bool MaToken::isFlag() const {
     const char c = text[1];
     if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'))) return false;
     // `-inf`, `-nan`, `-infinity` are (invalid) numbers rather than flags.
+    if (c != 'i' && c != 'n' && c != 'I' && c != 'N') return true;
     return text != "-inf" && text != "-nan" && text != "-infinity" && text != "-INF" && text != "-NAN";
 }
 

@@ -218,5 +218,55 @@ TEST(Schema, InheritanceAndDefaults) {
     }
 }
 
+// The name index: same-named DAG nodes under different parents, renames in and out of a shared
+// name, and lookups that must return the first created node of a name.
+TEST(Graph, NameIndexFollowsRenamesAndSharedNames) {
+    Graph g;
+    const NodeId a = g.createNode("transform", "a");
+    const NodeId b = g.createNode("transform", "b");
+    const NodeId xa = g.createNode("transform", "x", a);
+    const NodeId xb = g.createNode("transform", "x", b);
+    const NodeId xc = g.createNode("transform", "x", g.createNode("transform", "c"));
+    EXPECT_EQ(g.find("x"), xa);
+    EXPECT_EQ(g.find("b|x"), xb);
+    EXPECT_EQ(g.find("|c|x"), xc);
+    // Renaming the first of the name away leaves the others findable, the next oldest first.
+    g.rename(xa, "y");
+    EXPECT_EQ(g.find("x"), xb);
+    EXPECT_EQ(g.find("y"), xa);
+    EXPECT_EQ(g.find("a|y"), xa);
+    EXPECT_EQ(g.find("a|x"), kNoNode);
+    // A node from the middle of the chain, then the rest.
+    g.rename(xc, "z");
+    EXPECT_EQ(g.find("x"), xb);
+    g.rename(xb, "w");
+    EXPECT_EQ(g.find("x"), kNoNode);
+    // Back into the name: the oldest is found whatever the order of renames.
+    g.rename(xc, "x");
+    g.rename(xa, "x");
+    EXPECT_EQ(g.find("x"), xa);
+    EXPECT_EQ(g.find("c|x"), xc);
+    EXPECT_EQ(g.find("w"), xb);
+    // The same name again is a no-op for the index.
+    g.rename(xa, "x");
+    EXPECT_EQ(g.find("x"), xa);
+    EXPECT_EQ(g.clashingNode("transform", "x", a)->id, xa);
+    EXPECT_EQ(g.clashingNode("transform", "x", b), nullptr);
+}
+
+// Nodes stay where they are while the graph grows: a reference taken early is still the node.
+TEST(Graph, NodeReferencesSurviveGrowth) {
+    Graph g;
+    const NodeId first = g.createNode("transform", "first");
+    const Node& ref = g.node(first);
+    for (int i = 0; i < 20000; ++i) g.createNode("transform", "n" + std::to_string(i));
+    EXPECT_EQ(&ref, &g.node(first));
+    EXPECT_EQ(ref.name, "first");
+    size_t count = 0;
+    for (const Node& n : g.nodes()) count += n.id == count ? 1 : 0;
+    EXPECT_EQ(count, g.size());
+    EXPECT_THROW((void)g.nodes().at(g.size()), std::out_of_range);
+}
+
 }  // namespace
 }  // namespace pushpin::scene
