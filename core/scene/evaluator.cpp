@@ -366,22 +366,22 @@ double Evaluator::evaluateAnimCurve(NodeId curve) {
 }
 
 double Evaluator::getDouble(NodeId node, std::string_view plugPath, double fallback) {
-    std::vector<double> v;
+    std::vector<double>& v = m_scratch;
     return numbers(node, plugPath, v) && !v.empty() ? v[0] : fallback;
 }
 
 bool Evaluator::getBool(NodeId node, std::string_view plugPath, bool fallback) {
-    std::vector<double> v;
+    std::vector<double>& v = m_scratch;
     return numbers(node, plugPath, v) && !v.empty() ? v[0] != 0.0 : fallback;
 }
 
 int Evaluator::getInt(NodeId node, std::string_view plugPath, int fallback) {
-    std::vector<double> v;
+    std::vector<double>& v = m_scratch;
     return numbers(node, plugPath, v) && !v.empty() ? int(std::lround(v[0])) : fallback;
 }
 
 glm::dvec3 Evaluator::getDouble3(NodeId node, std::string_view plugPath, glm::dvec3 fallback) {
-    std::vector<double> v;
+    std::vector<double>& v = m_scratch;
     if (!numbers(node, plugPath, v) || v.size() < 3) return fallback;
     return {v[0], v[1], v[2]};
 }

@@ -114,6 +114,9 @@ private:
     std::vector<uint8_t> m_singlePath;                  // per node: 0 unknown, 1 one DAG path, 2 more
     std::unordered_map<NodeId, glm::dmat4> m_worldOfSinglePath;  // world matrix of single-path nodes
     std::vector<Diagnostic> m_diagnostics;
+    // Where getDouble, getBool, getInt and getDouble3 receive numbers (numbers() never calls them
+    // back, so one buffer serves them all without an allocation per read).
+    std::vector<double> m_scratch;
 };
 
 }  // namespace pushpin::scene

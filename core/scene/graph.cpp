@@ -42,6 +42,12 @@ bool isPlainName(std::string_view s) {
     return true;
 }
 
+// The schema default of `spec` into `out`, reusing its storage.
+void assignDefaults(const AttrSpec& spec, std::vector<double>& out) {
+    const int n = componentCount(spec.type);
+    out.assign(spec.defaults.begin(), spec.defaults.begin() + std::clamp(n, 0, 4));
+}
+
 std::vector<double> defaultNumbers(const AttrSpec& spec) {
     int n = componentCount(spec.type);
     if (n <= 0) return {};
@@ -254,6 +260,15 @@ Graph::Graph() {
 const Node* Graph::clashingNode(std::string_view type, std::string_view name, NodeId parent) const {
     const NodeSchema* schema = findSchema(type);
     return clashing(schema ? schema->isDag() : parent != kNoNode, name, parent);
+}
+
+NodeId Graph::childNamed(NodeId parent, std::string_view name) const {
+    NodeId best = kNoNode;
+    for (NodeId at = firstNamed(name); at != kNoNode; at = m_nodes[at].nextSameName) {
+        const auto& ps = m_nodes[at].parents;
+        if (std::find(ps.begin(), ps.end(), parent) != ps.end()) best = std::min(best, at);
+    }
+    return best;
 }
 
 const Node* Graph::clashing(bool dag, std::string_view name, NodeId parent) const {
@@ -685,7 +700,7 @@ bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double
                     return true;
                 }
             if (spec && componentCount(spec->type) > 0) {
-                out = defaultNumbers(*spec);
+                assignDefaults(*spec, out);
                 return true;
             }
             return false;
@@ -708,7 +723,7 @@ bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double
             }
         }
         if (spec && componentCount(spec->type) > 0) {
-            out = defaultNumbers(*spec);
+            assignDefaults(*spec, out);
             return true;
         }
         return false;
@@ -737,7 +752,7 @@ bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double
             return true;
         }
     if (spec && componentCount(spec->type) > 0) {
-        out = defaultNumbers(*spec);
+        assignDefaults(*spec, out);
         return true;
     }
     return false;

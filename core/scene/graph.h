@@ -220,6 +220,8 @@ public:
     // Finds a node by name or DAG path: "pCube1", "|group1|pCube1", "group1|pCube1", ":lambert1",
     // "ns:name". An ambiguous short DAG name returns the first created. kNoNode if none.
     NodeId find(std::string_view nameOrPath) const;
+    // The first created node named `name` (exactly) that has `parent` among its DAG parents.
+    NodeId childNamed(NodeId parent, std::string_view name) const;
     std::vector<NodeId> nodesOfType(std::string_view type, bool derived = true) const;
     // Full DAG paths of every instance of a DAG node ("|pCube1|pCubeShape1", …), in a stable order:
     // the node's own world instance first, then its parents' paths in parent order. The work is

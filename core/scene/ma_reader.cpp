@@ -642,7 +642,7 @@ void Parser::cmdCreateNode(uint32_t line) {
 
     // An existing node of that name at that place in the DAG: reused for -s and implicit defaults.
     {
-        NodeId existing = parent ? m_g.find(qualify(parent->text) + "|" + nodeName) : m_g.find(nodeName);
+        NodeId existing = parent ? m_g.childNamed(parentId, nodeName) : m_g.find(nodeName);
         if (existing != kNoNode && !parent && !m_g.node(existing).parents.empty()) existing = kNoNode;
         if (existing != kNoNode) {
             const Node& n = m_g.node(existing);
