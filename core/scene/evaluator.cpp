@@ -27,7 +27,7 @@ std::vector<const AttrSpec*> componentChildren(const Node& node, const AttrSpec&
     };
     for (const NodeSchema* schema = node.schema; schema; schema = schema->base())
         for (const AttrSpec& s : schema->ownAttributes()) consider(s);
-    for (const AttrSpec& s : node.dynamicAttrs) consider(s);
+    for (const AttrSpec& s : node.dynamicAttrs()) consider(s);
     return out;
 }
 
@@ -47,7 +47,7 @@ bool Evaluator::numbers(NodeId node, std::string_view plugPath, std::vector<doub
     out.clear();
     if (node >= m_graph.size()) return false;
     // A node nothing drives and that computes nothing holds its stored values: read them directly.
-    if (m_graph.node(node).inConnections.empty() && !computesOutputs(node)) return m_graph.numbers(node, plugPath, out);
+    if (m_graph.node(node).inConnections().empty() && !computesOutputs(node)) return m_graph.numbers(node, plugPath, out);
     auto segs = parsePlugPath(plugPath);
     if (!segs) return false;
     return evaluatePlug(node, m_graph.canonicalPath(node, *segs), out);
@@ -187,7 +187,7 @@ std::vector<Plug> Evaluator::dependencies(NodeId node, const std::string& path) 
     const Node& n = m_graph.node(node);
     // Without incoming connections every plug of the node is static or computed from its own
     // static plugs, which computePlug reads directly: nothing to evaluate first.
-    if (n.inConnections.empty()) return deps;
+    if (n.inConnections().empty()) return deps;
     if (const Plug* src = m_graph.sourceOfCanonical(node, path)) {
         deps.push_back(*src);
         return deps;
@@ -232,7 +232,7 @@ bool Evaluator::computePlug(NodeId node, const std::string& path, std::vector<do
         return evaluatePlug(from.node, from.path, out);
     }
     if (computeOutput(node, path, out)) return true;  // animCurve.output, unitConversion.output, time.outTime
-    if (n.inConnections.empty()) return m_graph.numbers(node, path, out);  // nothing drives a component
+    if (n.inConnections().empty()) return m_graph.numbers(node, path, out);  // nothing drives a component
     bool ok = false;
     auto segs = parsePlugPath(path);
     const AttrSpec* spec = segs ? n.findAttr(segs->back().name) : nullptr;
@@ -388,7 +388,7 @@ glm::dvec3 Evaluator::getDouble3(NodeId node, std::string_view plugPath, glm::dv
 
 glm::dmat4 Evaluator::localMatrix(NodeId transform) {
     const Node& n = m_graph.node(transform);
-    return localMatrixUnder(transform, n.parents.empty() ? kNoNode : n.parents.front());
+    return localMatrixUnder(transform, n.parents().empty() ? kNoNode : n.parents().front());
 }
 
 glm::dmat4 Evaluator::localMatrixUnder(NodeId id, NodeId dagParent) {
@@ -449,11 +449,11 @@ bool Evaluator::hasSinglePath(NodeId id) {
     NodeId at = id;
     while (m_singlePath[at] == 0) {
         const Node& n = m_graph.node(at);
-        if (n.parents.empty()) m_singlePath[at] = 1;
-        else if (n.parents.size() > 1 || n.underWorld || walked.size() > m_graph.size()) m_singlePath[at] = 2;
+        if (n.parents().empty()) m_singlePath[at] = 1;
+        else if (n.parents().size() > 1 || n.underWorld || walked.size() > m_graph.size()) m_singlePath[at] = 2;
         else {
             walked.push_back(at);
-            at = n.parents.front();
+            at = n.parents().front();
         }
     }
     for (NodeId w : walked) m_singlePath[w] = m_singlePath[at];

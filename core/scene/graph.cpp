@@ -199,15 +199,37 @@ uint32_t MultiStore::endIndex() const {
 
 // ------------------------------------------------------------------ Node
 
+namespace {
+const NodeLinks kNoLinks;
+}  // namespace
+
+Node::Node(const Node& other)
+    : id(other.id), line(other.line), nextSameName(other.nextSameName), underWorld(other.underWorld),
+      shared(other.shared), locked(other.locked), schema(other.schema), type(other.type), name(other.name),
+      attrs(other.attrs), m_links(other.m_links ? std::make_unique<NodeLinks>(*other.m_links) : nullptr) {}
+
+Node& Node::operator=(const Node& other) {
+    if (this != &other) *this = Node(other);
+    return *this;
+}
+
+const NodeLinks& Node::links() const { return m_links ? *m_links : kNoLinks; }
+
+NodeLinks& Node::mutableLinks() {
+    if (!m_links) m_links = std::make_unique<NodeLinks>();
+    return *m_links;
+}
+
 bool Node::isDag() const {
     if (schema) return schema->isDag();
-    return !parents.empty() || !children.empty();
+    return !parents().empty() || !children().empty();
 }
 
 const AttrSpec* Node::findAttr(std::string_view attrName) const {
     if (schema)
         if (const AttrSpec* s = schema->find(attrName)) return s;
-    for (const AttrSpec& s : dynamicAttrs)
+    if (!m_links) return nullptr;
+    for (const AttrSpec& s : m_links->dynamicAttrs)
         if (s.longName == attrName || s.shortName == attrName) return &s;
     return nullptr;
 }
@@ -265,7 +287,7 @@ const Node* Graph::clashingNode(std::string_view type, std::string_view name, No
 NodeId Graph::childNamed(NodeId parent, std::string_view name) const {
     NodeId best = kNoNode;
     for (NodeId at = firstNamed(name); at != kNoNode; at = m_nodes[at].nextSameName) {
-        const auto& ps = m_nodes[at].parents;
+        const auto& ps = m_nodes[at].parents();
         if (std::find(ps.begin(), ps.end(), parent) != ps.end()) best = std::min(best, at);
     }
     return best;
@@ -276,9 +298,9 @@ const Node* Graph::clashing(bool dag, std::string_view name, NodeId parent) cons
         const Node& other = m_nodes[at];
         bool clash = !dag || !other.isDag();
         if (!clash) {
-            bool otherWorld = other.parents.empty();
+            bool otherWorld = other.parents().empty();
             clash = (parent == kNoNode && otherWorld) ||
-                    std::find(other.parents.begin(), other.parents.end(), parent) != other.parents.end();
+                    std::find(other.parents().begin(), other.parents().end(), parent) != other.parents().end();
         }
         if (clash) return &other;
     }
@@ -309,11 +331,11 @@ NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId pa
 void Graph::setParent(NodeId child, NodeId parent, bool add) {
     Node& c = m_nodes.at(child);
     if (!add) {
-        for (NodeId p : c.parents) {
-            auto& kids = m_nodes[p].children;
+        for (NodeId p : c.parents()) {
+            auto& kids = m_nodes[p].mutableLinks().children;
             kids.erase(std::remove(kids.begin(), kids.end(), child), kids.end());
         }
-        c.parents.clear();
+        c.mutableLinks().parents.clear();
         c.underWorld = false;
     }
     if (parent == kNoNode) {
@@ -324,9 +346,9 @@ void Graph::setParent(NodeId child, NodeId parent, bool add) {
     if (isAncestorOrSelf(child, parent))
         throw Error("parenting '" + util::excerpt(c.name) + "' under '" + util::excerpt(m_nodes[parent].name) +
                     "' would make a cycle");
-    if (std::find(c.parents.begin(), c.parents.end(), parent) != c.parents.end()) return;
-    c.parents.push_back(parent);
-    m_nodes[parent].children.push_back(child);
+    if (std::find(c.parents().begin(), c.parents().end(), parent) != c.parents().end()) return;
+    c.mutableLinks().parents.push_back(parent);
+    m_nodes[parent].mutableLinks().children.push_back(child);
 }
 
 // Whether `ancestor` is `node` or above it in the DAG. Searches up from `node` and down from
@@ -335,16 +357,16 @@ void Graph::setParent(NodeId child, NodeId parent, bool add) {
 // stays linear. Iterative, whatever the depth.
 bool Graph::isAncestorOrSelf(NodeId ancestor, NodeId node) const {
     if (ancestor == node) return true;
-    if (m_nodes[ancestor].children.empty() || m_nodes[node].parents.empty()) return false;
+    if (m_nodes[ancestor].children().empty() || m_nodes[node].parents().empty()) return false;
     std::vector<NodeId> up{node}, down{ancestor};
     std::unordered_set<NodeId> seenUp{node}, seenDown{ancestor};
     size_t upNext = 0, downNext = 0;
     while (upNext < up.size() && downNext < down.size()) {
-        for (NodeId p : m_nodes[up[upNext++]].parents) {
+        for (NodeId p : m_nodes[up[upNext++]].parents()) {
             if (p == ancestor) return true;
             if (seenUp.insert(p).second) up.push_back(p);
         }
-        for (NodeId c : m_nodes[down[downNext++]].children) {
+        for (NodeId c : m_nodes[down[downNext++]].children()) {
             if (c == node) return true;
             if (seenDown.insert(c).second) down.push_back(c);
         }
@@ -478,7 +500,7 @@ size_t Graph::connect(Plug src, Plug dst, bool nextAvailable) {
         // Next free logical index of the destination multi: after every connected or set element.
         const std::string prefix = dst.path + "[";
         int64_t next = 0;
-        for (size_t ci : m_nodes[dst.node].inConnections) {
+        for (size_t ci : m_nodes[dst.node].inConnections()) {
             const Connection& c = m_connections[ci];
             if (!c.alive || c.dst.path.compare(0, prefix.size(), prefix) != 0) continue;
             int64_t idx = 0;
@@ -491,20 +513,20 @@ size_t Graph::connect(Plug src, Plug dst, bool nextAvailable) {
         dst.path += "[" + std::to_string(next) + "]";
     }
     // A destination plug has one source: a new connection replaces the old one (connectAttr -f).
-    for (size_t ci : m_nodes[dst.node].inConnections) {
+    for (size_t ci : m_nodes[dst.node].inConnections()) {
         Connection& c = m_connections[ci];
         if (c.alive && c.dst.path == dst.path) c.alive = false;
     }
     size_t index = m_connections.size();
     m_connections.push_back(Connection{src, dst, true});
-    m_nodes[src.node].outConnections.push_back(index);
-    m_nodes[dst.node].inConnections.push_back(index);
+    m_nodes[src.node].mutableLinks().outConnections.push_back(index);
+    m_nodes[dst.node].mutableLinks().inConnections.push_back(index);
     return index;
 }
 
 bool Graph::disconnect(const Plug& srcIn, const Plug& dstIn) {
     Plug src = canonicalPlug(srcIn), dst = canonicalPlug(dstIn);
-    for (size_t ci : m_nodes.at(dst.node).inConnections) {
+    for (size_t ci : m_nodes.at(dst.node).inConnections()) {
         Connection& c = m_connections[ci];
         if (c.alive && c.dst == dst && c.src == src) {
             c.alive = false;
@@ -538,7 +560,7 @@ NodeId Graph::find(std::string_view text) const {
         start = bar + 1;
     }
     const NodeId named = firstNamed(parts.back());
-    auto rootOk = [&](NodeId id) { return !absolute || m_nodes[id].underWorld || m_nodes[id].parents.empty(); };
+    auto rootOk = [&](NodeId id) { return !absolute || m_nodes[id].underWorld || m_nodes[id].parents().empty(); };
     NodeId best = kNoNode;
     if (parts.size() == 1) {
         for (NodeId at = named; at != kNoNode; at = m_nodes[at].nextSameName)
@@ -553,7 +575,7 @@ NodeId Graph::find(std::string_view text) const {
     for (NodeId at = named; at != kNoNode; at = m_nodes[at].nextSameName) reach.back().push_back(at);
     for (size_t k = parts.size() - 1; k-- > 0;) {
         for (NodeId id : reach[k + 1])
-            for (NodeId p : m_nodes[id].parents)
+            for (NodeId p : m_nodes[id].parents())
                 if (m_nodes[p].name == parts[k]) reach[k].push_back(p);
         std::sort(reach[k].begin(), reach[k].end());
         reach[k].erase(std::unique(reach[k].begin(), reach[k].end()), reach[k].end());
@@ -565,7 +587,7 @@ NodeId Graph::find(std::string_view text) const {
     for (size_t k = 1; k < parts.size() && !above.empty(); ++k) {
         std::unordered_set<NodeId> level;
         for (NodeId id : reach[k])
-            for (NodeId p : m_nodes[id].parents)
+            for (NodeId p : m_nodes[id].parents())
                 if (above.count(p)) {
                     level.insert(id);
                     break;
@@ -587,7 +609,7 @@ std::vector<std::vector<NodeId>> Graph::dagPaths(NodeId id, DagPathBudget* budge
     DagPathBudget local;
     DagPathBudget& b = budget ? *budget : local;
     std::vector<std::vector<NodeId>> out;
-    if (m_nodes.at(id).parents.empty()) {
+    if (m_nodes.at(id).parents().empty()) {
         // The common case, a node at world level: one path of one node.
         if (b.paths + 1 > b.maxPaths || b.pathNodes + 1 > b.maxPathNodes) {
             b.exhausted = true;
@@ -609,8 +631,8 @@ std::vector<std::vector<NodeId>> Graph::dagPaths(NodeId id, DagPathBudget* budge
     while (!stack.empty()) {
         Step& s = stack.back();
         const Node& n = m_nodes[s.node];
-        const size_t stopChoices = n.parents.empty() || n.underWorld ? 1 : 0;
-        if (s.next >= stopChoices + n.parents.size()) {
+        const size_t stopChoices = n.parents().empty() || n.underWorld ? 1 : 0;
+        if (s.next >= stopChoices + n.parents().size()) {
             stack.pop_back();
             continue;
         }
@@ -630,7 +652,7 @@ std::vector<std::vector<NodeId>> Graph::dagPaths(NodeId id, DagPathBudget* budge
         // setParent refuses cycles, so the stack never exceeds the node count; the check keeps a
         // corrupted graph from looping forever.
         if (stack.size() > m_nodes.size()) throw Error("DAG cycle through '" + util::excerpt(n.name) + "'");
-        stack.push_back({n.parents[choice - stopChoices], 0});
+        stack.push_back({n.parents()[choice - stopChoices], 0});
     }
     return out;
 }
@@ -643,8 +665,8 @@ std::string dagPathBudgetMessage(const Graph& graph, NodeId node, const DagPathB
 
 std::vector<NodeId> Graph::firstDagPath(NodeId id) const {
     std::vector<NodeId> path{id};
-    for (NodeId at = id; !m_nodes.at(at).parents.empty() && !m_nodes[at].underWorld;) {
-        at = m_nodes[at].parents.front();
+    for (NodeId at = id; !m_nodes.at(at).parents().empty() && !m_nodes[at].underWorld;) {
+        at = m_nodes[at].parents().front();
         path.push_back(at);
         if (path.size() > m_nodes.size()) throw Error("DAG cycle through '" + util::excerpt(m_nodes[id].name) + "'");
     }
@@ -780,11 +802,11 @@ std::string Graph::getString(NodeId node, std::string_view plugPath, std::string
 }
 
 std::optional<Plug> Graph::source(NodeId node, std::string_view plugPath) const {
-    if (m_nodes.at(node).inConnections.empty()) return std::nullopt;
+    if (m_nodes.at(node).inConnections().empty()) return std::nullopt;
     auto segs = parsePlugPath(plugPath);
     if (!segs) return std::nullopt;
     std::string path = canonicalPath(node, *segs);
-    for (size_t ci : m_nodes.at(node).inConnections) {
+    for (size_t ci : m_nodes.at(node).inConnections()) {
         const Connection& c = m_connections[ci];
         if (c.alive && c.dst.path == path) return c.src;
     }
@@ -792,7 +814,7 @@ std::optional<Plug> Graph::source(NodeId node, std::string_view plugPath) const 
 }
 
 const Plug* Graph::sourceOfCanonical(NodeId node, std::string_view path) const {
-    for (size_t ci : m_nodes.at(node).inConnections) {
+    for (size_t ci : m_nodes.at(node).inConnections()) {
         const Connection& c = m_connections[ci];
         if (c.alive && c.dst.path == path) return &c.src;
     }
@@ -801,14 +823,14 @@ const Plug* Graph::sourceOfCanonical(NodeId node, std::string_view path) const {
 
 std::vector<const Connection*> Graph::inputs(NodeId node) const {
     std::vector<const Connection*> out;
-    for (size_t ci : m_nodes.at(node).inConnections)
+    for (size_t ci : m_nodes.at(node).inConnections())
         if (m_connections[ci].alive) out.push_back(&m_connections[ci]);
     return out;
 }
 
 std::vector<const Connection*> Graph::outputs(NodeId node) const {
     std::vector<const Connection*> out;
-    for (size_t ci : m_nodes.at(node).outConnections)
+    for (size_t ci : m_nodes.at(node).outConnections())
         if (m_connections[ci].alive) out.push_back(&m_connections[ci]);
     return out;
 }

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -72,26 +73,49 @@ struct AttrData {
     bool keyable = false;    // `-k on`
 };
 
+// What links a node to others: DAG parents and children, addAttr'ed attributes and connections.
+// Many nodes have none of these, so a Node holds them behind one pointer, allocated on first use.
+struct NodeLinks {
+    std::vector<NodeId> parents;       // DAG parents; more than one = instanced
+    std::vector<NodeId> children;
+    std::vector<AttrSpec> dynamicAttrs;  // from addAttr
+    std::vector<size_t> inConnections;   // indices into Graph::connections()
+    std::vector<size_t> outConnections;
+};
+
 struct Node {
     NodeId id = kNoNode;
-    std::string type;
-    std::string name;                  // unique among non-DAG nodes; DAG siblings differ
-    const NodeSchema* schema = nullptr;  // nullptr for types pushpin does not model
-    std::vector<NodeId> parents;       // DAG parents; more than one = instanced
-    bool underWorld = false;           // also (or only) a child of the world: a DAG path starts here
-    std::vector<NodeId> children;
-    std::map<std::string, AttrData, std::less<>> attrs;  // canonical path (long names, indices) → data
-    std::vector<AttrSpec> dynamicAttrs;     // from addAttr
-    std::vector<size_t> inConnections;      // indices into Graph::connections()
-    std::vector<size_t> outConnections;
-    NodeId nextSameName = kNoNode;     // the next node with this name (the Graph's name index)
     uint32_t line = 0;                 // source line of the createNode (0 for implicit defaults)
+    NodeId nextSameName = kNoNode;     // the next node with this name (the Graph's name index)
+    bool underWorld = false;           // also (or only) a child of the world: a DAG path starts here
     bool shared = false;               // createNode -s
     bool locked = false;               // lockNode
+    const NodeSchema* schema = nullptr;  // nullptr for types pushpin does not model
+    std::string type;
+    std::string name;                  // unique among non-DAG nodes; DAG siblings differ
+    std::map<std::string, AttrData, std::less<>> attrs;  // canonical path (long names, indices) → data
+
+    Node() = default;
+    Node(Node&&) noexcept = default;
+    Node& operator=(Node&&) noexcept = default;
+    Node(const Node& other);
+    Node& operator=(const Node& other);
+
+    const std::vector<NodeId>& parents() const { return links().parents; }
+    const std::vector<NodeId>& children() const { return links().children; }
+    const std::vector<AttrSpec>& dynamicAttrs() const { return links().dynamicAttrs; }
+    const std::vector<size_t>& inConnections() const { return links().inConnections; }
+    const std::vector<size_t>& outConnections() const { return links().outConnections; }
+    NodeLinks& mutableLinks();         // allocates the links on first use
+
     bool isDag() const;                // transform, shape, camera, light… (schema says so)
 
     // Attribute spec by long or short name, including addAttr'ed ones; nullptr if unknown.
     const AttrSpec* findAttr(std::string_view name) const;
+
+private:
+    const NodeLinks& links() const;
+    std::unique_ptr<NodeLinks> m_links;
 };
 
 // The nodes of a Graph, in creation order, stored in fixed-size chunks: adding a node never moves

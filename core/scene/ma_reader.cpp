@@ -643,7 +643,7 @@ void Parser::cmdCreateNode(uint32_t line) {
     // An existing node of that name at that place in the DAG: reused for -s and implicit defaults.
     {
         NodeId existing = parent ? m_g.childNamed(parentId, nodeName) : m_g.find(nodeName);
-        if (existing != kNoNode && !parent && !m_g.node(existing).parents.empty()) existing = kNoNode;
+        if (existing != kNoNode && !parent && !m_g.node(existing).parents().empty()) existing = kNoNode;
         if (existing != kNoNode) {
             const Node& n = m_g.node(existing);
             const bool implicitDefault = n.line == 0 && n.shared && n.type == type->text;
@@ -886,7 +886,7 @@ void Parser::cmdParent() {
         if (tolerated) continue;
         setErrorNode(child);
         if (add && parentId != kNoNode) {
-            const auto& ps = m_g.node(child).parents;
+            const auto& ps = m_g.node(child).parents();
             if (std::find(ps.begin(), ps.end(), parentId) != ps.end()) {
                 warn(c.line, c.column, "parent -add: '" + util::excerpt(c.text) + "' already is a child of '" + util::excerpt(objects.back()->text) + "'");
                 continue;
@@ -1102,20 +1102,20 @@ void Parser::cmdAddAttr() {
     if (const AttrSpec* existing = node.findAttr(spec.longName) ? node.findAttr(spec.longName) : node.findAttr(spec.shortName)) {
         // Attributes some Maya versions add dynamically may be part of pushpin's schema already.
         bool dynamic = false;
-        for (const AttrSpec& d : node.dynamicAttrs) dynamic = dynamic || &d == existing;
+        for (const AttrSpec& d : node.dynamicAttrs()) dynamic = dynamic || &d == existing;
         if (dynamic) warn(m_tok.line, m_tok.column, "addAttr: attribute '" + util::excerpt(spec.longName) + "' already exists; ignored");
         return;
     }
     if (hasDefault) spec.defaults = {defaultValue, defaultValue, defaultValue, defaultValue};
     if (!parentName.empty()) {
         AttrSpec* parent = nullptr;
-        for (AttrSpec& s : node.dynamicAttrs)
+        for (AttrSpec& s : node.mutableLinks().dynamicAttrs)
             if (s.longName == parentName || s.shortName == parentName) parent = &s;
         if (!parent) failAt(m_tok, "addAttr: parent attribute '" + util::excerpt(parentName) + "' does not exist");
         spec.parent = parent->longName;
         if (componentCount(parent->type) > 1) {
             int index = 0;
-            for (const AttrSpec& s : node.dynamicAttrs)
+            for (const AttrSpec& s : node.dynamicAttrs())
                 if (s.parent == parent->longName) ++index;
             if (index >= componentCount(parent->type))
                 failAt(m_tok, "addAttr: '" + util::excerpt(parent->longName) + "' already has all its children");
@@ -1124,7 +1124,7 @@ void Parser::cmdAddAttr() {
             if (hasDefault) parent->defaults[size_t(index)] = defaultValue;
         }
     }
-    node.dynamicAttrs.push_back(std::move(spec));
+    node.mutableLinks().dynamicAttrs.push_back(std::move(spec));
 }
 
 // ------------------------------------------------------------------ setAttr

@@ -183,7 +183,7 @@ TEST(Graph, UnknownTypesAndAttributesAreKeptAndCounted) {
     AttrSpec dyn;
     dyn.longName = "myCustomAttr";
     dyn.shortName = "mca";
-    g.node(t).dynamicAttrs.push_back(dyn);
+    g.node(t).mutableLinks().dynamicAttrs.push_back(dyn);
     g.setValue(t, path("mca"), nums({3}));
     EXPECT_DOUBLE_EQ(g.getDouble(t, "myCustomAttr"), 3.0);
 }
