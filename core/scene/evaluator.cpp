@@ -202,16 +202,22 @@ std::vector<Plug> Evaluator::dependencies(NodeId node, const std::string& path) 
             deps.push_back(Plug{node, "conversionFactor"});
         }
     }
-    auto segs = parsePlugPath(path);
-    const AttrSpec* spec = segs ? n.findAttr(segs->back().name) : nullptr;
+    // A plain attribute name (the usual case) needs no parsing: its compound parent and its
+    // component children are plain names too.
+    const bool plain = isPlainPlugName(path);
+    std::optional<std::vector<PlugSegment>> segs;
+    if (!plain) segs = parsePlugPath(path);
+    const AttrSpec* spec = plain ? n.findAttr(path) : segs ? n.findAttr(segs->back().name) : nullptr;
     const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
     if (parentSpec && isNumericCompound(*parentSpec))
-        if (const Plug* parentSrc = m_graph.sourceOfCanonical(node, parentCompoundPath(n, *segs, parentSpec)))
+        if (const Plug* parentSrc = m_graph.sourceOfCanonical(
+                node, plain ? parentSpec->longName : parentCompoundPath(n, *segs, parentSpec)))
             deps.push_back(*parentSrc);
     if (spec && isNumericCompound(*spec)) {
         for (const AttrSpec* child : componentChildren(n, *spec)) {
             if (!child) continue;
-            if (const Plug* childSrc = m_graph.sourceOfCanonical(node, componentChildPath(path, *segs, *child)))
+            if (const Plug* childSrc = m_graph.sourceOfCanonical(
+                    node, plain ? child->longName : componentChildPath(path, *segs, *child)))
                 deps.push_back(*childSrc);
         }
     }

@@ -34,14 +34,6 @@ bool isNumericCompound(AttrType t) {
     }
 }
 
-// A plug path that is one attribute name, without a '.' or an index: "translate".
-bool isPlainName(std::string_view s) {
-    if (s.empty() || !isNameStart(s.front())) return false;
-    for (char c : s)
-        if (!isNameChar(c)) return false;
-    return true;
-}
-
 // The schema default of `spec` into `out`, reusing its storage.
 void assignDefaults(const AttrSpec& spec, std::vector<double>& out) {
     const int n = componentCount(spec.type);
@@ -90,6 +82,13 @@ std::optional<std::vector<PlugSegment>> parsePlugPath(std::string_view text) {
         if (i == text.size()) return std::nullopt;
     }
     return out;
+}
+
+bool isPlainPlugName(std::string_view s) {
+    if (s.empty() || !isNameStart(s.front())) return false;
+    for (char c : s)
+        if (!isNameChar(c)) return false;
+    return true;
 }
 
 std::string formatPlugPath(const std::vector<PlugSegment>& segments) {
@@ -286,25 +285,23 @@ const Node* Graph::clashingNode(std::string_view type, std::string_view name, No
 
 NodeId Graph::childNamed(NodeId parent, std::string_view name) const {
     NodeId best = kNoNode;
-    for (NodeId at = firstNamed(name); at != kNoNode; at = m_nodes[at].nextSameName) {
-        const auto& ps = m_nodes[at].parents();
-        if (std::find(ps.begin(), ps.end(), parent) != ps.end()) best = std::min(best, at);
-    }
+    forEachSibling(parent, name, [&](uint32_t e) { best = std::min(best, NodeId(e)); });
     return best;
 }
 
+// A node outside the DAG clashes with any node of its name; a DAG node with a node outside the
+// DAG, and with a DAG node at the same place: at world level, or under the same parent.
 const Node* Graph::clashing(bool dag, std::string_view name, NodeId parent) const {
-    for (NodeId at = firstNamed(name); at != kNoNode; at = m_nodes[at].nextSameName) {
-        const Node& other = m_nodes[at];
-        bool clash = !dag || !other.isDag();
-        if (!clash) {
-            bool otherWorld = other.parents().empty();
-            clash = (parent == kNoNode && otherWorld) ||
-                    std::find(other.parents().begin(), other.parents().end(), parent) != other.parents().end();
-        }
-        if (clash) return &other;
-    }
-    return nullptr;
+    const NodeId any = firstNamed(name);
+    if (any == kNoNode) return nullptr;
+    if (!dag) return &m_nodes[any];
+    NodeId best = kNoNode;
+    forEachSibling(kNoNode, name, [&](uint32_t e) {
+        const Node& o = m_nodes[e];
+        if (!o.isDag() || (parent == kNoNode && o.parents().empty())) best = std::min(best, NodeId(e));
+    });
+    if (best == kNoNode && parent != kNoNode) best = childNamed(parent, name);
+    return best == kNoNode ? nullptr : &m_nodes[best];
 }
 
 NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId parent, uint32_t line) {
@@ -323,32 +320,40 @@ NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId pa
     const NodeId id = n.id;
     m_nodes.push_back(std::move(n));
     indexName(id);
-    if (parent != kNoNode) setParent(id, parent, true);
-    else m_nodes[id].underWorld = dag;
+    if (parent != kNoNode) {
+        setParent(id, parent, true);  // indexes it under its parent
+    } else {
+        m_nodes[id].underWorld = dag;
+        indexSiblings(id);
+    }
     return id;
 }
 
 void Graph::setParent(NodeId child, NodeId parent, bool add) {
     Node& c = m_nodes.at(child);
+    // Refuse cycles: the new parent must not be the child or one of its descendants. (Clearing the
+    // child's own parents first would not change that.)
+    if (parent != kNoNode && isAncestorOrSelf(child, NodeId(m_nodes.at(parent).id)))
+        throw Error("parenting '" + util::excerpt(c.name) + "' under '" + util::excerpt(m_nodes[parent].name) +
+                    "' would make a cycle");
+    if (add && parent != kNoNode && std::find(c.parents().begin(), c.parents().end(), parent) != c.parents().end())
+        return;
+    unindexSiblings(child);
     if (!add) {
         for (NodeId p : c.parents()) {
             auto& kids = m_nodes[p].mutableLinks().children;
             kids.erase(std::remove(kids.begin(), kids.end(), child), kids.end());
         }
-        c.mutableLinks().parents.clear();
+        if (!c.parents().empty()) c.mutableLinks().parents.clear();
         c.underWorld = false;
     }
     if (parent == kNoNode) {
         c.underWorld = true;  // parent -w: a child of the world
-        return;
+    } else {
+        c.mutableLinks().parents.push_back(parent);
+        m_nodes[parent].mutableLinks().children.push_back(child);
     }
-    // Refuse cycles: the new parent must not be the child or one of its descendants.
-    if (isAncestorOrSelf(child, parent))
-        throw Error("parenting '" + util::excerpt(c.name) + "' under '" + util::excerpt(m_nodes[parent].name) +
-                    "' would make a cycle");
-    if (std::find(c.parents().begin(), c.parents().end(), parent) != c.parents().end()) return;
-    c.mutableLinks().parents.push_back(parent);
-    m_nodes[parent].mutableLinks().children.push_back(child);
+    indexSiblings(child);
 }
 
 // Whether `ancestor` is `node` or above it in the DAG. Searches up from `node` and down from
@@ -379,40 +384,103 @@ NodeId Graph::firstNamed(std::string_view name) const {
     return head == util::IndexTable::kNone ? kNoNode : NodeId(head);
 }
 
-// A node joins its name's chain second, after the head, so the table is written only for a new name.
+// A node joins the end of its name's ring, which keeps the ring in creation order as long as
+// nodes come in by createNode; a node renamed into a name goes to its place by id, searched from
+// the end (renames of recent nodes are the common case).
 void Graph::indexName(NodeId id) {
     Node& n = m_nodes[id];
     const NodeId head = firstNamed(n.name);
     if (head == kNoNode) {
         n.nextSameName = kNoNode;
+        n.prevSameName = id;
         m_byName.insert(util::hashBytes(n.name), id);
         return;
     }
-    n.nextSameName = m_nodes[head].nextSameName;
-    m_nodes[head].nextSameName = id;
+    if (id < head) {  // the new first of the name
+        n.nextSameName = head;
+        n.prevSameName = m_nodes[head].prevSameName;
+        m_nodes[head].prevSameName = id;
+        m_byName.replace(util::hashBytes(n.name), [&](uint32_t e) { return e == head; }, id);
+        return;
+    }
+    NodeId after = m_nodes[head].prevSameName;  // the last
+    while (after > id) after = m_nodes[after].prevSameName;
+    n.prevSameName = after;
+    n.nextSameName = m_nodes[after].nextSameName;
+    m_nodes[after].nextSameName = id;
+    if (n.nextSameName != kNoNode) m_nodes[n.nextSameName].prevSameName = id;
+    else m_nodes[head].prevSameName = id;
 }
 
 void Graph::unindexName(NodeId id) {
     Node& n = m_nodes[id];
-    const uint64_t hash = util::hashBytes(n.name);
     const NodeId head = firstNamed(n.name);
     if (head == id) {
         auto isHead = [&](uint32_t e) { return e == id; };
-        if (n.nextSameName == kNoNode) m_byName.erase(hash, isHead);
-        else m_byName.replace(hash, isHead, n.nextSameName);
-    } else {
-        NodeId at = head;
-        while (at != kNoNode && m_nodes[at].nextSameName != id) at = m_nodes[at].nextSameName;
-        if (at != kNoNode) m_nodes[at].nextSameName = n.nextSameName;
+        const uint64_t hash = util::hashBytes(n.name);
+        if (n.nextSameName == kNoNode) {
+            m_byName.erase(hash, isHead);
+        } else {
+            m_byName.replace(hash, isHead, n.nextSameName);
+            m_nodes[n.nextSameName].prevSameName = n.prevSameName;  // the last
+        }
+    } else if (head != kNoNode) {
+        m_nodes[n.prevSameName].nextSameName = n.nextSameName;
+        if (n.nextSameName != kNoNode) m_nodes[n.nextSameName].prevSameName = n.prevSameName;
+        else m_nodes[head].prevSameName = n.prevSameName;
     }
-    n.nextSameName = kNoNode;
+    n.nextSameName = n.prevSameName = kNoNode;
+}
+
+// ---- siblings by name
+
+namespace {
+uint64_t siblingHash(NodeId parent, std::string_view name) {
+    return util::hashCombine(util::hashBytes(name), uint64_t(parent) * 0x9E3779B97F4A7C15ull);
+}
+}  // namespace
+
+bool Graph::atWorldKey(const Node& n) const {
+    return n.parents().empty() || n.underWorld || (n.schema && !n.schema->isDag());
+}
+
+template <class Visit>
+void Graph::forEachSibling(NodeId parent, std::string_view name, Visit&& visit) const {
+    m_bySibling.forEach(
+        siblingHash(parent, name),
+        [&](uint32_t e) {
+            const Node& o = m_nodes[e];
+            if (o.name != name) return false;
+            if (parent == kNoNode) return atWorldKey(o);
+            const auto& ps = o.parents();
+            return std::find(ps.begin(), ps.end(), parent) != ps.end();
+        },
+        visit);
+}
+
+// Under a 32-bit hash collision between two keys of one node, erasing by entry could take the
+// other key's slot; lookups check every match against the node itself, so that costs at most a
+// missed clash, once in four billion.
+void Graph::indexSiblings(NodeId id) {
+    const Node& n = m_nodes[id];
+    if (atWorldKey(n)) m_bySibling.insert(siblingHash(kNoNode, n.name), id);
+    for (NodeId p : n.parents()) m_bySibling.insert(siblingHash(p, n.name), id);
+}
+
+void Graph::unindexSiblings(NodeId id) {
+    const Node& n = m_nodes[id];
+    auto isId = [&](uint32_t e) { return e == id; };
+    if (atWorldKey(n)) m_bySibling.erase(siblingHash(kNoNode, n.name), isId);
+    for (NodeId p : n.parents()) m_bySibling.erase(siblingHash(p, n.name), isId);
 }
 
 void Graph::rename(NodeId id, std::string_view newName) {
     m_nodes.at(id);
+    unindexSiblings(id);
     unindexName(id);
     m_nodes[id].name = std::string(newName);
     indexName(id);
+    indexSiblings(id);
 }
 
 std::string Graph::canonicalPath(NodeId nodeId, const std::vector<PlugSegment>& segments) const {
@@ -486,6 +554,10 @@ void Graph::setValue(NodeId nodeId, const std::vector<PlugSegment>& segs, Value 
 }
 
 Plug Graph::canonicalPlug(const Plug& p) const {
+    if (isPlainPlugName(p.path)) {
+        const AttrSpec* spec = m_nodes.at(p.node).findAttr(p.path);
+        return Plug{p.node, spec ? spec->longName : p.path};
+    }
     auto segs = parsePlugPath(p.path);
     if (!segs) throw Error("malformed plug '" + util::excerpt(p.path) + "'");
     return Plug{p.node, canonicalPath(p.node, *segs)};
@@ -495,8 +567,7 @@ size_t Graph::connect(Plug src, Plug dst, bool nextAvailable) {
     if (src.node >= m_nodes.size() || dst.node >= m_nodes.size()) throw Error("connect: invalid node id");
     src = canonicalPlug(src);
     dst = canonicalPlug(dst);
-    auto dstSegs = parsePlugPath(dst.path);
-    if (nextAvailable && !dstSegs->back().indexed()) {
+    if (nextAvailable && dst.path.back() != ']') {  // a canonical path ends in ']' when it is indexed
         // Next free logical index of the destination multi: after every connected or set element.
         const std::string prefix = dst.path + "[";
         int64_t next = 0;
@@ -541,12 +612,8 @@ void Graph::warn(Diagnostic d) { m_warnings.push_back(std::move(d)); }
 NodeId Graph::find(std::string_view text) const {
     if (!text.empty() && text.front() == ':') text.remove_prefix(1);
     if (text.empty()) return kNoNode;
-    if (text.find('|') == std::string_view::npos) {
-        // A plain name, the common case: the first created node of that name.
-        NodeId best = kNoNode;
-        for (NodeId at = firstNamed(text); at != kNoNode; at = m_nodes[at].nextSameName) best = std::min(best, at);
-        return best;
-    }
+    // A plain name, the common case: the first created node of that name, which heads its ring.
+    if (text.find('|') == std::string_view::npos) return firstNamed(text);
     bool absolute = text.front() == '|';
     std::vector<std::string_view> parts;
     size_t start = absolute ? 1 : 0;
@@ -562,12 +629,44 @@ NodeId Graph::find(std::string_view text) const {
     const NodeId named = firstNamed(parts.back());
     auto rootOk = [&](NodeId id) { return !absolute || m_nodes[id].underWorld || m_nodes[id].parents().empty(); };
     NodeId best = kNoNode;
-    if (parts.size() == 1) {
-        for (NodeId at = named; at != kNoNode; at = m_nodes[at].nextSameName)
-            if (rootOk(at)) best = std::min(best, at);
+    if (parts.size() == 1) {  // "|name": the first of the name at world level
+        forEachSibling(kNoNode, parts[0], [&](uint32_t e) {
+            if (rootOk(NodeId(e))) best = std::min(best, NodeId(e));
+        });
         return best;
     }
-    // A path "a|b|c": first the nodes named b that are parents of a candidate c, then the nodes named
+    // A path "a|b|c" is resolved from whichever end has fewer nodes of its name: an absolute path
+    // from the world, whose names are nearly unique; a relative one from the shorter of the rings
+    // of `a` and `c` (walked side by side, so measuring costs twice the shorter).
+    bool fromTop = absolute;
+    if (!fromTop) {
+        NodeId top = firstNamed(parts.front()), bottom = named;
+        while (top != kNoNode && bottom != kNoNode) {
+            top = m_nodes[top].nextSameName;
+            bottom = m_nodes[bottom].nextSameName;
+        }
+        fromTop = top == kNoNode;
+    }
+    if (fromTop) {
+        // Top down: the nodes matching the path so far, one level at a time, each level a set.
+        std::vector<NodeId> level, next;
+        if (absolute) {
+            forEachSibling(kNoNode, parts[0], [&](uint32_t e) {
+                if (rootOk(NodeId(e))) level.push_back(NodeId(e));
+            });
+        } else {
+            for (NodeId at = firstNamed(parts[0]); at != kNoNode; at = m_nodes[at].nextSameName) level.push_back(at);
+        }
+        for (size_t k = 1; k < parts.size() && !level.empty(); ++k) {
+            next.clear();
+            for (NodeId p : level) forEachSibling(p, parts[k], [&](uint32_t e) { next.push_back(NodeId(e)); });
+            std::sort(next.begin(), next.end());
+            next.erase(std::unique(next.begin(), next.end()), next.end());
+            level.swap(next);
+        }
+        return level.empty() ? kNoNode : level.front();
+    }
+    // Bottom up, from a path "a|b|c": first the nodes named b that are parents of a candidate c, then the nodes named
     // a above those (reach[k] holds the level-k nodes), then down again keeping the nodes with a
     // matching parent on the level above. Each level is a set, so the cost is linear in the nodes
     // the path can touch, not in the number of ways to walk it (a diamond-shaped DAG has 2^depth).
@@ -689,7 +788,7 @@ const AttrData* Graph::findAttr(NodeId node, std::string_view key) const {
 }
 
 const Value* Graph::value(NodeId node, std::string_view plugPath) const {
-    if (isPlainName(plugPath)) {
+    if (isPlainPlugName(plugPath)) {
         const AttrSpec* spec = m_nodes.at(node).findAttr(plugPath);
         const AttrData* a = findAttr(node, spec ? std::string_view(spec->longName) : plugPath);
         return a && a->hasValue ? &a->value : nullptr;
@@ -710,7 +809,7 @@ const Value* Graph::value(NodeId node, std::string_view plugPath) const {
 
 bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double>& out) const {
     out.clear();
-    if (isPlainName(plugPath)) {
+    if (isPlainPlugName(plugPath)) {
         // One attribute name, the usual question ("translate", "visibility"): no path to parse.
         // Components of numeric compounds (translateX) take the general way below.
         const Node& n = m_nodes.at(nodeId);

@@ -37,6 +37,9 @@ struct PlugSegment {
 // Returns nullopt on a syntax error (unbalanced brackets, negative or reversed ranges, empty names).
 std::optional<std::vector<PlugSegment>> parsePlugPath(std::string_view text);
 std::string formatPlugPath(const std::vector<PlugSegment>& segments);
+// Whether a plug path is one attribute name, without a '.' or an index ("translate"): the common
+// case, which needs no parsing.
+bool isPlainPlugName(std::string_view text);
 
 // Sparse storage of one multi attribute: runs of consecutive elements, each run one Value as the
 // file wrote it. A later write replaces the elements it covers.
@@ -86,7 +89,10 @@ struct NodeLinks {
 struct Node {
     NodeId id = kNoNode;
     uint32_t line = 0;                 // source line of the createNode (0 for implicit defaults)
-    NodeId nextSameName = kNoNode;     // the next node with this name (the Graph's name index)
+    // The Graph's name index: nodes of one name form a ring in creation order, from the first
+    // created; prevSameName of that first node is the last.
+    NodeId nextSameName = kNoNode;
+    NodeId prevSameName = kNoNode;
     bool underWorld = false;           // also (or only) a child of the world: a DAG path starts here
     bool shared = false;               // createNode -s
     bool locked = false;               // lockNode
@@ -296,13 +302,22 @@ public:
 private:
     Plug canonicalPlug(const Plug& p) const;
     NodeStore m_nodes;
-    // Name → the first node of its chain of same-named nodes (DAG nodes under different parents
-    // share names); Node::nextSameName links the rest.
+    // Name → the first created node of that name (DAG nodes under different parents share names);
+    // Node::nextSameName links the rest in creation order.
     util::IndexTable m_byName;
+    // (parent, name) → node: every DAG node under each of its parents, and under kNoNode the nodes
+    // at world level and every node outside the DAG. Name clashes and child lookups then cost one
+    // probe, however many nodes share a name.
+    util::IndexTable m_bySibling;
     NodeId firstNamed(std::string_view name) const;
     const Node* clashing(bool dag, std::string_view name, NodeId parent) const;
     void indexName(NodeId id);
     void unindexName(NodeId id);
+    bool atWorldKey(const Node& n) const;  // indexed under kNoNode in m_bySibling
+    template <class Visit>
+    void forEachSibling(NodeId parent, std::string_view name, Visit&& visit) const;
+    void indexSiblings(NodeId id);
+    void unindexSiblings(NodeId id);
     bool isAncestorOrSelf(NodeId ancestor, NodeId node) const;
     std::vector<Connection> m_connections;
     std::vector<Relationship> m_relationships;

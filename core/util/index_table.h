@@ -53,6 +53,16 @@ public:
             if (s.tag == tag && matches(s.entry)) return s.entry;
         }
     }
+    // Calls visit(entry) for every entry under `hash` for which matches(entry) holds, in table order.
+    template <class Matches, class Visit>
+    void forEach(uint64_t hash, Matches&& matches, Visit&& visit) const {
+        if (m_slots.empty()) return;
+        const uint32_t tag = tagOf(hash);
+        for (size_t i = tag & mask(); m_slots[i].entry != kNone; i = (i + 1) & mask()) {
+            const Slot& s = m_slots[i];
+            if (s.tag == tag && matches(s.entry)) visit(s.entry);
+        }
+    }
     // Adds `entry` (any value but kNone) under `hash`. The caller makes sure no entry with an equal
     // key is present when it needs keys to be unique.
     void insert(uint64_t hash, uint32_t entry) {

@@ -352,6 +352,32 @@ TEST(BoundedWork, ThousandsOfIdenticalNamesAreRenamedInLinearTime) {
     expectBounded("200,000 identical names", run, 11.0, 800.0);
 }
 
+TEST(BoundedWork, ManyDagNodesSharingOneNameStayLinear) {
+    // 100,000 transforms "p<i>", each with a child "x"; then 100,000 `createNode transform -n "x"`
+    // at world level (the first keeps "x", the rest become x1, x2 …) and a connection to every
+    // "p<i>|x" by path. A search along the name's nodes would make each line cost 100,000 steps.
+    constexpr int kCount = 100000;
+    const ChildRun run = runInChild([] {
+        std::string text;
+        for (int i = 0; i < kCount; ++i)
+            text += "createNode transform -n \"p" + std::to_string(i) + "\";\ncreateNode transform -n \"x\" -p \"p" +
+                    std::to_string(i) + "\";\n";
+        for (int i = 0; i < kCount; ++i) text += "createNode transform -n \"x\";\n";
+        for (int i = 0; i < kCount; ++i) text += "setAttr \"p" + std::to_string(i) + "|x.tx\" 1;\n";
+        for (int i = 0; i < kCount; ++i) text += "setAttr \"|x" + std::to_string(i + 1 < kCount ? i + 1 : 1) + ".ty\" 2;\n";
+        Graph g = MaReader::readString(text, "shared.ma");
+        const NodeId worldX = g.find("|x");
+        if (worldX == kNoNode || !g.node(worldX).parents().empty()) return 1;
+        if (g.find("x") != g.find("|p0|x")) return 2;  // the first created "x" is p0's child
+        if (g.find("x" + std::to_string(kCount - 1)) == kNoNode || g.find("x" + std::to_string(kCount)) != kNoNode) return 3;
+        const NodeId last = g.find("p" + std::to_string(kCount - 1) + "|x");
+        if (last == kNoNode || g.getDouble(last, "translateX") != 1.0) return 4;
+        if (g.getDouble(g.find("x5"), "translateY") != 2.0) return 5;
+        return 0;
+    });
+    expectBounded("100,000 DAG nodes named x", run, 20.0, 800.0);
+}
+
 TEST(BoundedWork, RenamingAwayFreesTheNumberForTheNextClash) {
     // As Maya numbers: the smallest free trailing number, also after a rename freed one.
     Graph g = MaReader::readString("createNode transform -n \"x\";\n"
