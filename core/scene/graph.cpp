@@ -317,15 +317,11 @@ NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId pa
     n.schema = schema;
     n.line = line;
     if (!schema) ++m_unsupportedTypes[n.type];
+    n.underWorld = parent == kNoNode && dag;
     const NodeId id = n.id;
     m_nodes.push_back(std::move(n));
     indexName(id);
-    if (parent != kNoNode) {
-        setParent(id, parent, true);  // indexes it under its parent
-    } else {
-        m_nodes[id].underWorld = dag;
-        indexSiblings(id);
-    }
+    if (parent != kNoNode) setParent(id, parent, true);
     return id;
 }
 
@@ -338,7 +334,8 @@ void Graph::setParent(NodeId child, NodeId parent, bool add) {
                     "' would make a cycle");
     if (add && parent != kNoNode && std::find(c.parents().begin(), c.parents().end(), parent) != c.parents().end())
         return;
-    unindexSiblings(child);
+    const bool shared = inSharedRing(c);
+    if (shared) unindexSiblings(child);
     if (!add) {
         for (NodeId p : c.parents()) {
             auto& kids = m_nodes[p].mutableLinks().children;
@@ -353,7 +350,7 @@ void Graph::setParent(NodeId child, NodeId parent, bool add) {
         c.mutableLinks().parents.push_back(parent);
         m_nodes[parent].mutableLinks().children.push_back(child);
     }
-    indexSiblings(child);
+    if (shared) indexSiblings(child);
 }
 
 // Whether `ancestor` is `node` or above it in the DAG. Searches up from `node` and down from
@@ -386,7 +383,8 @@ NodeId Graph::firstNamed(std::string_view name) const {
 
 // A node joins the end of its name's ring, which keeps the ring in creation order as long as
 // nodes come in by createNode; a node renamed into a name goes to its place by id, searched from
-// the end (renames of recent nodes are the common case).
+// the end (renames of recent nodes are the common case). Nodes whose name is shared also go into
+// the sibling index; a name held by one node needs none.
 void Graph::indexName(NodeId id) {
     Node& n = m_nodes[id];
     const NodeId head = firstNamed(n.name);
@@ -396,41 +394,49 @@ void Graph::indexName(NodeId id) {
         m_byName.insert(util::hashBytes(n.name), id);
         return;
     }
+    if (m_nodes[head].nextSameName == kNoNode) indexSiblings(head);  // the name becomes shared
     if (id < head) {  // the new first of the name
         n.nextSameName = head;
         n.prevSameName = m_nodes[head].prevSameName;
         m_nodes[head].prevSameName = id;
         m_byName.replace(util::hashBytes(n.name), [&](uint32_t e) { return e == head; }, id);
-        return;
+    } else {
+        NodeId after = m_nodes[head].prevSameName;  // the last
+        while (after > id) after = m_nodes[after].prevSameName;
+        n.prevSameName = after;
+        n.nextSameName = m_nodes[after].nextSameName;
+        m_nodes[after].nextSameName = id;
+        if (n.nextSameName != kNoNode) m_nodes[n.nextSameName].prevSameName = id;
+        else m_nodes[head].prevSameName = id;
     }
-    NodeId after = m_nodes[head].prevSameName;  // the last
-    while (after > id) after = m_nodes[after].prevSameName;
-    n.prevSameName = after;
-    n.nextSameName = m_nodes[after].nextSameName;
-    m_nodes[after].nextSameName = id;
-    if (n.nextSameName != kNoNode) m_nodes[n.nextSameName].prevSameName = id;
-    else m_nodes[head].prevSameName = id;
+    indexSiblings(id);
 }
 
 void Graph::unindexName(NodeId id) {
     Node& n = m_nodes[id];
     const NodeId head = firstNamed(n.name);
+    if (head == kNoNode) return;
+    if (!inSharedRing(n)) {
+        m_byName.erase(util::hashBytes(n.name), [&](uint32_t e) { return e == id; });
+        n.nextSameName = n.prevSameName = kNoNode;
+        return;
+    }
+    unindexSiblings(id);
+    NodeId newHead = head;
     if (head == id) {
-        auto isHead = [&](uint32_t e) { return e == id; };
-        const uint64_t hash = util::hashBytes(n.name);
-        if (n.nextSameName == kNoNode) {
-            m_byName.erase(hash, isHead);
-        } else {
-            m_byName.replace(hash, isHead, n.nextSameName);
-            m_nodes[n.nextSameName].prevSameName = n.prevSameName;  // the last
-        }
-    } else if (head != kNoNode) {
+        newHead = n.nextSameName;
+        m_byName.replace(util::hashBytes(n.name), [&](uint32_t e) { return e == id; }, newHead);
+        m_nodes[newHead].prevSameName = n.prevSameName;  // the last
+    } else {
         m_nodes[n.prevSameName].nextSameName = n.nextSameName;
         if (n.nextSameName != kNoNode) m_nodes[n.nextSameName].prevSameName = n.prevSameName;
         else m_nodes[head].prevSameName = n.prevSameName;
     }
     n.nextSameName = n.prevSameName = kNoNode;
+    if (m_nodes[newHead].nextSameName == kNoNode) unindexSiblings(newHead);  // no longer shared
 }
+
+bool Graph::inSharedRing(const Node& n) const { return n.nextSameName != kNoNode || n.prevSameName != n.id; }
 
 // ---- siblings by name
 
@@ -446,16 +452,20 @@ bool Graph::atWorldKey(const Node& n) const {
 
 template <class Visit>
 void Graph::forEachSibling(NodeId parent, std::string_view name, Visit&& visit) const {
-    m_bySibling.forEach(
-        siblingHash(parent, name),
-        [&](uint32_t e) {
-            const Node& o = m_nodes[e];
-            if (o.name != name) return false;
-            if (parent == kNoNode) return atWorldKey(o);
-            const auto& ps = o.parents();
-            return std::find(ps.begin(), ps.end(), parent) != ps.end();
-        },
-        visit);
+    const NodeId head = firstNamed(name);
+    if (head == kNoNode) return;
+    auto matches = [&](uint32_t e) {
+        const Node& o = m_nodes[e];
+        if (o.name != name) return false;
+        if (parent == kNoNode) return atWorldKey(o);
+        const auto& ps = o.parents();
+        return std::find(ps.begin(), ps.end(), parent) != ps.end();
+    };
+    if (m_nodes[head].nextSameName == kNoNode) {  // the name's only node, not in the sibling index
+        if (matches(head)) visit(head);
+        return;
+    }
+    m_bySibling.forEach(siblingHash(parent, name), matches, visit);
 }
 
 // Under a 32-bit hash collision between two keys of one node, erasing by entry could take the
@@ -476,11 +486,9 @@ void Graph::unindexSiblings(NodeId id) {
 
 void Graph::rename(NodeId id, std::string_view newName) {
     m_nodes.at(id);
-    unindexSiblings(id);
     unindexName(id);
     m_nodes[id].name = std::string(newName);
     indexName(id);
-    indexSiblings(id);
 }
 
 std::string Graph::canonicalPath(NodeId nodeId, const std::vector<PlugSegment>& segments) const {

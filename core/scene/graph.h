@@ -305,15 +305,16 @@ private:
     // Name → the first created node of that name (DAG nodes under different parents share names);
     // Node::nextSameName links the rest in creation order.
     util::IndexTable m_byName;
-    // (parent, name) → node: every DAG node under each of its parents, and under kNoNode the nodes
-    // at world level and every node outside the DAG. Name clashes and child lookups then cost one
-    // probe, however many nodes share a name.
+    // (parent, name) → node, for the nodes whose name another node shares: every DAG node under
+    // each of its parents, and under kNoNode the nodes at world level and every node outside the
+    // DAG. Name clashes and child lookups then cost one probe, however many nodes share a name.
     util::IndexTable m_bySibling;
     NodeId firstNamed(std::string_view name) const;
     const Node* clashing(bool dag, std::string_view name, NodeId parent) const;
     void indexName(NodeId id);
     void unindexName(NodeId id);
-    bool atWorldKey(const Node& n) const;  // indexed under kNoNode in m_bySibling
+    bool atWorldKey(const Node& n) const;    // indexed under kNoNode in m_bySibling
+    bool inSharedRing(const Node& n) const;  // another node has its name: it is in m_bySibling
     template <class Visit>
     void forEachSibling(NodeId parent, std::string_view name, Visit&& visit) const;
     void indexSiblings(NodeId id);

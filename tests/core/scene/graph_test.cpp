@@ -252,6 +252,24 @@ TEST(Graph, NameIndexFollowsRenamesAndSharedNames) {
     EXPECT_EQ(g.find("x"), xa);
     EXPECT_EQ(g.clashingNode("transform", "x", a)->id, xa);
     EXPECT_EQ(g.clashingNode("transform", "x", b), nullptr);
+    // Moving a node of a shared name moves its place in the sibling index with it.
+    EXPECT_EQ(g.find("|x"), kNoNode);
+    g.setParent(xc, kNoNode, false);  // parent -w
+    EXPECT_EQ(g.find("|x"), xc);
+    EXPECT_EQ(g.find("c|x"), kNoNode);
+    EXPECT_EQ(g.clashingNode("transform", "x", kNoNode)->id, xc);
+    EXPECT_EQ(g.clashingNode("transform", "x", g.find("c")), nullptr);
+    g.setParent(xc, b, false);
+    EXPECT_EQ(g.find("|x"), kNoNode);
+    EXPECT_EQ(g.find("b|x"), xc);
+    // A name down to one node again: lookups still find it under its parent.
+    g.rename(xa, "solo");
+    g.rename(xc, "other");
+    EXPECT_EQ(g.find("x"), kNoNode);
+    EXPECT_EQ(g.childNamed(a, "solo"), xa);
+    EXPECT_EQ(g.find("a|solo"), xa);
+    EXPECT_EQ(g.clashingNode("transform", "solo", a)->id, xa);
+    EXPECT_EQ(g.clashingNode("lambert", "solo", kNoNode)->id, xa);  // outside the DAG: any node of the name
 }
 
 // Nodes stay where they are while the graph grows: a reference taken early is still the node.
