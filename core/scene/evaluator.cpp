@@ -117,24 +117,30 @@ bool Evaluator::evaluatePlug(NodeId node, const std::string& path, std::vector<d
         uint32_t entry;
         uint32_t next;  // dependencies already pushed or skipped
     };
-    std::vector<Frame> stack{{addEntry(node, path), 0}};
+    const uint32_t root = addEntry(node, path);
+    std::vector<Frame> stack{{root, 0}};
     std::vector<double> value;
-    std::vector<Plug> deps;
+    std::vector<Plug> deps, depsOfDep;
+    bool haveDeps = false;  // `deps` already holds the top's dependencies
     while (!stack.empty()) {
         Frame& top = stack.back();
-        // Recomputed on each visit rather than kept per frame: a plug has a few dependencies, and a
-        // million-deep chain then costs 8 bytes of stack per plug.
-        {
+        // Recomputed when a frame is returned to rather than kept per frame: a plug has a few
+        // dependencies, and a million-deep chain then costs 8 bytes of stack per plug.
+        if (!haveDeps) {
             const CacheEntry& e = m_entries[top.entry];
             deps = dependencies(e.node, e.path);
         }
+        haveDeps = false;
         bool descended = false;
         while (top.next < deps.size()) {
             Plug& d = deps[top.next++];
-            if (d.node >= m_graph.size() || findEntry(d.node, d.path) != kNoEntry || !needsCache(d.node, d.path))
-                continue;  // invalid, done, on the stack (a cycle, met in computePlug), or read directly
+            if (d.node >= m_graph.size() || findEntry(d.node, d.path) != kNoEntry) continue;  // invalid, done or on the stack
+            depsOfDep = dependencies(d.node, d.path);
+            if (depsOfDep.empty() && !isCachedOutput(d.node, d.path)) continue;  // read directly
             const uint32_t opened = addEntry(d.node, std::move(d.path));
             stack.push_back(Frame{opened, 0});  // invalidates `top`
+            deps.swap(depsOfDep);  // the new top's, just computed
+            haveDeps = true;
             descended = true;
             break;
         }
@@ -150,7 +156,7 @@ bool Evaluator::evaluatePlug(NodeId node, const std::string& path, std::vector<d
         }
         stack.pop_back();
     }
-    const CacheEntry& done = m_entries[findEntry(node, path)];
+    const CacheEntry& done = m_entries[root];
     if (done.state != CacheEntry::State::Ready) return false;
     readEntry(done, out);
     return true;
@@ -224,10 +230,14 @@ std::vector<Plug> Evaluator::dependencies(NodeId node, const std::string& path) 
     return deps;
 }
 
+// An animCurve output is worth keeping even when driven by time alone: its keys are decoded from
+// the Graph on each computation.
+bool Evaluator::isCachedOutput(NodeId node, std::string_view path) const {
+    return path == "output" && isAnimCurveNode(m_graph.node(node));
+}
+
 bool Evaluator::needsCache(NodeId node, const std::string& path) const {
-    // An animCurve output is worth keeping even when driven by time alone: its keys are decoded
-    // from the Graph on each computation.
-    return (path == "output" && isAnimCurveNode(m_graph.node(node))) || !dependencies(node, path).empty();
+    return isCachedOutput(node, path) || !dependencies(node, path).empty();
 }
 
 bool Evaluator::computePlug(NodeId node, const std::string& path, std::vector<double>& out) {
@@ -242,6 +252,8 @@ bool Evaluator::computePlug(NodeId node, const std::string& path, std::vector<do
     bool ok = false;
     auto segs = parsePlugPath(path);
     const AttrSpec* spec = segs ? n.findAttr(segs->back().name) : nullptr;
+    // A plug that is neither a component nor a numeric compound has nothing else to gather.
+    if (!spec || (spec->component < 0 && !isNumericCompound(*spec))) return m_graph.numbers(node, path, out);
     const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
     if (parentSpec && isNumericCompound(*parentSpec)) {
         // translateX with `translate` connected as a whole: take the component of the source.

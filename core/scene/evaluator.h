@@ -91,6 +91,7 @@ private:
     // is harmless; they are evaluated first, each once).
     std::vector<Plug> dependencies(NodeId node, const std::string& path) const;
     bool needsCache(NodeId node, const std::string& path) const;
+    bool isCachedOutput(NodeId node, std::string_view path) const;
     // The value of `node.path` from its dependencies' values, which are already evaluated.
     bool computePlug(NodeId node, const std::string& path, std::vector<double>& out);
     void reportCycle(NodeId node, const std::string& path);
