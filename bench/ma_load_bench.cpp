@@ -8,7 +8,11 @@
 // lines, each renamed as Maya would (x, x1, x2, …): the renaming must keep the reader's usual
 // throughput, and the memory per node is printed.
 //
-// Usage: ma_load_bench [--grid=N | --duplicates=MIB] [--runs=R] [--keep]
+// With --files the remaining arguments are real scenes: each is loaded `runs` times and the best
+// time kept; the total throughput and time per node are printed (files that fail to load are
+// counted and left out), which is the reader's usual pace on real work.
+//
+// Usage: ma_load_bench [--grid=N | --duplicates=MIB | --files SCENE...] [--runs=R] [--keep]
 #include "core/scene/ma_reader.h"
 
 #include <sys/resource.h>
@@ -187,15 +191,54 @@ double graphPayloadMiB(const Graph& g) {
 int main(int argc, char** argv) {
     int grid = 1000, runs = 5, duplicates = 0;
     bool keep = false;
+    std::vector<fs::path> files;
     for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--files") == 0) {
+            for (++i; i < argc; ++i) {
+                if (std::strncmp(argv[i], "--runs=", 7) == 0) runs = std::max(1, std::atoi(argv[i] + 7));
+                else files.emplace_back(argv[i]);
+            }
+            break;
+        }
         if (std::strncmp(argv[i], "--grid=", 7) == 0) grid = std::max(2, std::atoi(argv[i] + 7));
         else if (std::strncmp(argv[i], "--duplicates=", 13) == 0) duplicates = std::max(1, std::atoi(argv[i] + 13));
         else if (std::strncmp(argv[i], "--runs=", 7) == 0) runs = std::max(1, std::atoi(argv[i] + 7));
         else if (std::strcmp(argv[i], "--keep") == 0) keep = true;
         else {
-            std::fprintf(stderr, "usage: %s [--grid=N | --duplicates=MIB] [--runs=R] [--keep]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--grid=N | --duplicates=MIB | --files SCENE...] [--runs=R] [--keep]\n", argv[0]);
             return 2;
         }
+    }
+    if (!files.empty()) {
+        // Warm the schema tables first, so that the first file does not pay for building them.
+        (void)MaReader::readString("createNode transform -n \"warm\";\n", "warm.ma");
+        double bytes = 0, seconds = 0;
+        size_t nodes = 0, loaded = 0, failed = 0;
+        for (const fs::path& f : files) {
+            double best = 1e30;
+            size_t count = 0;
+            try {
+                for (int r = 0; r < runs; ++r) {
+                    const auto s = std::chrono::steady_clock::now();
+                    Graph g = MaReader::readFile(f);
+                    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
+                    count = g.size();
+                }
+            } catch (const std::exception&) {
+                ++failed;
+                continue;
+            }
+            ++loaded;
+            bytes += double(fs::file_size(f));
+            seconds += best;
+            nodes += count;
+        }
+        const double mib = bytes / (1024.0 * 1024.0);
+        std::printf("%zu scenes loaded (%zu failed), %.1f MiB, %zu nodes: best of %d runs each, %.3f s in all, "
+                    "%.1f MiB/s, %.2f us per node\n",
+                    loaded, failed, mib, nodes, runs, seconds, seconds > 0 ? mib / seconds : 0.0,
+                    nodes ? seconds * 1e6 / double(nodes) : 0.0);
+        return loaded ? 0 : 1;
     }
     if (duplicates > 0) {
         const fs::path path = fs::temp_directory_path() / ("pushpin_ma_load_bench_dup" + std::to_string(duplicates) + ".ma");
