@@ -63,12 +63,8 @@ bool Evaluator::computesOutputs(NodeId node) {
     return known == 1;
 }
 
-uint64_t Evaluator::plugHash(NodeId node, std::string_view path) {
-    return util::hashCombine(util::hashBytes(path), uint64_t(node) * 0x9E3779B97F4A7C15ull);
-}
-
 uint32_t Evaluator::findEntry(NodeId node, std::string_view path) const {
-    return m_entryIndex.find(plugHash(node, path), [&](uint32_t e) {
+    return m_entryIndex.find(util::hashIdAndBytes(node, path), [&](uint32_t e) {
         return m_entries[e].node == node && m_entries[e].path == path;
     });
 }
@@ -76,7 +72,7 @@ uint32_t Evaluator::findEntry(NodeId node, std::string_view path) const {
 uint32_t Evaluator::addEntry(NodeId node, std::string path) {
     if (m_entries.size() >= kNoEntry) throw Error("evaluation: more than 4 billion plugs cached");
     const uint32_t e = uint32_t(m_entries.size());
-    m_entryIndex.insert(plugHash(node, path), e);
+    m_entryIndex.insert(util::hashIdAndBytes(node, path), e);
     CacheEntry& entry = m_entries.emplace_back();
     entry.node = node;
     entry.path = std::move(path);

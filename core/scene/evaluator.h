@@ -79,7 +79,6 @@ private:
         std::string path;  // canonical
     };
     static constexpr uint32_t kNoEntry = util::IndexTable::kNone;
-    static uint64_t plugHash(NodeId node, std::string_view path);
     uint32_t findEntry(NodeId node, std::string_view path) const;  // kNoEntry if not cached
     uint32_t addEntry(NodeId node, std::string path);              // a new entry, Evaluating
     void readEntry(const CacheEntry& e, std::vector<double>& out) const;

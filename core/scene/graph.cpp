@@ -40,10 +40,29 @@ void assignDefaults(const AttrSpec& spec, std::vector<double>& out) {
     out.assign(spec.defaults.begin(), spec.defaults.begin() + std::clamp(n, 0, 4));
 }
 
+// The plain value stored in `a`, else the schema default of `spec`; false when there is neither.
+bool storedOrDefault(const AttrData* a, const AttrSpec* spec, std::vector<double>& out) {
+    if (a && a->hasValue)
+        if (auto* nums = std::get_if<Numbers>(&a->value)) {
+            out = nums->values;
+            return true;
+        }
+    if (spec && componentCount(spec->type) > 0) {
+        assignDefaults(*spec, out);
+        return true;
+    }
+    return false;
+}
+
+// The canonical key of a plain attribute name: its long name where the node knows it.
+std::string_view plainKey(const AttrSpec* spec, std::string_view name) {
+    return spec ? std::string_view(spec->longName) : name;
+}
+
 std::vector<double> defaultNumbers(const AttrSpec& spec) {
-    int n = componentCount(spec.type);
-    if (n <= 0) return {};
-    return std::vector<double>(spec.defaults.begin(), spec.defaults.begin() + std::min(n, 4));
+    std::vector<double> out;
+    assignDefaults(spec, out);
+    return out;
 }
 
 }  // namespace
@@ -440,12 +459,6 @@ bool Graph::inSharedRing(const Node& n) const { return n.nextSameName != kNoNode
 
 // ---- siblings by name
 
-namespace {
-uint64_t siblingHash(NodeId parent, std::string_view name) {
-    return util::hashCombine(util::hashBytes(name), uint64_t(parent) * 0x9E3779B97F4A7C15ull);
-}
-}  // namespace
-
 bool Graph::atWorldKey(const Node& n) const {
     return n.parents().empty() || n.underWorld || (n.schema && !n.schema->isDag());
 }
@@ -465,7 +478,7 @@ void Graph::forEachSibling(NodeId parent, std::string_view name, Visit&& visit) 
         if (matches(head)) visit(head);
         return;
     }
-    m_bySibling.forEach(siblingHash(parent, name), matches, visit);
+    m_bySibling.forEach(util::hashIdAndBytes(parent, name), matches, visit);
 }
 
 // Under a 32-bit hash collision between two keys of one node, erasing by entry could take the
@@ -473,15 +486,15 @@ void Graph::forEachSibling(NodeId parent, std::string_view name, Visit&& visit) 
 // missed clash, once in four billion.
 void Graph::indexSiblings(NodeId id) {
     const Node& n = m_nodes[id];
-    if (atWorldKey(n)) m_bySibling.insert(siblingHash(kNoNode, n.name), id);
-    for (NodeId p : n.parents()) m_bySibling.insert(siblingHash(p, n.name), id);
+    if (atWorldKey(n)) m_bySibling.insert(util::hashIdAndBytes(kNoNode, n.name), id);
+    for (NodeId p : n.parents()) m_bySibling.insert(util::hashIdAndBytes(p, n.name), id);
 }
 
 void Graph::unindexSiblings(NodeId id) {
     const Node& n = m_nodes[id];
     auto isId = [&](uint32_t e) { return e == id; };
-    if (atWorldKey(n)) m_bySibling.erase(siblingHash(kNoNode, n.name), isId);
-    for (NodeId p : n.parents()) m_bySibling.erase(siblingHash(p, n.name), isId);
+    if (atWorldKey(n)) m_bySibling.erase(util::hashIdAndBytes(kNoNode, n.name), isId);
+    for (NodeId p : n.parents()) m_bySibling.erase(util::hashIdAndBytes(p, n.name), isId);
 }
 
 void Graph::rename(NodeId id, std::string_view newName) {
@@ -495,7 +508,7 @@ std::string Graph::canonicalPath(NodeId nodeId, const std::vector<PlugSegment>& 
     const Node& n = m_nodes.at(nodeId);
     if (segments.size() == 1 && !segments[0].indexed()) {
         const AttrSpec* spec = n.findAttr(segments[0].name);
-        return spec ? spec->longName : segments[0].name;
+        return std::string(plainKey(spec, segments[0].name));
     }
     std::vector<PlugSegment> out = segments;
     for (PlugSegment& s : out)
@@ -564,7 +577,7 @@ void Graph::setValue(NodeId nodeId, const std::vector<PlugSegment>& segs, Value 
 Plug Graph::canonicalPlug(const Plug& p) const {
     if (isPlainPlugName(p.path)) {
         const AttrSpec* spec = m_nodes.at(p.node).findAttr(p.path);
-        return Plug{p.node, spec ? spec->longName : p.path};
+        return Plug{p.node, std::string(plainKey(spec, p.path))};
     }
     auto segs = parsePlugPath(p.path);
     if (!segs) throw Error("malformed plug '" + util::excerpt(p.path) + "'");
@@ -798,7 +811,7 @@ const AttrData* Graph::findAttr(NodeId node, std::string_view key) const {
 const Value* Graph::value(NodeId node, std::string_view plugPath) const {
     if (isPlainPlugName(plugPath)) {
         const AttrSpec* spec = m_nodes.at(node).findAttr(plugPath);
-        const AttrData* a = findAttr(node, spec ? std::string_view(spec->longName) : plugPath);
+        const AttrData* a = findAttr(node, plainKey(spec, plugPath));
         return a && a->hasValue ? &a->value : nullptr;
     }
     auto segs = parsePlugPath(plugPath);
@@ -822,18 +835,7 @@ bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double
         // Components of numeric compounds (translateX) take the general way below.
         const Node& n = m_nodes.at(nodeId);
         const AttrSpec* spec = n.findAttr(plugPath);
-        if (!spec || spec->component < 0) {
-            if (const AttrData* a = findAttr(nodeId, spec ? std::string_view(spec->longName) : plugPath); a && a->hasValue)
-                if (auto* nums = std::get_if<Numbers>(&a->value)) {
-                    out = nums->values;
-                    return true;
-                }
-            if (spec && componentCount(spec->type) > 0) {
-                assignDefaults(*spec, out);
-                return true;
-            }
-            return false;
-        }
+        if (!spec || spec->component < 0) return storedOrDefault(findAttr(nodeId, plainKey(spec, plugPath)), spec, out);
     }
     auto segs = parsePlugPath(plugPath);
     if (!segs) return false;
@@ -851,11 +853,7 @@ bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double
                 return true;
             }
         }
-        if (spec && componentCount(spec->type) > 0) {
-            assignDefaults(*spec, out);
-            return true;
-        }
-        return false;
+        return storedOrDefault(nullptr, spec, out);  // the element's default
     }
 
     const AttrSpec* parentSpec = spec && spec->component >= 0 ? n.findAttr(spec->parent) : nullptr;
@@ -875,16 +873,7 @@ bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double
             return true;
         }
     }
-    if (const AttrData* a = findAttr(nodeId, canonicalPath(nodeId, *segs)); a && a->hasValue)
-        if (auto* nums = std::get_if<Numbers>(&a->value)) {
-            out = nums->values;
-            return true;
-        }
-    if (spec && componentCount(spec->type) > 0) {
-        assignDefaults(*spec, out);
-        return true;
-    }
-    return false;
+    return storedOrDefault(findAttr(nodeId, canonicalPath(nodeId, *segs)), spec, out);
 }
 
 double Graph::getDouble(NodeId node, std::string_view plugPath, double fallback) const {

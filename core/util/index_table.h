@@ -23,6 +23,10 @@ inline uint64_t hashBytes(std::string_view bytes) { return std::hash<std::string
 inline uint64_t hashCombine(uint64_t a, uint64_t b) {
     return a ^ (b + 0x9E3779B97F4A7C15ull + (a << 12) + (a >> 4));
 }
+// The hash of a key made of a 32-bit id and a string: (node, plug path), (parent, name).
+inline uint64_t hashIdAndBytes(uint32_t id, std::string_view bytes) {
+    return hashCombine(hashBytes(bytes), uint64_t(id) * 0x9E3779B97F4A7C15ull);
+}
 
 class IndexTable {
 public:

@@ -107,6 +107,12 @@ std::string cubeUnder(const std::string& parent) {
 }
 
 void writeFile(const fs::path& p, const std::string& text) { pushpin::test::writeWholeFile(p, text); }
+// Writes a generated scene of hundreds of megabytes and frees the text before pushpin runs, so
+// that the test process does not hold it beside the child.
+void writeAndRelease(const fs::path& p, std::string& text) {
+    writeFile(p, text);
+    std::string().swap(text);
+}
 
 std::vector<std::string> filesIn(const fs::path& dir) {
     std::vector<std::string> out;
@@ -131,9 +137,7 @@ TEST(HostileScene, MillionConnectionChainEvaluatesInLinearTime) {
         text += "connectAttr \"u" + std::to_string(i - 1) + ".o\" \"u" + std::to_string(i) + ".i\";\n";
     text += "connectAttr \"u" + std::to_string(kChain - 1) + ".o\" \"box.tx\";\n";
     text += "// End of hostile.ma\n";
-    writeFile(dir.path / "chain.ma", text);
-    text.clear();
-    text.shrink_to_fit();
+    writeAndRelease(dir.path / "chain.ma", text);
 
     const Outcome o = runPushpin({"--info", "chain.ma"}, dir.path, 30);
     EXPECT_EQ(o.exitCode, 0) << o;
@@ -162,9 +166,7 @@ TEST(HostileScene, MillionDeepDagLoadsReportsAndRenders) {
     }
     text += cubeUnder("t" + std::to_string(kDepth - 1));
     text += "// End of hostile.ma\n";
-    writeFile(dir.path / "deep.ma", text);
-    text.clear();
-    text.shrink_to_fit();
+    writeAndRelease(dir.path / "deep.ma", text);
 
     const Outcome info = runPushpin({"--info", "deep.ma"}, dir.path, 30);
     EXPECT_EQ(info.exitCode, 0) << info;
@@ -219,9 +221,7 @@ TEST(HostileScene, DuplicateNamesRenameInConstantTime) {
     text.reserve(count * line.size() + 4096);
     for (size_t i = 0; i < count; ++i) text += line;
     text += "// End of hostile.ma\n";
-    writeFile(dir.path / "dupes.ma", text);
-    text.clear();
-    text.shrink_to_fit();
+    writeAndRelease(dir.path / "dupes.ma", text);
     const Outcome o = runPushpin({"--info", "dupes.ma"}, dir.path, 60);
     EXPECT_EQ(o.exitCode, 0) << o;
     EXPECT_LT(o.peakMiB, 3072) << o;

@@ -98,8 +98,11 @@ TEST(IndexTable, AgreesWithAMapUnderRandomInsertsAndErases) {
             if (it != live.end()) live.erase(it);
         }
         ASSERT_EQ(t.size(), live.size());
-        if (step % 1000 == 0)
-            for (const auto& [k, e] : live) ASSERT_EQ(t.find(hashBytes(k), matches(k)), e) << step << " " << k;
+        if (step % 1000 == 0) {
+            for (const auto& [k, e] : live) {
+                ASSERT_EQ(t.find(hashBytes(k), matches(k)), e) << step << " " << k;
+            }
+        }
     }
 }
 
