@@ -395,6 +395,8 @@ bool Graph::isAncestorOrSelf(NodeId ancestor, NodeId node) const {
     return false;
 }
 
+void Graph::prefetchName(std::string_view name) const { m_byName.prefetch(util::hashBytes(name)); }
+
 NodeId Graph::firstNamed(std::string_view name) const {
     const uint32_t head = m_byName.find(util::hashBytes(name), [&](uint32_t id) { return m_nodes[id].name == name; });
     return head == util::IndexTable::kNone ? kNoNode : NodeId(head);
@@ -720,8 +722,14 @@ NodeId Graph::find(std::string_view text) const {
 
 std::vector<NodeId> Graph::nodesOfType(std::string_view type, bool derived) const {
     std::vector<NodeId> out;
+    // A modelled type is matched by schema pointer, without comparing each node's type name.
+    if (const NodeSchema* schema = findSchema(type)) {
+        for (const Node& n : m_nodes)
+            if (n.schema == schema || (derived && n.schema && n.schema->isA(schema))) out.push_back(n.id);
+        return out;
+    }
     for (const Node& n : m_nodes)
-        if (n.type == type || (derived && n.schema && n.schema->isA(type))) out.push_back(n.id);
+        if (n.type == type) out.push_back(n.id);
     return out;
 }
 

@@ -250,6 +250,8 @@ public:
     // Finds a node by name or DAG path: "pCube1", "|group1|pCube1", "group1|pCube1", ":lambert1",
     // "ns:name". An ambiguous short DAG name returns the first created. kNoNode if none.
     NodeId find(std::string_view nameOrPath) const;
+    // Starts loading what a later find(name) of a plain name reads first; changes nothing.
+    void prefetchName(std::string_view name) const;
     // The first created node named `name` (exactly) that has `parent` among its DAG parents.
     NodeId childNamed(NodeId parent, std::string_view name) const;
     std::vector<NodeId> nodesOfType(std::string_view type, bool derived = true) const;

@@ -200,7 +200,7 @@ private:
     void setCurrent(NodeId id);
 
     // ---- commands
-    void dispatch(const std::string& command, uint32_t line, uint32_t column);
+    void dispatch(std::string_view command, uint32_t line, uint32_t column);
     void cmdRequires();
     void cmdCurrentUnit();
     void cmdFileInfo();
@@ -403,6 +403,9 @@ std::string Parser::freeName(const std::string& base) {
         if (m_g.find(candidate) == kNoNode) break;
     }
     ++next;
+    // The next rename of this base most likely tries base + next: its lookup, a cache miss in a
+    // large scene, starts now and overlaps the work until then.
+    m_g.prefetchName(base + std::to_string(next));
     return candidate;
 }
 
@@ -515,7 +518,7 @@ void Parser::run() {
     }
 }
 
-void Parser::dispatch(const std::string& c, uint32_t line, uint32_t column) {
+void Parser::dispatch(std::string_view c, uint32_t line, uint32_t column) {
     if (c == "setAttr") return cmdSetAttr();
     if (c == "connectAttr") return cmdConnectAttr(true);
     if (c == "createNode") return cmdCreateNode(line);
@@ -531,8 +534,8 @@ void Parser::dispatch(const std::string& c, uint32_t line, uint32_t column) {
     if (c == "lockNode") return cmdLockNode();
     if (c == "file") return cmdFile();
     // dataStructure, applyMetadata, workspace, MEL procedures…: not part of the graph.
-    if (m_ctx.warnedCommands.insert(c).second)
-        warn(line, column, "command '" + c + "' is not supported; skipped (reported once)");
+    if (m_ctx.warnedCommands.insert(std::string(c)).second)
+        warn(line, column, "command '" + util::excerpt(c) + "' is not supported; skipped (reported once)");
     skipCommand();
 }
 
@@ -562,7 +565,7 @@ void Parser::cmdCurrentUnit() {
     for (size_t i = 0; i < m_argc; ++i) {
         const MaToken& a = m_args[i];
         if (!a.isFlag()) failAt(a, "currentUnit: unexpected argument " + describe(a));
-        const std::string& f = a.text;
+        const std::string_view f = a.text;
         const bool linear = f == "-l" || f == "-linear";
         const bool angle = f == "-a" || f == "-angle";
         const bool time = f == "-t" || f == "-time";
@@ -609,7 +612,7 @@ void Parser::cmdCreateNode(uint32_t line) {
             type = &a;
             continue;
         }
-        const std::string& f = a.text;
+        const std::string_view f = a.text;
         if (f == "-s" || f == "-shared") {
             shared = true;
         } else if (f == "-ss" || f == "-skipSelect") {
@@ -721,12 +724,12 @@ void Parser::cmdFile() {
             path = &a;
             continue;
         }
-        const std::string& f = a.text;
+        const std::string_view f = a.text;
         static const std::unordered_set<std::string> noValue = {
             "-r", "-reference", "-gl", "-groupLocator", "-gr", "-groupReference", "-iv", "-ignoreVersion",
             "-dns", "-defaultNamespace", "-i", "-import", "-o", "-open", "-f", "-force", "-rdi0"};
         if (f == "-r" || f == "-reference") reference = true;
-        if (noValue.count(f)) continue;
+        if (noValue.count(std::string(f))) continue;
         if (i + 1 >= m_argc) failAt(a, "file: flag " + util::excerpt(f) + " needs a value");
         const MaToken& v = m_args[++i];
         if (f == "-rdi" || f == "-referenceDepthInfo") return;  // depth bookkeeping for Maya's UI
@@ -815,7 +818,7 @@ void Parser::cmdConnectAttr(bool connect) {
     for (size_t i = 0; i < m_argc; ++i) {
         const MaToken& a = m_args[i];
         if (a.isFlag()) {
-            const std::string& f = a.text;
+            const std::string_view f = a.text;
             if (f == "-na" || f == "-nextAvailable") {
                 nextAvailable = true;
             } else if (f == "-f" || f == "-force") {
@@ -855,7 +858,7 @@ void Parser::cmdParent() {
             objects.push_back(&a);
             continue;
         }
-        const std::string& f = a.text;
+        const std::string_view f = a.text;
         if (f == "-add" || f == "-addObject") add = true;
         else if (f == "-w" || f == "-world") world = true;
         else if (f == "-rm" || f == "-removeObject") remove = true;
@@ -1034,7 +1037,7 @@ void Parser::cmdAddAttr() {
             targetNode = &a;
             continue;
         }
-        const std::string& f = a.text;
+        const std::string_view f = a.text;
         auto value = [&]() -> const MaToken& {
             if (i + 1 >= m_argc) failAt(a, "addAttr: " + util::excerpt(f) + " needs a value");
             return m_args[++i];

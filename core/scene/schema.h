@@ -50,6 +50,11 @@ public:
     const AttrSpec* find(std::string_view name) const;
     // True if this type is `type` or derives from it (e.g. blinn isA "lambert", mesh isA "dagNode").
     bool isA(std::string_view type) const;
+    bool isA(const NodeSchema* type) const {
+        for (const NodeSchema* s = this; s; s = s->m_base)
+            if (s == type) return true;
+        return false;
+    }
     bool isDag() const { return m_dag; }  // isA("dagNode")
     // Attributes declared on this type (not its bases).
     const std::vector<AttrSpec>& ownAttributes() const { return m_attrs; }
