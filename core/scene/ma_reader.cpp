@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cerrno>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -37,6 +38,15 @@ std::string formatParseError(const std::string& file, uint32_t line, uint32_t co
     return s;
 }
 
+// Text that is not Maya ASCII at all, or a load that must stop: a lexical error (binary bytes, an
+// unterminated string), a statement cut off by the end of the file, a malformed expression, a
+// reference budget crossed. Any other ParseError concerns one statement, which is skipped with
+// a warning while the load goes on, as Maya goes on after a command fails.
+class FatalParseError : public ParseError {
+public:
+    using ParseError::ParseError;
+};
+
 }  // namespace
 
 ParseError::ParseError(std::string file, uint32_t line, uint32_t column, std::string node, const std::string& message)
@@ -44,7 +54,8 @@ ParseError::ParseError(std::string file, uint32_t line, uint32_t column, std::st
       m_file(std::move(file)),
       m_line(line),
       m_column(column),
-      m_node(std::move(node)) {}
+      m_node(std::move(node)),
+      m_message(message) {}
 
 namespace {
 
@@ -98,6 +109,79 @@ bool isRawDataType(std::string_view t) {
     return false;
 }
 
+// The `-type` name of a data-typed attribute whose values are not plain numbers, or nullptr.
+const char* dataTypeName(AttrType type) {
+    switch (type) {
+        case AttrType::PolyFaces: return "polyFaces";
+        case AttrType::Mesh: return "mesh";
+        case AttrType::NurbsCurve: return "nurbsCurve";
+        case AttrType::NurbsSurface: return "nurbsSurface";
+        case AttrType::ComponentList: return "componentList";
+        case AttrType::StringArray: return "stringArray";
+        default: return nullptr;
+    }
+}
+
+// The flags of the commands a .ma file holds, from Maya's command documentation, with the number
+// of arguments each takes in create mode. kBoolArg: a boolean that files may write or omit
+// (`-k true`, `-k`). Commands look their flags up here; a flag that is not listed is skipped with
+// its arguments by their shape (Parser::unknownFlagArgs).
+constexpr int kBoolArg = -1;
+struct FlagSpec {
+    std::string_view shortName, longName;
+    int args;
+};
+constexpr FlagSpec kCreateNodeFlags[] = {
+    {"-n", "-name", 1}, {"-p", "-parent", 1}, {"-s", "-shared", 0}, {"-ss", "-skipSelect", 0}};
+constexpr FlagSpec kSetAttrFlags[] = {
+    {"-av", "-alteredValue", 0}, {"-ca", "-caching", kBoolArg}, {"-ch", "-capacityHint", 1},
+    {"-cb", "-channelBox", kBoolArg}, {"-c", "-clamp", 0}, {"-k", "-keyable", kBoolArg},
+    {"-l", "-lock", kBoolArg}, {"-s", "-size", 1}, {"-typ", "-type", 1}};
+constexpr FlagSpec kAddAttrFlags[] = {
+    {"-at", "-attributeType", 1}, {"-bt", "-binaryTag", 1}, {"-ci", "-cachedInternally", kBoolArg},
+    {"-ct", "-category", 1}, {"-dt", "-dataType", 1}, {"-dv", "-defaultValue", 1},
+    {"-dcb", "-disconnectBehaviour", 1}, {"-en", "-enumName", 1}, {"-ex", "-exists", 0},
+    {"-fp", "-fromPlugin", kBoolArg}, {"-hxv", "-hasMaxValue", kBoolArg}, {"-hnv", "-hasMinValue", kBoolArg},
+    {"-hsx", "-hasSoftMaxValue", kBoolArg}, {"-hsn", "-hasSoftMinValue", kBoolArg}, {"-h", "-hidden", kBoolArg},
+    {"-im", "-indexMatters", kBoolArg}, {"-is", "-internalSet", kBoolArg}, {"-k", "-keyable", kBoolArg},
+    {"-ln", "-longName", 1}, {"-max", "-maxValue", 1}, {"-min", "-minValue", 1}, {"-m", "-multi", 0},
+    {"-nn", "-niceName", 1}, {"-nc", "-numberOfChildren", 1}, {"-p", "-parent", 1}, {"-pxy", "-proxy", 1},
+    {"-r", "-readable", kBoolArg}, {"-sn", "-shortName", 1}, {"-smx", "-softMaxValue", 1},
+    {"-smn", "-softMinValue", 1}, {"-s", "-storable", kBoolArg}, {"-uac", "-usedAsColor", 0},
+    {"-uaf", "-usedAsFilename", 0}, {"-uap", "-usedAsProxy", 0}, {"-w", "-writable", kBoolArg},
+    {"-c", "-cachedInternally", kBoolArg}};
+constexpr FlagSpec kConnectAttrFlags[] = {
+    {"-f", "-force", 0}, {"-l", "-lock", kBoolArg}, {"-na", "-nextAvailable", 0}, {"-rd", "-referenceDest", 1}};
+constexpr FlagSpec kParentFlags[] = {
+    {"-a", "-absolute", 0}, {"-add", "-addObject", 0}, {"-nc", "-noConnections", 0}, {"-nis", "-noInvScale", 0},
+    {"-r", "-relative", 0}, {"-rm", "-removeObject", 0}, {"-s", "-shape", 0}, {"-w", "-world", 0}};
+constexpr FlagSpec kSelectFlags[] = {
+    {"-add", "-add", 0}, {"-af", "-addFirst", 0}, {"-all", "-all", 0}, {"-ado", "-allDagObjects", 0},
+    {"-adn", "-allDependencyNodes", 0}, {"-cl", "-clear", 0}, {"-cc", "-containerCentric", 0},
+    {"-d", "-deselect", 0}, {"-hi", "-hierarchy", 0}, {"-ne", "-noExpand", 0}, {"-r", "-replace", 0},
+    {"-sym", "-symmetry", 0}, {"-sys", "-symmetrySide", 1}, {"-tgl", "-toggle", 0}, {"-vis", "-visible", 0}};
+constexpr FlagSpec kRenameFlags[] = {{"-is", "-ignoreShape", 0}, {"-uid", "-uuid", 0}};
+constexpr FlagSpec kRequiresFlags[] = {{"-nt", "-nodeType", 1}, {"-dt", "-dataType", 1}};
+constexpr FlagSpec kFileFlags[] = {
+    {"-r", "-reference", 0}, {"-rdi", "-referenceDepthInfo", 1}, {"-ns", "-namespace", 1},
+    {"-rfn", "-referenceNode", 1}, {"-dr", "-deferReference", kBoolArg}, {"-rpr", "-renamingPrefix", 1},
+    {"-typ", "-type", 1}, {"-op", "-options", 1}, {"-gl", "-groupLocator", 0}, {"-gr", "-groupReference", 0},
+    {"-gn", "-groupName", 1}, {"-shd", "-sharedNodes", 1}, {"-mnc", "-mergeNamespacesOnClash", kBoolArg},
+    {"-lrd", "-loadReferenceDepth", 1}, {"-iv", "-ignoreVersion", 0}, {"-dns", "-defaultNamespace", 0},
+    {"-i", "-import", 0}, {"-o", "-open", 0}, {"-f", "-force", 0}, {"-pmt", "-prompt", kBoolArg},
+    {"-lck", "-lockReference", 0}, {"-srf", "-sharedReferenceFile", 0}, {"-rnn", "-returnNewNodes", 0},
+    {"-uc", "-usingNamespaces", kBoolArg}, {"-pr", "-preserveReferences", 0}, {"-rdi0", "-rdi0", 0}};
+constexpr FlagSpec kLockNodeFlags[] = {
+    {"-l", "-lock", kBoolArg}, {"-lu", "-lockUnpublished", kBoolArg}, {"-ic", "-ignoreComponents", 0},
+    {"-lockName", "-lockName", kBoolArg}};
+
+template <size_t N>
+const FlagSpec* findFlag(const FlagSpec (&table)[N], std::string_view flag) {
+    for (const FlagSpec& f : table)
+        if (flag == f.shortName || flag == f.longName) return &f;
+    return nullptr;
+}
+
 // Numeric tuple types and their component counts.
 int tupleWidth(std::string_view t) {
     if (t == "double2" || t == "float2" || t == "long2" || t == "short2" || t == "int2") return 2;
@@ -116,6 +200,20 @@ bool isIdentifier(std::string_view w) {
 }
 
 // Maya node names: letters, digits and '_', namespaces separated by ':'; not starting with a digit.
+// A part of a node name: letters, digits and '_', not starting with a digit. Bytes above 0x7F
+// count as letters: files from Maya 2013 and earlier carry names in the system's 8-bit encoding
+// (Latin-1 `St\xfctzen`), newer ones in UTF-8; both are kept byte for byte.
+bool isNamePart(std::string_view w) {
+    if (w.empty()) return false;
+    auto letter = [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || static_cast<unsigned char>(c) >= 0x80;
+    };
+    if (!letter(w.front())) return false;
+    for (char c : w)
+        if (!letter(c) && !(c >= '0' && c <= '9')) return false;
+    return true;
+}
+
 bool isValidNodeName(std::string_view name) {
     if (name.empty()) return false;
     size_t start = 0;
@@ -125,7 +223,7 @@ bool isValidNodeName(std::string_view name) {
         std::string_view part = name.substr(start, colon - start);
         if (part.empty()) {
             if (start != 0) return false;  // a leading ':' means the root namespace
-        } else if (!isIdentifier(part)) {
+        } else if (!isNamePart(part)) {
             return false;
         }
         start = colon + 1;
@@ -139,6 +237,11 @@ struct ReadContext {
     const ReadOptions& options;
     std::set<std::string> warnedCommands;
     std::set<std::string> knownDataTypes;  // from `requires -dataType` and `addAttr -dt`
+    std::set<std::string> skippedDataTypes;  // data types met and not modelled (reported once each)
+    std::set<std::string> unknownFlags;      // "command -flag" met and not known (reported once each)
+    // The -type of typed values given to an element of a multi, by (node, attribute): a later
+    // statement continuing the same multi may omit it.
+    std::map<std::pair<NodeId, std::string>, std::string, std::less<>> elementTypes;
     bool missingReferences = false;
     // Canonical paths of the files being loaded, outermost first: a reference to one of them is a cycle.
     std::vector<std::filesystem::path> loading;
@@ -148,7 +251,11 @@ struct ReadContext {
     std::unordered_map<std::string, uint64_t> nextSuffix;
     uint64_t renamesReported = 0;
     uint64_t renamesUnreported = 0;
+    uint64_t statementsSkipped = 0;  // statements that failed, in this file and its references
 };
+
+// Failed statements reported one by one; past this many, a load reports how many more it skipped.
+constexpr uint64_t kMaxSkipWarnings = 200;
 
 // Renames reported one by one; past this many, a load reports how many more it made.
 constexpr uint64_t kMaxRenameWarnings = 100;
@@ -188,6 +295,28 @@ private:
     // ---- errors and warnings
     [[noreturn]] void fail(uint32_t line, uint32_t column, const std::string& message) const;
     [[noreturn]] void failAt(const MaToken& t, const std::string& message) const { fail(t.line, t.column, message); }
+    // Ends the load: the text is not Maya ASCII here (see FatalParseError).
+    [[noreturn]] void failSyntax(uint32_t line, uint32_t column, const std::string& message) const;
+    [[noreturn]] void failSyntaxAt(const MaToken& t, const std::string& message) const {
+        failSyntax(t.line, t.column, message);
+    }
+    // The number of arguments after the flag at m_args[i], of the collected command `command`:
+    // from `table` for a known flag (a kBoolArg flag takes the next word only if it is a boolean);
+    // else see unknownFlagArgs.
+    template <size_t N>
+    size_t flagArgs(const FlagSpec (&table)[N], std::string_view command, size_t i, size_t needed) {
+        const FlagSpec* f = findFlag(table, m_args[i].text);
+        if (!f) return unknownFlagArgs(command, i, needed);
+        if (f->args != kBoolArg) {
+            if (i + size_t(f->args) >= m_argc) failAt(m_args[i], std::string(command) + ": " + util::excerpt(m_args[i].text) + " needs a value");
+            return size_t(f->args);
+        }
+        bool ignored = false;
+        return i + 1 < m_argc && m_args[i + 1].kind == MaTokenKind::Word && detail::parseMaBool(m_args[i + 1].text, ignored) ? 1 : 0;
+    }
+    size_t unknownFlagArgs(std::string_view command, size_t i, size_t needed);
+    // After a statement failed: warns (the first kMaxSkipWarnings times) and reads to its ';'.
+    void skipFailedStatement(const std::string& command, const ParseError& e);
     void warn(uint32_t line, uint32_t column, const std::string& message);
     std::string describe(const MaToken& t) const;
 
@@ -275,7 +404,7 @@ void Parser::lexNext(MaToken& t) {
     try {
         m_lex.next(t);
     } catch (const MaLexError& e) {
-        fail(e.line, e.column, e.message);
+        failSyntax(e.line, e.column, e.message);
     }
 }
 
@@ -302,7 +431,7 @@ void Parser::appendConcatenation(MaToken& t) {
         if (!m_peek.isWord("+")) return;
         m_hasPeek = false;
         lexNext(m_tmp);
-        if (m_tmp.kind != MaTokenKind::String) failAt(m_tmp, "expected a string after '+', found " + describe(m_tmp));
+        if (m_tmp.kind != MaTokenKind::String) failSyntaxAt(m_tmp, "expected a string after '+', found " + describe(m_tmp));
         t.text += m_tmp.text;
     }
 }
@@ -317,10 +446,10 @@ void Parser::nextArg(MaToken& t) {
         if (t.kind == MaTokenKind::String) {
             appendConcatenation(t);
         } else if (t.kind != MaTokenKind::Word) {
-            failAt(t, "expected a string expression after '(', found " + describe(t));
+            failSyntaxAt(t, "expected a string expression after '(', found " + describe(t));
         }
         rawNext(m_tmp);
-        if (m_tmp.kind != MaTokenKind::RParen) failAt(m_tmp, "expected ')' to close the '(' at line " +
+        if (m_tmp.kind != MaTokenKind::RParen) failSyntaxAt(m_tmp, "expected ')' to close the '(' at line " +
                                                                 std::to_string(line) + ", found " + describe(m_tmp));
         t.line = line;
         t.column = column;
@@ -329,7 +458,7 @@ void Parser::nextArg(MaToken& t) {
 
 bool Parser::atCommandEnd() {
     if (m_tok.kind == MaTokenKind::Semicolon) return true;
-    if (m_tok.kind == MaTokenKind::End) failAt(m_tok, "unexpected end of file: the last command has no ';'");
+    if (m_tok.kind == MaTokenKind::End) failSyntaxAt(m_tok, "unexpected end of file: the last command has no ';'");
     return false;
 }
 
@@ -353,6 +482,48 @@ void Parser::skipCommand() {
 
 void Parser::fail(uint32_t line, uint32_t column, const std::string& message) const {
     throw ParseError(m_file, line, column, errorNodeName(), message);
+}
+
+void Parser::failSyntax(uint32_t line, uint32_t column, const std::string& message) const {
+    throw FatalParseError(m_file, line, column, errorNodeName(), message);
+}
+
+// A flag the command table does not list: warned once per command and flag, and skipped with the
+// arguments its following tokens look like. Numbers and booleans are its arguments; one name or
+// string is, only when enough non-flag tokens remain after it for the `needed` positional
+// arguments the command has yet to see, so that an unknown flag never takes the node or plug.
+size_t Parser::unknownFlagArgs(std::string_view command, size_t i, size_t needed) {
+    const MaToken& flag = m_args[i];
+    const std::string key = std::string(command) + " " + util::excerpt(flag.text);
+    if (m_ctx.unknownFlags.size() < kMaxSkipWarnings && m_ctx.unknownFlags.insert(key).second)
+        warn(flag.line, flag.column, std::string(command) + ": unknown flag " + util::excerpt(flag.text) +
+                                         " is skipped with its arguments (reported once)");
+    size_t n = 0;
+    for (size_t j = i + 1; j < m_argc && !m_args[j].isFlag(); ++j) {
+        const MaToken& t = m_args[j];
+        if (t.kind == MaTokenKind::Word &&
+            detail::parseMaNumber(t.text, UnitKind::None, m_units).status != MaNumberStatus::NotANumber) {
+            ++n;
+            continue;
+        }
+        size_t after = 0;
+        for (size_t k = j + 1; k < m_argc; ++k)
+            if (!m_args[k].isFlag()) ++after;
+        if (n == 0 && after >= needed) n = 1;
+        break;
+    }
+    return n;
+}
+
+void Parser::skipFailedStatement(const std::string& command, const ParseError& e) {
+    if (m_ctx.statementsSkipped++ < kMaxSkipWarnings)
+        m_g.warn(Diagnostic{e.file(), e.line(), e.column(), e.node(), e.message() + "; the statement is skipped"});
+    if (command == "createNode") {
+        // Statements that follow edit the node that was not made: they go with it, quietly.
+        m_current = kNoNode;
+        m_currentMissing = true;
+    }
+    while (!atCommandEnd()) rawNext(m_tok);
 }
 
 void Parser::warn(uint32_t line, uint32_t column, const std::string& message) {
@@ -503,17 +674,19 @@ void Parser::run() {
         }
         if (m_tok.kind == MaTokenKind::Semicolon) continue;
         if (m_tok.kind != MaTokenKind::Word || !isIdentifier(m_tok.text))
-            failAt(m_tok, "expected a command, found " + describe(m_tok));
+            failSyntaxAt(m_tok, "expected a command, found " + describe(m_tok));
         const std::string command = m_tok.text;
         const uint32_t line = m_tok.line, column = m_tok.column;
         setErrorNode(m_current);
         try {
             dispatch(command, line, column);
-        } catch (const ParseError&) {
+        } catch (const FatalParseError&) {
             throw;
+        } catch (const ParseError& e) {
+            skipFailedStatement(command, e);
         } catch (const Error& e) {
             // The Graph refused an operation (name clash, cycle…): report it where the command starts.
-            fail(line, column, command + ": " + e.what());
+            skipFailedStatement(command, ParseError(m_file, line, column, errorNodeName(), command + ": " + e.what()));
         }
     }
 }
@@ -547,9 +720,9 @@ void Parser::cmdRequires() {
     for (size_t i = 0; i < m_argc; ++i) {
         const MaToken& a = m_args[i];
         if (a.isFlag()) {
-            if (i + 1 >= m_argc) failAt(a, "requires: flag " + util::excerpt(a.text) + " needs a value");
-            const MaToken& v = m_args[++i];
-            if (a.text == "-dataType" || a.text == "-dt") m_ctx.knownDataTypes.insert(v.text);
+            const size_t n = flagArgs(kRequiresFlags, "requires", i, positional.empty() ? 1 : 0);
+            if ((a.text == "-dataType" || a.text == "-dt") && n == 1) m_ctx.knownDataTypes.insert(m_args[i + 1].text);
+            i += n;
             continue;
         }
         positional.push_back(a.text);
@@ -615,12 +788,11 @@ void Parser::cmdCreateNode(uint32_t line) {
         const std::string_view f = a.text;
         if (f == "-s" || f == "-shared") {
             shared = true;
-        } else if (f == "-ss" || f == "-skipSelect") {
         } else if (f == "-n" || f == "-name" || f == "-p" || f == "-parent") {
             if (i + 1 >= m_argc || m_args[i + 1].isFlag()) failAt(a, "createNode: " + util::excerpt(f) + " needs a value");
             (f[1] == 'n' ? name : parent) = &m_args[++i];
         } else {
-            failAt(a, "createNode: unknown flag " + util::excerpt(f));
+            i += flagArgs(kCreateNodeFlags, "createNode", i, type ? 0 : 1);
         }
     }
     if (!type) failAt(m_tok, "createNode: no node type given");
@@ -686,10 +858,9 @@ void Parser::cmdRename() {
     for (size_t i = 0; i < m_argc; ++i) {
         const MaToken& a = m_args[i];
         if (a.text == "-uid" || a.text == "-uuid") {
-            uid = true;  // node UUIDs (Maya 2016+) carry nothing pushpin uses
-            ++i;
+            uid = true;  // the name given is the node's UUID (Maya 2016+), which pushpin does not use
         } else if (a.isFlag()) {
-            // -is/-ignoreShape: no value.
+            i += flagArgs(kRenameFlags, "rename", i, positional.empty() ? 1 : 0);
         } else {
             positional.push_back(&a);
         }
@@ -725,17 +896,16 @@ void Parser::cmdFile() {
             continue;
         }
         const std::string_view f = a.text;
-        static const std::unordered_set<std::string> noValue = {
-            "-r", "-reference", "-gl", "-groupLocator", "-gr", "-groupReference", "-iv", "-ignoreVersion",
-            "-dns", "-defaultNamespace", "-i", "-import", "-o", "-open", "-f", "-force", "-rdi0"};
         if (f == "-r" || f == "-reference") reference = true;
-        if (noValue.count(std::string(f))) continue;
-        if (i + 1 >= m_argc) failAt(a, "file: flag " + util::excerpt(f) + " needs a value");
-        const MaToken& v = m_args[++i];
         if (f == "-rdi" || f == "-referenceDepthInfo") return;  // depth bookkeeping for Maya's UI
-        if (f == "-ns" || f == "-namespace") ns = v.text;
-        else if (f == "-typ" || f == "-type") type = v.text;
-        else if (f == "-rpr" || f == "-renamingPrefix") renamingPrefix = v.text;
+        const size_t n = flagArgs(kFileFlags, "file", i, path ? 0 : 1);
+        if (n == 1) {
+            const MaToken& v = m_args[i + 1];
+            if (f == "-ns" || f == "-namespace") ns = v.text;
+            else if (f == "-typ" || f == "-type") type = v.text;
+            else if (f == "-rpr" || f == "-renamingPrefix") renamingPrefix = v.text;
+        }
+        i += n;
     }
     if (!reference) {
         if (m_ctx.warnedCommands.insert("file").second)
@@ -785,11 +955,11 @@ void Parser::loadReference(const std::string& pathText, const std::string& ns, c
     }
     const uint64_t size = fs::file_size(found, ec);
     if (m_ctx.referencesLoaded + 1 > m_ctx.options.maxReferences)
-        fail(line, column, "reference \"" + util::excerpt(pathText) + "\": more than " +
+        failSyntax(line, column, "reference \"" + util::excerpt(pathText) + "\": more than " +
                                std::to_string(m_ctx.options.maxReferences) +
                                " references loaded in this scene (ReadOptions::maxReferences); the load stops here");
     if (!ec && size > m_ctx.options.maxReferenceBytes - std::min(m_ctx.referenceBytes, m_ctx.options.maxReferenceBytes))
-        fail(line, column, "reference \"" + util::excerpt(pathText) + "\": the referenced files would exceed " +
+        failSyntax(line, column, "reference \"" + util::excerpt(pathText) + "\": the referenced files would exceed " +
                                std::to_string(m_ctx.options.maxReferenceBytes) +
                                " bytes in this scene (ReadOptions::maxReferenceBytes); the load stops here");
     std::ifstream in(found, std::ios::binary);
@@ -819,14 +989,8 @@ void Parser::cmdConnectAttr(bool connect) {
         const MaToken& a = m_args[i];
         if (a.isFlag()) {
             const std::string_view f = a.text;
-            if (f == "-na" || f == "-nextAvailable") {
-                nextAvailable = true;
-            } else if (f == "-f" || f == "-force") {
-            } else if (f == "-l" || f == "-lock" || f == "-rd" || f == "-referenceDest") {
-                if (i + 1 < m_argc && m_args[i + 1].kind == MaTokenKind::Word && !m_args[i + 1].isFlag()) ++i;
-            } else {
-                failAt(a, std::string(cmd) + ": unknown flag " + util::excerpt(f));
-            }
+            if (f == "-na" || f == "-nextAvailable") nextAvailable = true;
+            else i += flagArgs(kConnectAttrFlags, cmd, i, size_t(2 - std::min(count, 2)));
             continue;
         }
         if (count == 2) failAt(a, std::string(cmd) + ": more than two plugs");
@@ -862,11 +1026,7 @@ void Parser::cmdParent() {
         if (f == "-add" || f == "-addObject") add = true;
         else if (f == "-w" || f == "-world") world = true;
         else if (f == "-rm" || f == "-removeObject") remove = true;
-        else if (f == "-s" || f == "-shape" || f == "-nc" || f == "-noConnections" || f == "-r" || f == "-relative" ||
-                 f == "-a" || f == "-absolute" || f == "-nis" || f == "-noInvScale") {
-        } else {
-            failAt(a, "parent: unknown flag " + util::excerpt(f));
-        }
+        else i += flagArgs(kParentFlags, "parent", i, objects.size() < 2 ? 2 - objects.size() : 0);
     }
     if (remove) {
         warn(m_tok.line, m_tok.column, "parent -rm (remove instance) is not supported; skipped");
@@ -913,7 +1073,8 @@ void Parser::cmdSelect() {
         const MaToken& a = m_args[i];
         if (a.isFlag()) {
             if (a.text == "-cl" || a.text == "-clear") clear = true;
-            continue;  // -ne/-noExpand, -r/-replace, -add, -d … take no value
+            else i += flagArgs(kSelectFlags, "select", i, first ? 0 : 1);
+            continue;
         }
         if (!first) first = &a;
     }
@@ -1079,9 +1240,8 @@ void Parser::cmdAddAttr() {
                    f == "-ct" || f == "-category") {
             value();
         } else {
-            // Boolean options (-ci, -k, -h, -is, -im, -r, -w, -s, …): the value is optional.
-            bool ignored = false;
-            if (i + 1 < m_argc && detail::parseMaBool(m_args[i + 1].text, ignored)) ++i;
+            // Boolean options (-ci, -k, -h, -is, -im, -r, -w, -s, …) and flags pushpin has no use for.
+            i += flagArgs(kAddAttrFlags, "addAttr", i, 0);
         }
     }
     if (spec.longName.empty()) spec.longName = spec.shortName;
@@ -1366,7 +1526,15 @@ void Parser::cmdSetAttr() {
             advance();
         } else {
             if (afterPlug) return false;  // after the plug an unknown `-word` is a value (and fails as one)
-            fail(flagLine, flagColumn, "setAttr: unknown flag " + util::excerpt(f));
+            // Before the plug: skipped with the numbers and booleans that follow it; the plug, a
+            // string, is never its argument.
+            const std::string key = "setAttr " + util::excerpt(f);
+            if (m_ctx.unknownFlags.size() < kMaxSkipWarnings && m_ctx.unknownFlags.insert(key).second)
+                warn(flagLine, flagColumn, "setAttr: unknown flag " + util::excerpt(f) + " is skipped with its arguments (reported once)");
+            advance();
+            while (m_tok.kind == MaTokenKind::Word && !m_tok.isFlag() &&
+                   detail::parseMaNumber(m_tok.text, UnitKind::None, m_units).status != MaNumberStatus::NotANumber)
+                advance();
         }
         return true;
     };
@@ -1403,6 +1571,23 @@ void Parser::cmdSetAttr() {
         if (locked >= 0) data.locked = locked == 1;
     }
     if (m_tok.kind == MaTokenKind::Semicolon && !hasType) return;  // flags only
+
+    if (hasType && last.indexed() && !tupleWidth(type) && type != "string")
+        m_ctx.elementTypes[{target.node, last.name}] = type;
+    if (!hasType && m_tok.kind == MaTokenKind::Word &&
+        detail::parseMaNumber(m_tok.text, unit, m_units).status == detail::MaNumberStatus::NotANumber) {
+        // Typed values continued in a statement that omits -type: Maya splits long polyFaces runs
+        // (`.fc[0:499]` -type "polyFaces" …, then `.fc[500:999]` f 4 …). The type is the schema's,
+        // else the one an earlier element of the multi named.
+        if (const char* t = spec ? dataTypeName(spec->type) : nullptr) {
+            type = t;
+            hasType = true;
+        } else if (auto it = m_ctx.elementTypes.find(std::pair<NodeId, std::string>(target.node, last.name));
+                   it != m_ctx.elementTypes.end()) {
+            type = it->second;
+            hasType = true;
+        }
+    }
 
     auto countMismatch = [&](size_t got, int64_t expected, const std::string& what) {
         fail(valueLine, valueColumn, "setAttr \"" + util::excerpt(plug.text) + "\": " + what + " needs " + std::to_string(expected) +
@@ -1502,7 +1687,13 @@ void Parser::cmdSetAttr() {
     } else if (isRawDataType(type) || m_ctx.knownDataTypes.count(type)) {
         value = readRawData(type);
     } else {
-        fail(plug.line, plug.column, "setAttr: unknown data type \"" + type + "\"");
+        // A data type pushpin does not model (subdivision-surface data, plug-in types…): its values
+        // are skipped by their tokens, with one warning per type.
+        if (m_ctx.skippedDataTypes.size() < kMaxSkipWarnings && m_ctx.skippedDataTypes.insert(type).second)
+            warn(plug.line, plug.column, "setAttr: data type \"" + util::excerpt(type) +
+                                             "\" is not modelled; its values are skipped (reported once per type)");
+        while (!atCommandEnd()) rawNext(m_tok);
+        return;
     }
     m_g.setValue(target.node, segs, std::move(value));
 }
@@ -1523,6 +1714,10 @@ Graph readWith(MaLexer& lex, const std::string& name, const ReadOptions& options
     ctx.loading.push_back(ec ? std::filesystem::path(name) : canonical);
     Parser parser(ctx, lex, name, dir, std::string(), 0, totalBytes);
     parser.run();
+    if (ctx.statementsSkipped > kMaxSkipWarnings)
+        g.warn(Diagnostic{name, 0, 0, {},
+                          std::to_string(ctx.statementsSkipped - kMaxSkipWarnings) +
+                              " more statements failed and were skipped (not listed one by one)"});
     if (ctx.renamesUnreported > 0)
         g.warn(Diagnostic{name, 0, 0, {},
                           std::to_string(ctx.renamesUnreported) + " more nodes were renamed because their names were "

@@ -24,11 +24,13 @@ public:
     uint32_t line() const { return m_line; }
     uint32_t column() const { return m_column; }
     const std::string& node() const { return m_node; }
+    const std::string& message() const { return m_message; }  // without the position and node
 
 private:
     std::string m_file;
     uint32_t m_line, m_column;
     std::string m_node;
+    std::string m_message;
 };
 
 // How a load treats references (`file -r`). A reference to a file that is already being loaded

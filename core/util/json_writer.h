@@ -119,10 +119,14 @@ private:
         for (size_t i = 0; i < s.size(); ++i) {
             unsigned char c = static_cast<unsigned char>(s[i]);
             if (c >= 0x80) {
-                // Pass valid UTF-8 through; replace anything else so the document stays valid.
+                // Valid UTF-8 passes through. Any other byte (names in 8-bit legacy encodings,
+                // Latin-1 in older Maya files) is escaped as the Latin-1 character it would be,
+                // so the document stays valid and the byte can be told from any other.
                 size_t n = utf8Length(s, i);
                 if (n == 0) {
-                    m_out += "\ufffd";
+                    char buf[8];
+                    std::snprintf(buf, sizeof buf, "\\u%04x", c);
+                    m_out += buf;
                 } else {
                     m_out.append(s.substr(i, n));
                     i += n - 1;

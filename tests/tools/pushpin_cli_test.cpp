@@ -194,7 +194,7 @@ TEST(PushpinCli, MissingFileExitsOneNamingThePath) {
 }
 
 TEST(PushpinCli, MalformedFileGivesOneLineWithFileLineAndColumn) {
-    fs::path file = writeFile("bad.ma", "//Maya ASCII 2018 scene\ncreateNode transform -n \"a\";\n\tsetAttr \".t\" -type \"double3\" 1 2;\n");
+    fs::path file = writeFile("bad.ma", "//Maya ASCII 2018 scene\ncreateNode transform -n \"a\";\n\tsetAttr \".n\" -type \"string\" \"1 2;\n");
     CliRun r = runPushpin("--info '" + file.string() + "'");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_EQ(r.err.rfind("Error: " + file.string() + ":3:", 0), 0u) << r.err;
@@ -333,7 +333,8 @@ TEST(PushpinCli, BadRenderFlagsAreNamedAndWriteNothing) {
     CliRun cam = runPushpin("--demo -cam nosuchcamera -rd '" + dir.string() + "'");
     EXPECT_EQ(cam.exitCode, 1);  // the scene has no such camera
     EXPECT_NE(cam.err.find("nosuchcamera"), std::string::npos) << cam.err;
-    fs::path bad = writeFile("broken.ma", "//Maya ASCII 2018 scene\ncreateNode mesh -n \"m\";\n\tsetAttr \".vt[0]\" -type \"float3\" 1 2;\n");
+    // A statement cut off by the end of the file: the scene is broken, nothing is rendered.
+    fs::path bad = writeFile("broken.ma", "//Maya ASCII 2018 scene\ncreateNode mesh -n \"m\";\n\tsetAttr \".vt[0]\" -type \"float3\" 1 2");
     CliRun malformed = runPushpin("-rd '" + dir.string() + "' '" + bad.string() + "'");
     EXPECT_EQ(malformed.exitCode, 1);
     EXPECT_NE(malformed.err.find("broken.ma:3:"), std::string::npos) << malformed.err;

@@ -143,8 +143,13 @@ createNode transform -n "a";
     expectValues(numbersOf(g, "a", "rotate"), {std::numbers::pi / 2, 1, 0});
 }
 
-TEST(MaReader, UnknownUnitIsAnError) {
-    EXPECT_THROW(read("currentUnit -l parsec;\n"), ParseError);
+// An unknown unit is a failed command: it is skipped with a warning and the file's units stay.
+TEST(MaReader, UnknownUnitIsSkippedWithAWarning) {
+    Graph g = read("currentUnit -l parsec;\ncurrentUnit -a radian;\n");
+    ASSERT_EQ(g.warnings().size(), 1u);
+    EXPECT_NE(g.warnings()[0].message.find("unknown linear unit 'parsec'"), std::string::npos);
+    EXPECT_DOUBLE_EQ(g.units.cmPerLinearUnit, 1.0);
+    EXPECT_DOUBLE_EQ(g.units.radiansPerAngleUnit, 1.0);
 }
 
 // ------------------------------------------------------------------ createNode
@@ -1004,6 +1009,100 @@ TEST(MaReader, CorpusLongFlagFileAndNurbs) {
             ++surfaces;
         }
     EXPECT_GT(surfaces, 0);
+}
+
+// ------------------------------------------------------------------ what Maya writes and pushpin tolerates
+
+const PolyFaces* polyFacesAt(const Graph& g, std::string_view node, std::string_view plug) {
+    const Value* v = g.value(findNode(g, node), plug);
+    auto* pf = v ? std::get_if<std::shared_ptr<const PolyFaces>>(v) : nullptr;
+    return pf && *pf ? pf->get() : nullptr;
+}
+
+// Maya splits a long polyFaces run over several statements and names the type only in the first;
+// the type of the rest comes from the schema (a mesh's .fc) or from the earlier element.
+TEST(MaReaderTolerance, TypedValuesContinuedWithoutTheirType) {
+    Graph g = read(R"(createNode mesh -n "m";
+	setAttr -s 3 ".fc[0:1]" -type "polyFaces"
+		f 3 0 1 2
+		f 3 2 3 4;
+	setAttr ".fc[2]"
+		f 3 4 5 6
+		mu 0 3 0 1 2;
+createNode unknownThing -n "u";
+	setAttr ".zz[0]" -type "polyFaces" f 3 0 1 2;
+	setAttr ".zz[1]" f 4 0 1 2 3;
+)");
+    EXPECT_TRUE(g.warnings().empty()) << g.warnings()[0].message;
+    const PolyFaces* first = polyFacesAt(g, "m", "face[0]");
+    const PolyFaces* later = polyFacesAt(g, "m", "face[2]");
+    ASSERT_NE(first, nullptr);
+    ASSERT_NE(later, nullptr);
+    EXPECT_EQ(first->faces.size(), 2u);
+    ASSERT_EQ(later->faces.size(), 1u);
+    EXPECT_EQ(later->faces[0].outer.edges, (std::vector<int32_t>{4, 5, 6}));
+    const PolyFaces* unknown = polyFacesAt(g, "u", "zz[1]");
+    ASSERT_NE(unknown, nullptr);
+    EXPECT_EQ(unknown->faces[0].outer.edges.size(), 4u);
+}
+
+// Data types pushpin does not model are skipped by their tokens, one warning per type.
+TEST(MaReaderTolerance, UnmodelledDataTypesAreSkippedOncePerType) {
+    Graph g = read(R"(createNode subdiv -n "s";
+	setAttr ".ecr" -type "subdivEdgeCrease" 0 0;
+	setAttr ".vcr" -type "subdivEdgeCrease" 2 0 1 "x" { 1, 2 };
+	setAttr ".tx" 4;
+)");
+    ASSERT_EQ(g.warnings().size(), 1u);
+    const Diagnostic& w = g.warnings()[0];
+    EXPECT_EQ(w.line, 2u);
+    EXPECT_EQ(w.node, "s");
+    EXPECT_NE(w.message.find("\"subdivEdgeCrease\" is not modelled"), std::string::npos) << w.message;
+    EXPECT_EQ(g.value(findNode(g, "s"), "ecr"), nullptr);
+}
+
+// A flag the command table does not know is skipped with the arguments its tokens look like, and
+// never takes the node, the type or a plug.
+TEST(MaReaderTolerance, UnknownFlagsNeverTakeTheNodeOrPlug) {
+    Graph g = read(R"(createNode transform -zz 3 -n "a";
+createNode -yy "big" transform -n "b";
+	addAttr -ci true -qq "mtoa" -sn "ex" -ln "extra" -at "double";
+	setAttr -ww 5 ".tx" 2;
+connectAttr -vv "a.tx" "b.ty";
+connectAttr "a.ty" "b.tz" -uu "x";
+select -pp "a";
+	setAttr ".sx" 3;
+)");
+    const NodeId a = findNode(g, "a"), b = findNode(g, "b");
+    ASSERT_NE(a, kNoNode);
+    ASSERT_NE(b, kNoNode);
+    EXPECT_EQ(g.node(b).type, "transform");
+    EXPECT_NE(g.node(b).findAttr("extra"), nullptr);
+    EXPECT_DOUBLE_EQ(g.getDouble(b, "translateX"), 2.0);
+    EXPECT_DOUBLE_EQ(g.getDouble(a, "scaleX"), 3.0);
+    EXPECT_TRUE(g.source(b, "translateY").has_value());
+    EXPECT_TRUE(g.source(b, "translateZ").has_value());
+    // One warning per unknown flag, each at the flag.
+    std::vector<std::string> flags;
+    for (const Diagnostic& d : g.warnings()) flags.push_back(d.message.substr(0, d.message.find(" is skipped")));
+    EXPECT_EQ(flags, (std::vector<std::string>{"createNode: unknown flag -zz", "createNode: unknown flag -yy",
+                                               "addAttr: unknown flag -qq", "setAttr: unknown flag -ww",
+                                               "connectAttr: unknown flag -vv", "connectAttr: unknown flag -uu",
+                                               "select: unknown flag -pp"}));
+    EXPECT_EQ(g.warnings()[0].line, 1u);
+    EXPECT_EQ(g.warnings()[0].column, 22u);
+}
+
+// Files from Maya 2013 and earlier carry names in the system's 8-bit encoding: kept byte for byte.
+TEST(MaReaderTolerance, Latin1NamesAreKeptByteForByte) {
+    Graph g = read("createNode transform -n \"St\xfctzen\";\ncreateNode mesh -n \"St\xfctzenShape\" -p \"St\xfctzen\";\n"
+                   "createNode transform -n \"Gr\xc3\xb6\xc3\x9f" "e\";\n");
+    EXPECT_TRUE(g.warnings().empty());
+    const NodeId t = findNode(g, "St\xfctzen");
+    ASSERT_NE(t, kNoNode);
+    EXPECT_EQ(g.node(t).name, "St\xfctzen");
+    EXPECT_NE(g.find("|St\xfctzen|St\xfctzenShape"), kNoNode);
+    EXPECT_NE(g.find("Gr\xc3\xb6\xc3\x9f" "e"), kNoNode);
 }
 
 }  // namespace
