@@ -325,7 +325,9 @@ private:
     NodeId lookupNode(std::string_view name, uint32_t line, uint32_t column, bool* tolerated);
     std::string freeName(const std::string& base);
     void nameFreed(const std::string& name);
-    bool resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out);
+    // midRange: a range may also stand before the last segment (`.wl[0:7].w`, setAttr only).
+    bool resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out, bool midRange = false);
+    void setAcrossMidRange(const MaToken& plug, ResolvedPlug& target, size_t range, UnitKind unit, double factor);
     void setCurrent(NodeId id);
 
     // ---- commands
@@ -596,6 +598,20 @@ NodeId Parser::lookupNode(std::string_view name, uint32_t line, uint32_t column,
     const std::string full = qualify(name);
     NodeId id = m_g.find(full);
     if (id != kNoNode) return id;
+    if (const size_t arrow = full.find("->"); arrow != std::string::npos) {
+        // An underworld path, `|curve1|curveShape1->|projectionCurve18`: the nodes below the arrow
+        // live under the shape's own DAG (curves on a surface, projections), found child by child.
+        id = m_g.find(std::string_view(full).substr(0, arrow));
+        std::string_view rest = std::string_view(full).substr(arrow + 2);
+        while (id != kNoNode && !rest.empty()) {
+            const size_t bar = rest.find('|');
+            std::string_view part = rest.substr(0, bar);
+            if (part.size() >= 2 && part.substr(part.size() - 2) == "->") part.remove_suffix(2);  // a deeper underworld
+            if (!part.empty()) id = m_g.childNamed(id, part);
+            rest = bar == std::string_view::npos ? std::string_view() : rest.substr(bar + 1);
+        }
+        if (id != kNoNode) return id;
+    }
     if (name.size() > 1 && name.front() == ':' && name.find('|') == std::string_view::npos &&
         isValidNodeName(name.substr(1))) {
         std::string_view bare = name.substr(1);
@@ -613,7 +629,7 @@ NodeId Parser::lookupNode(std::string_view name, uint32_t line, uint32_t column,
 }
 
 // Splits "node.attr[1].child" / ".attr" into node and attribute path.
-bool Parser::resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out) {
+bool Parser::resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out, bool midRange) {
     if (t.kind != MaTokenKind::String && t.kind != MaTokenKind::Word)
         failAt(t, "expected a plug (\"node.attribute\"), found " + describe(t));
     std::string_view text = t.text;
@@ -629,8 +645,8 @@ bool Parser::resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out) 
             const PlugSegment& s = (*segs)[i];
             if (!s.indexed()) continue;
             if (s.last > kMaxIndex) failAt(t, "index out of range in plug \"" + util::excerpt(t.text) + "\"");
-            if (s.last != s.first && i + 1 != segs->size())
-                failAt(t, "malformed plug \"" + util::excerpt(t.text) + "\": a range may only end the path");
+            if (s.last != s.first && i + 1 != segs->size() && (!midRange || i + 2 != segs->size() || segs->back().indexed()))
+                failAt(t, "malformed plug \"" + util::excerpt(t.text) + "\": a range may only end the path or the parent of its last attribute");
         }
         out.segments = std::move(*segs);
     }
@@ -1483,6 +1499,61 @@ Value Parser::readRawData(const std::string& type) {
     return raw;
 }
 
+// `.wl[0:7].w` n0 i v … n1 i v …: a range of compound elements, each given its child multi as a
+// count and that many (index, value) pairs, the way Maya writes skin weights. Values that do
+// not read that way are spread evenly over the elements (`.uvst[0:1].uvsp` …).
+void Parser::setAcrossMidRange(const MaToken& plug, ResolvedPlug& target, size_t range, UnitKind unit, double factor) {
+    // Read without units so that counts and indices stay whole; values are scaled when stored.
+    std::vector<double> values;
+    readNumbersUntilEnd(values, UnitKind::None, 1.0);
+    if (unit != UnitKind::Distance && unit != UnitKind::Angle) factor = 1.0;
+    const PlugSegment spanned = target.segments[range];
+    const size_t elements = size_t(spanned.last - spanned.first + 1);
+    auto isIndex = [](double v) { return v >= 0 && v <= double(kMaxIndex) && v == std::trunc(v); };
+    // The sparse form: every element's count and pairs use up the values exactly.
+    bool sparse = true;
+    size_t pos = 0;
+    for (size_t e = 0; e < elements && sparse; ++e) {
+        if (pos >= values.size() || !isIndex(values[pos])) {
+            sparse = false;
+            break;
+        }
+        const size_t n = size_t(values[pos]);
+        if (n > (values.size() - pos - 1) / 2) {
+            sparse = false;
+            break;
+        }
+        for (size_t k = 0; k < n && sparse; ++k) sparse = isIndex(values[pos + 1 + 2 * k]);
+        pos += 1 + 2 * n;
+    }
+    std::vector<PlugSegment> one = target.segments;
+    if (sparse && pos == values.size()) {
+        pos = 0;
+        for (size_t i = 0; i < elements; ++i) {
+            const size_t n = size_t(values[pos++]);
+            one[range].first = one[range].last = spanned.first + int64_t(i);
+            for (size_t k = 0; k < n; ++k, pos += 2) {
+                one.back().first = one.back().last = int64_t(values[pos]);
+                Numbers v;
+                v.values.push_back(values[pos + 1] * factor);
+                m_g.setValue(target.node, one, std::move(v));
+            }
+        }
+        return;
+    }
+    if (values.empty() || values.size() % elements != 0)
+        failAt(plug, "setAttr \"" + util::excerpt(plug.text) + "\": " + std::to_string(values.size()) +
+                         " values fit neither counted (index, value) pairs nor an even share for each of the " +
+                         std::to_string(elements) + " elements");
+    const size_t width = values.size() / elements;
+    for (size_t i = 0; i < elements; ++i) {
+        one[range].first = one[range].last = spanned.first + int64_t(i);
+        Numbers v;
+        for (size_t k = 0; k < width; ++k) v.values.push_back(values[i * width + k] * factor);
+        m_g.setValue(target.node, one, std::move(v));
+    }
+}
+
 void Parser::cmdSetAttr() {
     int64_t sizeHint = -1;
     int keyable = -1, locked = -1;
@@ -1548,9 +1619,18 @@ void Parser::cmdSetAttr() {
     while (flag()) {}
 
     ResolvedPlug target;
-    if (!resolvePlug(plug, true, target)) {
+    if (!resolvePlug(plug, true, target, !hasType)) {
         while (!atCommandEnd()) rawNext(m_tok);
         return;
+    }
+    if (target.segments.size() >= 2) {
+        const PlugSegment& parent = target.segments[target.segments.size() - 2];
+        if (parent.indexed() && parent.last != parent.first) {
+            const AttrSpec* spec = m_g.node(target.node).findAttr(target.segments.back().name);
+            const UnitKind unit = spec ? spec->unit : UnitKind::None;
+            const double factor = (unit == UnitKind::Distance || unit == UnitKind::Angle) ? toInternal(unit, m_units) : 1.0;
+            return setAcrossMidRange(plug, target, target.segments.size() - 2, unit, factor);
+        }
     }
     std::vector<PlugSegment>& segs = target.segments;
     const PlugSegment& last = segs.back();

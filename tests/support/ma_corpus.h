@@ -24,6 +24,21 @@ inline std::vector<std::filesystem::path> maCorpusFiles() {
     return files;
 }
 
+// The folder of real scenes laid out as their authors' projects, beside the corpus folder.
+inline std::filesystem::path maProjectsDir() { return maCorpusDir().parent_path() / "ma-projects"; }
+
+// Every real .ma scene: the corpus folder's and every one found under the projects folder, sorted.
+inline std::vector<std::filesystem::path> realSceneFiles() {
+    std::vector<std::filesystem::path> files = maCorpusFiles();
+    std::error_code ec;
+    if (std::filesystem::is_directory(maProjectsDir(), ec))
+        for (auto it = std::filesystem::recursive_directory_iterator(maProjectsDir(), ec);
+             !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec))
+            if (it->is_regular_file(ec) && it->path().extension() == ".ma") files.push_back(it->path());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
 }  // namespace pushpin::test
 
 // Skips the current test, naming the folder, when the corpus is absent.

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -172,17 +173,79 @@ TEST(PushpinCli, PrintedDemoReadsBackTheSame) {
     EXPECT_EQ(strip(fromFile.out), strip(builtIn.out));
 }
 
-TEST(PushpinCli, EveryPublicSceneReportsWithExitZero) {
-    PUSHPIN_REQUIRE_MA_CORPUS();
-    size_t files = 0;
-    for (const fs::path& path : pushpin::test::maCorpusFiles()) {
-        ++files;
-        CliRun r = runPushpin("--info '" + path.string() + "'");
-        EXPECT_EQ(r.exitCode, 0) << path << ": " << r.err;
-        EXPECT_TRUE(JsonChecker(r.out).valid()) << path;
-        EXPECT_NE(r.out.find("\"shapeCounts\""), std::string::npos) << path;
+// JSON text is UTF-8 (RFC 8259 §8.1).
+bool validUtf8(std::string_view s) {
+    for (size_t i = 0; i < s.size();) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        const size_t n = c < 0x80 ? 1 : c >= 0xC2 && c < 0xE0 ? 2 : c >= 0xE0 && c < 0xF0 ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+        if (n == 0 || i + n > s.size()) return false;
+        for (size_t k = 1; k < n; ++k)
+            if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
+        i += n;
     }
+    return true;
+}
+
+// Whether every channel of every pixel of the image at `path` is finite; false if it cannot be read.
+bool allPixelsFinite(const fs::path& path, std::string& why) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) {
+        why = "cannot open " + path.string();
+        return false;
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+    const bool read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data());
+    in->close();
+    if (!read) {
+        why = "cannot read " + path.string();
+        return false;
+    }
+    for (float v : pixels)
+        if (!std::isfinite(v)) {
+            why = path.string() + " holds a non-finite pixel";
+            return false;
+        }
+    return true;
+}
+
+// Every real scene, in both folders: it loads, --info exits 0 with valid JSON, and a scene with a
+// renderable camera renders one frame at 160×120 with exit 0 and only finite pixels.
+TEST(PushpinCli, EveryRealSceneLoadsReportsAndRenders) {
+    PUSHPIN_REQUIRE_MA_CORPUS();
+    size_t files = 0, rendered = 0, withoutCamera = 0;
+    const fs::path out = tempDir() / "real-scenes";
+    for (const fs::path& path : pushpin::test::realSceneFiles()) {
+        ++files;
+        CliRun info = runPushpin("--info '" + path.string() + "'");
+        EXPECT_EQ(info.exitCode, 0) << path << ": " << info.err;
+        EXPECT_TRUE(JsonChecker(info.out).valid()) << path;
+        EXPECT_TRUE(validUtf8(info.out)) << path;
+        EXPECT_NE(info.out.find("\"shapeCounts\""), std::string::npos) << path;
+
+        const fs::path images = out / std::to_string(files);
+        CliRun render = runPushpin("--quiet --frame 1 -x 160 -y 120 -of exr -rd '" + images.string() + "' '" + path.string() + "'");
+        if (render.exitCode == 1 && render.err.find("no renderable camera") != std::string::npos) {
+            ++withoutCamera;
+            continue;
+        }
+        EXPECT_EQ(render.exitCode, 0) << path << ": " << render.err;
+        size_t written = 0;
+        std::error_code ec;
+        for (const auto& e : fs::recursive_directory_iterator(images, ec)) {
+            // Every file is an image: the scene's naming convention may omit the extension (name.#).
+            if (!e.is_regular_file()) continue;
+            ++written;
+            std::string why;
+            EXPECT_TRUE(allPixelsFinite(e.path(), why)) << path << ": " << why;
+        }
+        EXPECT_GT(written, 0u) << path << ": no image";
+        rendered += written > 0;
+    }
+    fs::remove_all(out);
+    std::printf("%zu real scenes: %zu rendered, %zu without a renderable camera\n", files, rendered, withoutCamera);
     EXPECT_GT(files, 0u);
+    EXPECT_GT(rendered, files / 2);
 }
 
 TEST(PushpinCli, MissingFileExitsOneNamingThePath) {

@@ -1105,5 +1105,49 @@ TEST(MaReaderTolerance, Latin1NamesAreKeptByteForByte) {
     EXPECT_NE(g.find("Gr\xc3\xb6\xc3\x9f" "e"), kNoNode);
 }
 
+// Underworld paths name nodes below a shape's own DAG: `shape->|child`.
+TEST(MaReaderTolerance, UnderworldPathsResolve) {
+    Graph g = read(R"(createNode transform -n "curve1";
+createNode nurbsCurve -n "curveShape1" -p "curve1";
+createNode transform -n "projectionCurve18" -p "|curve1|curveShape1->";
+createNode nurbsCurve -n "projectionCurveShape18" -p "|curve1|curveShape1->|projectionCurve18";
+select -ne "|curve1|curveShape1->|projectionCurve18";
+	setAttr ".tx" 3;
+connectAttr "curveShape1.ws" "|curve1|curveShape1->|projectionCurve18|projectionCurveShape18.cr";
+)");
+    EXPECT_TRUE(g.warnings().empty()) << g.warnings()[0].message;
+    const NodeId shape = findNode(g, "curveShape1"), projection = findNode(g, "projectionCurve18");
+    ASSERT_EQ(g.node(projection).parents().size(), 1u);
+    EXPECT_EQ(g.node(projection).parents()[0], shape);
+    EXPECT_DOUBLE_EQ(g.getDouble(projection, "translateX"), 3.0);
+    EXPECT_TRUE(g.source(findNode(g, "projectionCurveShape18"), "create").has_value());
+}
+
+// A range before the last attribute: skin weights as counted (index, value) pairs per element, or
+// an even share of the values for each element.
+TEST(MaReaderTolerance, RangesInTheMiddleOfAPlug) {
+    Graph g = read(R"(createNode skinCluster -n "skin1";
+	setAttr -s 3 ".wl";
+	setAttr ".wl[0:2].w"
+		2 0 0.25 3 0.75
+		1 1 1
+		0;
+createNode unknownThing -n "u";
+	setAttr ".e[4:5].v" 1 2 3 4;
+)");
+    EXPECT_TRUE(g.warnings().empty()) << g.warnings()[0].message;
+    const NodeId skin = findNode(g, "skin1");
+    EXPECT_DOUBLE_EQ(g.getDouble(skin, "wl[0].w[0]"), 0.25);
+    EXPECT_DOUBLE_EQ(g.getDouble(skin, "wl[0].w[3]"), 0.75);
+    EXPECT_DOUBLE_EQ(g.getDouble(skin, "wl[1].w[1]"), 1.0);
+    EXPECT_EQ(g.value(skin, "wl[0].w[1]"), nullptr);
+    expectValues(numbersOf(g, "u", "e[4].v"), {1, 2});
+    expectValues(numbersOf(g, "u", "e[5].v"), {3, 4});
+    // Values that fit neither reading: the statement is skipped with a warning.
+    Graph bad = read("createNode unknownThing -n \"u\";\n\tsetAttr \".e[0:1].v\" 1 2 3;\n");
+    ASSERT_EQ(bad.warnings().size(), 1u);
+    EXPECT_NE(bad.warnings()[0].message.find("fit neither"), std::string::npos) << bad.warnings()[0].message;
+}
+
 }  // namespace
 }  // namespace pushpin::scene
