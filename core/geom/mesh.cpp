@@ -1,11 +1,14 @@
 // core/geom/mesh.cpp: queries and edits on geom::Mesh.
 #include "core/geom/mesh.h"
 
+#include <array>
+
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <unordered_map>
@@ -330,6 +333,108 @@ void transformMesh(Mesh& mesh, const glm::dmat4& m) {
             n = len > 0.0 && std::isfinite(len) ? glm::vec3(t / len) : glm::vec3(0.0f);
         }
     }
+}
+
+namespace {
+
+// Corners (0..n-1) of one outer loop in triangles, by ear clipping in the plane whose normal is
+// `normal`. Past kMaxEarClip corners the quadratic search gives way to a fan.
+constexpr size_t kMaxEarClip = 512;
+
+void earClip(const std::vector<glm::dvec2>& p, std::vector<std::array<uint32_t, 3>>& out) {
+    const size_t n = p.size();
+    std::vector<uint32_t> left(n);
+    for (size_t i = 0; i < n; ++i) left[i] = uint32_t(i);
+    auto cross = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+        return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    };
+    auto inside = [&](glm::dvec2 q, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+        return cross(a, b, q) >= 0 && cross(b, c, q) >= 0 && cross(c, a, q) >= 0;
+    };
+    while (left.size() > 3) {
+        bool clipped = false;
+        for (size_t i = 0; i < left.size() && !clipped; ++i) {
+            const uint32_t a = left[(i + left.size() - 1) % left.size()], b = left[i], c = left[(i + 1) % left.size()];
+            if (cross(p[a], p[b], p[c]) <= 0) continue;  // reflex or flat: not an ear
+            bool empty = true;
+            for (uint32_t q : left)
+                if (q != a && q != b && q != c && p[q] != p[a] && p[q] != p[b] && p[q] != p[c] &&
+                    inside(p[q], p[a], p[b], p[c])) {
+                    empty = false;
+                    break;
+                }
+            if (!empty) continue;
+            out.push_back({a, b, c});
+            left.erase(left.begin() + ptrdiff_t(i));
+            clipped = true;
+        }
+        if (!clipped) break;  // degenerate or self-intersecting: the rest as a fan
+    }
+    for (size_t i = 1; i + 1 < left.size(); ++i) out.push_back({left[0], left[i], left[i + 1]});
+}
+
+}  // namespace
+
+size_t triangulateFaces(Mesh& mesh, const std::vector<bool>* only) {
+    Mesh out;
+    out.points = mesh.points;
+    out.currentUvSet = mesh.currentUvSet;
+    out.edges = mesh.edges;
+    const bool hasNormals = !mesh.normals.empty();
+    for (const UvSet& set : mesh.uvSets) out.uvSets.push_back({set.name, set.uvs, {}});
+    for (const ColorSet& set : mesh.colorSets) out.colorSets.push_back({set.name, set.colors, {}});
+    // Copies face-vertex `fv` of `mesh` as the next face-vertex of `out`.
+    auto corner = [&](uint32_t fv) {
+        out.faceVertices.push_back(mesh.faceVertices[fv]);
+        if (hasNormals) out.normals.push_back(mesh.normals[fv]);
+        for (size_t s = 0; s < mesh.uvSets.size(); ++s)
+            if (!mesh.uvSets[s].faceVertexUvs.empty()) out.uvSets[s].faceVertexUvs.push_back(mesh.uvSets[s].faceVertexUvs[fv]);
+        for (size_t s = 0; s < mesh.colorSets.size(); ++s)
+            if (!mesh.colorSets[s].faceVertexColors.empty())
+                out.colorSets[s].faceVertexColors.push_back(mesh.colorSets[s].faceVertexColors[fv]);
+    };
+    auto endLoop = [&](bool endFace) {
+        out.loopStarts.push_back(uint32_t(out.faceVertices.size()));
+        if (endFace) out.faceLoopStarts.push_back(uint32_t(out.loopCount()));
+    };
+    size_t withHoles = 0;
+    std::vector<glm::dvec2> projected;
+    std::vector<std::array<uint32_t, 3>> triangles;
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        const uint32_t begin = mesh.faceVertexBegin(f);
+        const size_t n = mesh.faceOuterLoop(f).size();
+        const bool selected = !only || (f < only->size() && (*only)[f]);
+        if (!selected || mesh.holeCount(f) > 0 || n <= 3) {
+            withHoles += selected && mesh.holeCount(f) > 0;
+            for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
+                for (uint32_t fv = mesh.loopStarts[l]; fv < mesh.loopStarts[l + 1]; ++fv) corner(fv);
+                endLoop(l + 1 == mesh.faceLoopStarts[f + 1]);
+            }
+            continue;
+        }
+        // The face's plane: two axes perpendicular to its Newell normal.
+        glm::dvec3 normal = mesh.faceNormal(f);
+        triangles.clear();
+        if (n > kMaxEarClip || glm::dot(normal, normal) == 0.0) {
+            for (uint32_t i = 1; i + 1 < n; ++i) triangles.push_back({0, i, i + 1});
+        } else {
+            const glm::dvec3 helper = std::abs(normal.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+            const glm::dvec3 u = glm::normalize(glm::cross(helper, normal)), v = glm::cross(normal, u);
+            projected.clear();
+            for (uint32_t i = 0; i < n; ++i) {
+                const glm::dvec3 q(mesh.points[mesh.faceVertices[begin + i]]);
+                projected.push_back({glm::dot(q, u), glm::dot(q, v)});
+            }
+            earClip(projected, triangles);
+        }
+        for (const auto& t : triangles) {
+            for (uint32_t k : t) corner(begin + k);
+            endLoop(true);
+        }
+    }
+    completeEdges(out, true);
+    mesh = std::move(out);
+    return withHoles;
 }
 
 void deleteFaces(Mesh& mesh, const std::vector<bool>& removeFace) {

@@ -136,6 +136,13 @@ void transformMesh(Mesh& mesh, const glm::dmat4& m);
 // UV and colour values are kept; only their per-face-vertex ids are filtered.
 void deleteFaces(Mesh& mesh, const std::vector<bool>& removeFace);
 
+// Splits every face of more than three vertices (those marked in `only`, when given) into
+// triangles, as polyTriangulate does: ear clipping in the face's plane, so concave faces stay
+// inside their outline. Triangles take the place of their face, in order. Per-face-vertex normals,
+// UV and colour ids follow their corners; the new inner edges are soft. Faces with holes are left
+// whole; their count is returned.
+size_t triangulateFaces(Mesh& mesh, const std::vector<bool>* only = nullptr);
+
 // Drops points no face uses and renumbers the loops and edges. Returns how many were dropped.
 size_t removeUnusedPoints(Mesh& mesh);
 

@@ -201,6 +201,16 @@ std::optional<geom::Mesh> evaluateCreator(Context& c, NodeId n, std::string& rea
 }
 
 // ------------------------------------------------------------------------------ history nodes
+// History nodes that edit UVs and leave points and faces as they are.
+bool isUvOnlyHistory(std::string_view type) {
+    static constexpr std::string_view kTypes[] = {
+        "polyAutoProj", "polyPlanarProj", "polyCylProj", "polySphProj", "polyProjection", "polyMapCut",
+        "polyMapSew", "polyMapSewMove", "polyMapDel", "polyNormalizeUV", "polyLayoutUV", "polyFlipUV",
+        "polyMoveUV", "polyCopyUV", "polyUVRectangle", "polyOptUvs", "polyMergeUV", "createUVSet",
+        "Unfold3DUnfold", "Unfold3DOptimize"};
+    return std::find(std::begin(kTypes), std::end(kTypes), type) != std::end(kTypes);
+}
+
 std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string& reason);
 
 std::optional<geom::Mesh> evaluateInput(Context& c, NodeId n, std::initializer_list<std::string_view> names,
@@ -420,7 +430,25 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
         if (m) m->colorSets.push_back({g.getString(src.node, "colos"), {}, {}});
         return m;
     }
-    if (type == "polyNormal") {
+    if (type == "polyTriangulate") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
+        if (!m) return m;
+        // The faces listed in inputComponents (all of them without a list).
+        std::vector<bool> faces;
+        if (const ComponentList* list = componentListOf(g, src.node, "ics"); list && !list->items.empty())
+            faces = componentMask(parseComponents(*list).ranges, ComponentKind::Face, m->faceCount());
+        if (const size_t kept = geom::triangulateFaces(*m, faces.empty() ? nullptr : &faces))
+            c.out.notes.push_back(nodeLabel(node) + ": " + std::to_string(kept) + " faces with holes are left whole");
+        return m;
+    }
+    if (isUvOnlyHistory(type)) {
+        // These change texture coordinates only: the geometry passes through unchanged.
+        std::optional<geom::Mesh> m =
+            evaluateInput(c, src.node, {"inputPolymesh", "ip", "inputGeometry", "ig", "inMesh", "im"}, reason);
+        if (m) c.out.notes.push_back(nodeLabel(node) + " is passed through: its UV edits are not applied, the UVs are its input's");
+        return m;
+    }
+    if (type == "polyNormal" || type == "polyNormalPerVertex") {
         std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
         if (m) c.out.notes.push_back(nodeLabel(node) + " is passed through: its normal edits are not applied");
         return m;

@@ -588,5 +588,73 @@ TEST(MeshEval, PublicCorpusEvaluatesOrSkipsEveryShape) {
     EXPECT_GT(totalEvaluated, 0u);
 }
 
+// polyTriangulate on a cube: 6 quads become 12 triangles over the same 8 points, the surface
+// area and the enclosed volume unchanged, every UV corner carried over; a listed face only.
+TEST(MeshEval, PolyTriangulateSplitsFacesKeepingTheSurface) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId tri = g.createNode("polyTriangulate", "polyTriangulate1");
+    connect(g, cube, "out", tri, "ip");
+    connect(g, tri, "out", s.shape, "i");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    const geom::Mesh& m = *e.mesh;
+    EXPECT_EQ(m.points.size(), 8u);
+    ASSERT_EQ(m.faceCount(), 12u);
+    double area = 0.0;
+    for (size_t f = 0; f < m.faceCount(); ++f) {
+        EXPECT_EQ(m.faceOuterLoop(f).size(), 3u);
+        area += glm::length(m.faceAreaVector(f));
+    }
+    EXPECT_NEAR(area, 6.0, 1e-6);
+    EXPECT_NEAR(m.signedVolume(), 1.0, 1e-6);
+    ASSERT_FALSE(m.uvSets.empty());
+    EXPECT_EQ(m.uvSets[0].faceVertexUvs.size(), 36u);
+    for (int32_t id : m.uvSets[0].faceVertexUvs) EXPECT_GE(id, 0);
+    EXPECT_EQ(m.edges.size(), 18u);  // 12 cube edges and one diagonal per face
+
+    ComponentList only;
+    only.items = {"f[2]"};
+    g.setValue(tri, *parsePlugPath("ics"), only);
+    const MeshEvaluation one = evaluate(g, s.shape);
+    ASSERT_TRUE(one.mesh) << one.skipReason;
+    EXPECT_EQ(one.mesh->faceCount(), 7u);
+}
+
+// Ear clipping keeps a concave face inside its outline: an L of six corners becomes four
+// triangles whose areas add up to the L's.
+TEST(MeshEval, TriangulationOfAConcaveFace) {
+    geom::Mesh m;
+    m.points = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+    m.addFace({0, 1, 2, 3, 4, 5});
+    EXPECT_EQ(geom::triangulateFaces(m), 0u);
+    ASSERT_EQ(m.faceCount(), 4u);
+    double area = 0.0;
+    for (size_t f = 0; f < m.faceCount(); ++f) {
+        const glm::dvec3 a = m.faceAreaVector(f);
+        EXPECT_GT(a.z, 0.0) << "triangle " << f << " is flipped or outside the outline";
+        area += a.z;
+    }
+    EXPECT_NEAR(area, 3.0, 1e-9);
+}
+
+// History nodes that only edit UVs pass the geometry through with a note.
+TEST(MeshEval, UvOnlyHistoryPassesGeometryThrough) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "pCube1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId proj = g.createNode("polyAutoProj", "polyAutoProj1");
+    const NodeId unfold = g.createNode("Unfold3DUnfold", "Unfold3DUnfold1");
+    connect(g, cube, "out", proj, "ip");
+    connect(g, proj, "out", unfold, "im");
+    connect(g, unfold, "om", s.shape, "i");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 6u);
+    ASSERT_EQ(e.notes.size(), 2u);
+    EXPECT_NE(e.notes[0].find("UV edits are not applied"), std::string::npos) << e.notes[0];
+}
+
 }  // namespace
 }  // namespace pushpin::scene
