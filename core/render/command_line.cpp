@@ -42,6 +42,90 @@ const FlagSpec kOverrideFlags[] = {
     {"-depth", Kind::Bool},      {"-ard", Kind::Float, 1e-3, 1e3}, {"-mm", Kind::Int, 1, 16777216},
 };
 
+// Render flags for what pushpin does not render yet (reference/render-cli.md), by the feature
+// they belong to. Switch: a boolean that turns the feature itself on or off. Kinds: None (no
+// argument), OptionalBool (a boolean may follow), Word (any one argument).
+enum class ArgKind { None, OptionalBool, Bool, Int, Float, Word };
+struct NotAppliedSpec {
+    const char* flag;
+    ArgKind arg;
+    const char* feature;
+    bool isSwitch = false;
+};
+const NotAppliedSpec kNotAppliedFlags[] = {
+    {"-ert", ArgKind::Bool, "ray tracing", true},
+    {"-rfl", ArgKind::Int, "ray tracing"},
+    {"-rfr", ArgKind::Int, "ray tracing"},
+    {"-sl", ArgKind::Int, "ray tracing"},
+    {"-mb", ArgKind::Bool, "motion blur", true},
+    {"-mbf", ArgKind::Float, "motion blur"},
+    {"-sa", ArgKind::Float, "motion blur"},
+    {"-mb2d", ArgKind::Bool, "motion blur"},
+    {"-bll", ArgKind::Float, "motion blur"},
+    {"-bls", ArgKind::Float, "motion blur"},
+    {"-smv", ArgKind::Int, "motion blur"},
+    {"-smc", ArgKind::Bool, "motion blur"},
+    {"-kmv", ArgKind::Bool, "motion blur"},
+    {"-mvs", ArgKind::Int, "motion blur"},
+    {"-mvm", ArgKind::Int, "motion blur"},
+    {"-edm", ArgKind::Bool, "depth-map shadows", true},
+    {"-sp", ArgKind::Bool, "depth-map shadows"},
+    {"-rut", ArgKind::Bool, "depth-map shadows"},
+    {"-iip", ArgKind::None, "image planes"},
+    {"-pss", ArgKind::Int, "particles and strokes"},
+    {"-vs", ArgKind::Int, "fog and volume shaders"},
+    {"-udb", ArgKind::Bool, "displacement"},
+    {"-rl", ArgKind::Word, "render layers other than the default"},
+    {"-rp", ArgKind::Word, "render passes"},
+    {"-rs", ArgKind::Bool, "render layers other than the default"},
+    {"-l", ArgKind::Word, "display layers"},
+    {"-sel", ArgKind::Word, "rendering a selection of objects"},
+    {"-field", ArgKind::Bool, "field rendering"},
+    {"-pal", ArgKind::None, "field rendering"},
+    {"-ntsc", ArgKind::None, "field rendering"},
+    {"-ifg", ArgKind::Bool, "film gate"},
+    {"-par", ArgKind::Float, "pixel aspect ratio"},
+    {"-ar", ArgKind::Float, "pixel aspect ratio"},
+    {"-percentRes", ArgKind::Float, "resolution scaling"},
+    {"-xl", ArgKind::Int, "old-style render region"},
+    {"-xr", ArgKind::Int, "old-style render region"},
+    {"-yl", ArgKind::Int, "old-style render region"},
+    {"-yh", ArgKind::Int, "old-style render region"},
+    {"-uf", ArgKind::Bool, "tessellation caches"},
+    {"-oi", ArgKind::Bool, "tessellation caches"},
+    {"-premulthr", ArgKind::Float, "premultiply threshold"},
+    {"-rfs", ArgKind::Int, "frame renumbering"},
+    {"-rfb", ArgKind::Int, "frame renumbering"},
+    {"-se", ArgKind::Int, "frame renumbering"},
+    {"-be", ArgKind::Int, "frame renumbering"},
+    {"-me", ArgKind::Bool, "image names with the scene or format name"},
+    {"-mf", ArgKind::Bool, "image names with the scene or format name"},
+    {"-skipExistingFrames", ArgKind::Bool, "skipping frames already on disk"},
+    {"-rep", ArgKind::OptionalBool, "keeping existing images (-rep)"},
+    {"-amt", ArgKind::OptionalBool, "aborting on a missing texture"},
+    {"-ipr", ArgKind::OptionalBool, "IPR files"},
+    {"-keepPreImage", ArgKind::OptionalBool, "pre-post-process images"},
+    {"-proj", ArgKind::Word, "the project folder (-proj)"},
+    {"-log", ArgKind::Word, "log files"},
+    {"-verb", ArgKind::None, "MEL scripts"},
+    {"-test", ArgKind::None, "MEL scripts"},
+    {"-keepMel", ArgKind::None, "MEL scripts"},
+    {"-preRender", ArgKind::Word, "MEL scripts"},
+    {"-pre", ArgKind::Word, "MEL scripts"},
+    {"-listRenderers", ArgKind::None, "listing renderers"},
+    {"-rst", ArgKind::Word, "render-setup templates"},
+    {"-rsp", ArgKind::Word, "render-setup templates"},
+    {"-rsa", ArgKind::Word, "render-setup templates"},
+    {"-cont", ArgKind::None, "continuing after errors (-cont)"},
+    {"-verbose", ArgKind::Bool, "verbose output (-verbose)"},
+};
+
+const NotAppliedSpec* notAppliedSpec(std::string_view flag) {
+    for (const NotAppliedSpec& f : kNotAppliedFlags)
+        if (flag == f.flag) return &f;
+    return nullptr;
+}
+
 const FlagSpec* overrideSpec(std::string_view flag) {
     for (const FlagSpec& f : kOverrideFlags)
         if (flag == f.flag) return &f;
@@ -237,6 +321,40 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
                 }
             }
             cl.overrides.push_back({std::string(a), std::move(text)});
+        } else if (a == "-iw" || a == "-ih") {
+            // The old names of -x and -y.
+            cl.overrides.push_back({a == "-iw" ? "-x" : "-y", std::to_string(parseInt(a, value(), 1, 32768))});
+        } else if (const NotAppliedSpec* na = notAppliedSpec(a)) {
+            std::string given(a);
+            bool on = true;
+            switch (na->arg) {
+                case ArgKind::None: break;
+                case ArgKind::OptionalBool:
+                    if (i + 1 < args.size() && !isOption(args[i + 1])) {
+                        const std::string t = lower(args[i + 1]);
+                        if (t == "on" || t == "yes" || t == "true" || t == "1" || t == "off" || t == "no" ||
+                            t == "false" || t == "0")
+                            given += " " + std::string(args[++i]);
+                    }
+                    break;
+                case ArgKind::Bool: {
+                    const std::string_view v = value();
+                    on = parseBool(a, v);
+                    given += std::string(" ") + (on ? "on" : "off");
+                    break;
+                }
+                case ArgKind::Int: given += " " + std::to_string(parseInt(a, value(), -1e9, 1e9)); break;
+                case ArgKind::Float: given += " " + util::formatNumber(parseFloat(a, value(), -1e9, 1e9)); break;
+                case ArgKind::Word: {
+                    const std::string_view v = value();
+                    if (v.empty()) bad(a, v, "is empty");
+                    given += " " + util::excerpt(v);
+                    break;
+                }
+            }
+            if (na->isSwitch) cl.featureSwitches.push_back({na->feature, std::move(given), on});
+            else if (std::string_view(na->flag) == "-iip") cl.featureSwitches.push_back({na->feature, std::move(given), false});
+            else cl.notApplied.push_back({na->feature, std::move(given)});
         } else if (isOption(a)) {
             throw UsageError("unknown option '" + util::excerpt(a) + "' (see pushpin --help)");
         } else {
@@ -391,6 +509,19 @@ performance:
   -tw N, -th N        force the tile width/height, 16..256 pixels
   -mm MB              memory cap in MiB (default $SLURM_MEM_PER_NODE, else none); a frame
                       that needs more stops with exit 33
+
+accepted, not rendered yet (each is reported once and listed under notRendered in --stats):
+  ray tracing         -ert BOOL (off leaves nothing out), -rfl N, -rfr N, -sl N
+  motion blur         -mb BOOL (off leaves nothing out), -mbf -sa -mb2d -bll -bls -smv -smc
+                      -kmv -mvs -mvm
+  depth-map shadows   -edm BOOL (off leaves nothing out), -sp BOOL, -rut BOOL
+  image planes        -iip (ignore them: leaves nothing out)
+  other features      -pss -vs -udb -rl -rp -rs -l -sel -field -pal -ntsc -ifg -par -ar
+                      -percentRes -xl -xr -yl -yh -uf -oi -premulthr
+  output and runs     -rfs -rfb -se -be -me -mf -skipExistingFrames -rep -amt -ipr
+                      -keepPreImage -proj DIR -log FILE -verb -test -keepMel -preRender -pre
+                      -listRenderers -rst -rsp -rsa -cont -verbose
+  -iw N, -ih N        the old names of -x and -y (applied)
 
 exit status:
   0    every frame written            1    scene or input error (do not retry)

@@ -45,6 +45,21 @@ struct CommandLine {
         std::string value;  // validated text
     };
     std::vector<Override> overrides;
+    // Render flags for features pushpin does not render yet: accepted so that a farm's command
+    // line runs, and reported under notRendered with the feature they belong to.
+    struct NotApplied {
+        std::string feature;  // "motion blur", "ray tracing", … (the features of scene::NotRendered)
+        std::string flag;     // "-mbf 0.5" as given
+    };
+    std::vector<NotApplied> notApplied;
+    // Flags that turn a feature pushpin does not render on or off (-mb, -ert, -edm, -iip …): off
+    // takes effect (nothing is missing from the render any more); on is reported like the scene's.
+    struct FeatureSwitch {
+        std::string feature;
+        std::string flag;  // "-mb on"
+        bool on = false;
+    };
+    std::vector<FeatureSwitch> featureSwitches;
 };
 
 // Parses argv[1..]. Throws UsageError("-x: 'abc' is not an integer"), ("unknown option '-zz'"),

@@ -1,5 +1,7 @@
 #include "core/scene/scene_info.h"
 
+#include "core/scene/not_rendered.h"
+
 #include "core/scene/evaluator.h"
 #include "core/scene/mesh_eval.h"
 #include "core/scene/nurbs_eval.h"
@@ -156,6 +158,16 @@ SceneReport describeScene(const Graph& g, const RenderSetup& setup, double frame
 
 SceneReport describeScene(const Graph& g, double frame) { return describeScene(g, extractRenderSetup(g), frame); }
 
+void writeNotRendered(util::JsonWriter& w, const NotRendered& n) {
+    w.beginObject();
+    w.field("feature", n.feature);
+    w.key("nodes").beginArray();
+    for (const std::string& node : n.nodes) w.value(node);
+    w.endArray();
+    w.field("count", uint64_t(n.count));
+    w.endObject();
+}
+
 std::string sceneInfoJson(const Graph& g, double frame) {
     const RenderSetup setup = extractRenderSetup(g);
     SceneReport report = describeScene(g, setup, frame);
@@ -246,6 +258,13 @@ std::string sceneInfoJson(const Graph& g, double frame) {
     writeRenderGlobals(w, g, "defaultRenderQuality");
     writeRenderGlobals(w, g, "defaultResolution");
     w.endObject();
+
+    w.key("notRendered").beginArray();
+    {
+        Evaluator ev(g, frame);
+        for (const NotRendered& n : notRenderedFeatures(ev, setup)) writeNotRendered(w, n);
+    }
+    w.endArray();
 
     w.key("unsupported").beginObject();
     w.key("nodeTypes").beginObject();

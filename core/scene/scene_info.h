@@ -6,6 +6,8 @@
 
 #include "core/geom/bounds.h"
 #include "core/scene/graph.h"
+#include "core/scene/not_rendered.h"
+#include "core/util/json_writer.h"
 
 #include <string>
 #include <vector>
@@ -37,6 +39,8 @@ double sceneCurrentFrame(const Graph& graph);
 // Evaluates every mesh and NURBS surface instance at `frame`. Never throws for bad geometry: a
 // shape that cannot be built is reported with its reason.
 SceneReport describeScene(const Graph& graph, double frame);
+// One {feature, nodes, count} entry of "notRendered" (--info and --stats).
+void writeNotRendered(util::JsonWriter& w, const NotRendered& n);
 // The whole report as one JSON object (the `--info` output).
 std::string sceneInfoJson(const Graph& graph, double frame);
 

@@ -22,11 +22,13 @@
 #include "core/scene/demo_scene.h"
 #include "core/scene/evaluator.h"
 #include "core/scene/ma_reader.h"
+#include "core/scene/not_rendered.h"
 #include "core/scene/render_setup.h"
 #include "core/scene/scene_info.h"
 #include "core/util/format.h"
 #include "core/util/json_writer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +44,33 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace pushpin;
+
+// The scene's notRendered list as the command line changes it: a switch turned off (-mb off,
+// -ert off, -edm off, -iip) removes its feature, since nothing is then left out of the render; a
+// switch turned on and every flag pushpin does not apply add theirs, naming the flag.
+std::vector<scene::NotRendered> withCommandLine(std::vector<scene::NotRendered> list, const render::CommandLine& cl) {
+    auto entry = [&](const std::string& feature) -> scene::NotRendered& {
+        for (scene::NotRendered& n : list)
+            if (n.feature == feature) return n;
+        return list.emplace_back(scene::NotRendered{feature, {}, 0});
+    };
+    auto addFlag = [&](const std::string& feature, const std::string& flag) {
+        scene::NotRendered& n = entry(feature);
+        ++n.count;
+        if (n.nodes.size() < scene::kMaxNotRenderedNodes) n.nodes.push_back(flag);
+    };
+    for (const render::CommandLine::FeatureSwitch& sw : cl.featureSwitches) {
+        if (sw.on) {
+            addFlag(sw.feature, sw.flag);
+            continue;
+        }
+        std::erase_if(list, [&](const scene::NotRendered& n) {
+            return n.feature == sw.feature || (sw.feature == "ray tracing" && n.feature.rfind("ray-traced", 0) == 0);
+        });
+    }
+    for (const render::CommandLine::NotApplied& na : cl.notApplied) addFlag(na.feature, na.flag);
+    return list;
+}
 
 constexpr int kExitInput = 1;
 constexpr int kExitUsage = 2;
@@ -244,6 +273,7 @@ int run(int argc, char** argv) {
     stats.beginObject();
     stats.field("scene", sceneName).field("loadSeconds", loadSeconds);
     stats.key("images").beginArray();
+    std::vector<scene::NotRendered> notRendered;  // what the scene turns on and pushpin does not render
     std::set<std::string> notesSeen;
     std::vector<std::string> notes;
     auto note = [&](const std::string& n) {
@@ -258,6 +288,12 @@ int run(int argc, char** argv) {
     for (double frame : frames) {
         auto tScene = std::chrono::steady_clock::now();
         scene::Evaluator ev(graph, frame);
+        for (scene::NotRendered& n : withCommandLine(scene::notRenderedFeatures(ev, setup), cl)) {
+            note("not rendered: " + scene::describeNotRendered(n));
+            auto same = std::find_if(notRendered.begin(), notRendered.end(),
+                                     [&](const scene::NotRendered& o) { return o.feature == n.feature; });
+            if (same == notRendered.end()) notRendered.push_back(std::move(n));
+        }
         std::vector<std::string> settingNotes;
         render::RenderSettings settings = render::readRenderSettings(ev, setup, settingNotes);
         render::applyOverrides(cl, settings);
@@ -326,6 +362,9 @@ int run(int argc, char** argv) {
         }
         if (usableCameras == 0) throw Error(unusableCamera);
     }
+    stats.endArray();
+    stats.key("notRendered").beginArray();
+    for (const scene::NotRendered& n : notRendered) scene::writeNotRendered(stats, n);
     stats.endArray();
     stats.key("notes").beginArray();
     for (const std::string& n : notes) stats.value(n);

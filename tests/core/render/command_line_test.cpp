@@ -321,5 +321,68 @@ TEST(CommandLine, SceneOutputPathsAndMemoryCap) {
     EXPECT_EQ(memoryCap(applied({"-mm", "64"}), "4096").bytes, uint64_t(64) << 20);
 }
 
+// Every flag of reference/render-cli.md is accepted, with a sample argument. Each either applies
+// (it becomes a render-globals override, or sets a field of the command line) or is reported
+// under notRendered with its feature: nothing is accepted and silently dropped.
+TEST(CommandLine, EveryRenderFlagIsAcceptedAndAppliesOrIsReported) {
+    struct Case {
+        std::vector<std::string_view> args;
+    };
+    const Case cases[] = {
+        {{"-help"}}, {{"-r", "sw"}}, {{"-renderer", "sw"}}, {{"-proj", "/p"}}, {{"-log", "r.log"}}, {{"-verb"}},
+        {{"-test"}}, {{"-keepMel"}}, {{"-listRenderers"}}, {{"-rst", "t.json"}}, {{"-rsp", "p.json"}},
+        {{"-rsa", "a.json"}}, {{"-rd", "out"}}, {{"-im", "img"}}, {{"-p", "img"}}, {{"-of", "png"}},
+        {{"-fnc", "3"}}, {{"-pad", "4"}}, {{"-s", "1"}}, {{"-e", "2"}}, {{"-b", "1"}},
+        {{"-skipExistingFrames", "true"}}, {{"-rfs", "10"}}, {{"-rfb", "2"}}, {{"-se", "10"}}, {{"-be", "2"}},
+        {{"-me", "on"}}, {{"-mf", "on"}}, {{"-cam", "persp"}}, {{"-rgb", "on"}}, {{"-alpha", "on"}},
+        {{"-depth", "on"}}, {{"-iip"}}, {{"-x", "64"}}, {{"-y", "48"}}, {{"-iw", "64"}}, {{"-ih", "48"}},
+        {{"-percentRes", "50"}}, {{"-ard", "1.333"}}, {{"-par", "1"}}, {{"-ar", "1.5"}},
+        {{"-reg", "0", "10", "0", "10"}}, {{"-xl", "0"}}, {{"-xr", "10"}}, {{"-yl", "0"}}, {{"-yh", "10"}},
+        {{"-ifg", "on"}}, {{"-eaa", "1"}}, {{"-ss", "2"}}, {{"-mss", "8"}}, {{"-mvs", "4"}}, {{"-mvm", "8"}},
+        {{"-pss", "2"}}, {{"-vs", "2"}}, {{"-ufil", "on"}}, {{"-pft", "2"}}, {{"-pfx", "2"}}, {{"-pfy", "2"}},
+        {{"-rct", "0.4"}}, {{"-gct", "0.3"}}, {{"-bct", "0.6"}}, {{"-cct", "0.125"}}, {{"-ert", "on"}},
+        {{"-rfl", "2"}}, {{"-rfr", "4"}}, {{"-sl", "2"}}, {{"-mb", "on"}}, {{"-mbf", "1"}}, {{"-sa", "144"}},
+        {{"-mb2d", "on"}}, {{"-bll", "1"}}, {{"-bls", "1"}}, {{"-smv", "2"}}, {{"-smc", "on"}}, {{"-kmv", "on"}},
+        {{"-field", "on"}}, {{"-pal"}}, {{"-ntsc"}}, {{"-edm", "on"}}, {{"-g", "2.2"}}, {{"-premul", "on"}},
+        {{"-premulthr", "0.5"}}, {{"-uf", "on"}}, {{"-oi", "on"}}, {{"-rut", "on"}}, {{"-udb", "on"}},
+        {{"-mm", "2048"}}, {{"-n", "2"}}, {{"-tw", "64"}}, {{"-th", "64"}}, {{"-sp", "on"}}, {{"-amt"}},
+        {{"-rep", "true"}}, {{"-ipr"}}, {{"-keepPreImage"}}, {{"-cont"}}, {{"-verbose", "on"}}, {{"-rl", "true"}},
+        {{"-rp", "true"}}, {{"-rs", "on"}}, {{"-l", "layer1"}}, {{"-sel", "pCube1"}}, {{"-preRender", "foo"}},
+        {{"-pre", "foo"}},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string_view> args = c.args;
+        args.push_back("scene.ma");
+        CommandLine cl;
+        ASSERT_NO_THROW(cl = parse(args)) << c.args[0];
+        const CommandLine plain = parse({"scene.ma"});
+        const bool applies = cl.help || !cl.cameras.empty() || !cl.outputDir.empty() || !cl.overrides.empty();
+        const bool reported = !cl.notApplied.empty() || !cl.featureSwitches.empty();
+        EXPECT_TRUE(applies || reported || std::string_view(c.args[0]) == "-r" || std::string_view(c.args[0]) == "-renderer")
+            << c.args[0] << " is accepted but neither applies nor is reported";
+        EXPECT_FALSE(applies && reported) << c.args[0];
+        EXPECT_TRUE(plain.notApplied.empty() && plain.featureSwitches.empty());
+    }
+}
+
+TEST(CommandLine, FeatureSwitchesAndNotAppliedFlagsNameTheirFeature) {
+    const CommandLine cl = parse({"-mb", "off", "-ert", "yes", "-iip", "-mbf", "0.5", "-rep", "scene.ma"});
+    ASSERT_EQ(cl.featureSwitches.size(), 3u);
+    EXPECT_EQ(cl.featureSwitches[0].feature, "motion blur");
+    EXPECT_FALSE(cl.featureSwitches[0].on);
+    EXPECT_EQ(cl.featureSwitches[1].flag, "-ert on");
+    EXPECT_TRUE(cl.featureSwitches[1].on);
+    EXPECT_EQ(cl.featureSwitches[2].feature, "image planes");
+    EXPECT_FALSE(cl.featureSwitches[2].on);
+    ASSERT_EQ(cl.notApplied.size(), 2u);
+    EXPECT_EQ(cl.notApplied[0].flag, "-mbf 0.5");
+    EXPECT_EQ(cl.notApplied[0].feature, "motion blur");
+    EXPECT_EQ(cl.notApplied[1].flag, "-rep");  // an optional boolean left out; the scene stays the scene
+    EXPECT_EQ(cl.scene, "scene.ma");
+    EXPECT_THROW(parse({"-mb", "maybe", "scene.ma"}), UsageError);
+    EXPECT_THROW(parse({"-rfl", "two", "scene.ma"}), UsageError);
+    EXPECT_THROW(parse({"-zz", "scene.ma"}), UsageError);  // unknown flags stay errors
+}
+
 }  // namespace
 }  // namespace pushpin::render
