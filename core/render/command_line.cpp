@@ -105,7 +105,6 @@ const NotAppliedSpec kNotAppliedFlags[] = {
     {"-amt", ArgKind::OptionalBool, "aborting on a missing texture"},
     {"-ipr", ArgKind::OptionalBool, "IPR files"},
     {"-keepPreImage", ArgKind::OptionalBool, "pre-post-process images"},
-    {"-proj", ArgKind::Word, "the project folder (-proj)"},
     {"-log", ArgKind::Word, "log files"},
     {"-verb", ArgKind::None, "MEL scripts"},
     {"-test", ArgKind::None, "MEL scripts"},
@@ -321,6 +320,10 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
                 }
             }
             cl.overrides.push_back({std::string(a), std::move(text)});
+        } else if (a == "-proj") {
+            const std::string_view v = value();
+            if (v.empty()) bad(a, v, "is not a folder");
+            cl.project = std::string(v);
         } else if (a == "-iw" || a == "-ih") {
             // The old names of -x and -y.
             cl.overrides.push_back({a == "-iw" ? "-x" : "-y", std::to_string(parseInt(a, value(), 1, 32768))});
@@ -471,8 +474,11 @@ renderer:
 
 cameras and output:
   -cam NAME           render this camera (repeatable); without -cam the renderable cameras
-  -rd DIR             output folder (default: the images folder of the Maya project holding
-                      the scene, found by its workspace.mel, else the current folder)
+  -rd DIR             output folder (default: the images folder of the -proj project, else of
+                      the Maya project holding the scene, found by its workspace.mel, else
+                      the current folder)
+  -proj DIR           the Maya project: images go to its images folder (its workspace.mel
+                      rule, else DIR/images) unless -rd is given
   -im NAME, -p NAME   image file prefix (imageFilePrefix); tokens <Scene> <Camera> <RenderLayer>;
                       a relative path inside the output folder (.. may not leave it)
   -of FORMAT          image format: iff, iff16/maya16, tif/tiff, tif16/tiff16, sgi/rgb, sgi16,
@@ -519,7 +525,7 @@ accepted, not rendered yet (each is reported once and listed under notRendered i
   other features      -pss -vs -udb -rl -rp -rs -l -sel -field -pal -ntsc -ifg -par -ar
                       -percentRes -xl -xr -yl -yh -uf -oi -premulthr
   output and runs     -rfs -rfb -se -be -me -mf -skipExistingFrames -rep -amt -ipr
-                      -keepPreImage -proj DIR -log FILE -verb -test -keepMel -preRender -pre
+                      -keepPreImage -log FILE -verb -test -keepMel -preRender -pre
                       -listRenderers -rst -rsp -rsa -cont -verbose
   -iw N, -ih N        the old names of -x and -y (applied)
 

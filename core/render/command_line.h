@@ -34,6 +34,7 @@ struct CommandLine {
     std::optional<double> frame;   // --frame F: one frame (overrides -s/-e)
     std::vector<std::string> cameras;  // -cam (repeatable): only these cameras render
     std::string outputDir;         // -rd
+    std::string project;           // -proj: the Maya project whose images folder images go to
     std::string statsPath;         // --stats out.json
     bool quiet = false;            // --quiet: no progress lines on stderr
     // --allow-scene-output-paths: images may go where the image prefix says even outside the

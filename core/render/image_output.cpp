@@ -656,6 +656,33 @@ std::optional<std::string> workspaceImagesRule(std::string_view text) {
     return rule;
 }
 
+namespace {
+
+// The images folder a workspace.mel at `dir` names, or nullopt when `dir` has none.
+std::optional<fs::path> workspaceImagesFolder(const fs::path& dir) {
+    std::error_code ec;
+    const fs::path workspace = dir / "workspace.mel";
+    if (!fs::is_regular_file(workspace, ec)) return std::nullopt;
+    std::string text;
+    std::ifstream in(workspace, std::ios::binary);
+    // workspace.mel holds a few dozen short rules; a larger file is not one Maya wrote.
+    constexpr size_t kMaxWorkspaceBytes = size_t(1) << 20;
+    text.resize(kMaxWorkspaceBytes);
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    const std::optional<std::string> rule = workspaceImagesRule(text);
+    // An empty rule names the project folder itself, as `workspace -fre` resolves it.
+    if (!rule) return dir / "images";
+    return rule->empty() ? dir : dir / *rule;
+}
+
+}  // namespace
+
+fs::path imagesFolderOfProject(const fs::path& projectDir) {
+    if (std::optional<fs::path> images = workspaceImagesFolder(projectDir)) return *images;
+    return projectDir / "images";
+}
+
 fs::path projectImagesFolder(const fs::path& sceneFile) {
     std::error_code ec;
     fs::path dir = fs::absolute(sceneFile, ec).parent_path();
@@ -663,20 +690,7 @@ fs::path projectImagesFolder(const fs::path& sceneFile) {
     // The scene's folder and three above it: scenes usually sit in <project>/scenes, sometimes a
     // level or two deeper (scenes/shot/v003).
     for (int level = 0; level < 4 && !dir.empty(); ++level) {
-        const fs::path workspace = dir / "workspace.mel";
-        if (fs::is_regular_file(workspace, ec)) {
-            std::string text;
-            std::ifstream in(workspace, std::ios::binary);
-            // workspace.mel holds a few dozen short rules; a larger file is not one Maya wrote.
-            constexpr size_t kMaxWorkspaceBytes = size_t(1) << 20;
-            text.resize(kMaxWorkspaceBytes);
-            in.read(text.data(), static_cast<std::streamsize>(text.size()));
-            text.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
-            const std::optional<std::string> rule = workspaceImagesRule(text);
-            // An empty rule names the project folder itself, as `workspace -fre` resolves it.
-            if (!rule) return dir / "images";
-            return rule->empty() ? dir : dir / *rule;
-        }
+        if (std::optional<fs::path> images = workspaceImagesFolder(dir)) return *images;
         const fs::path parent = dir.parent_path();
         if (parent == dir) break;
         dir = parent;

@@ -89,6 +89,9 @@ void writeImage(const Framebuffer& frame, const std::filesystem::path& path, con
 // (relative to the project, or absolute), and `images` when the file has no such rule. Never
 // throws; an unreadable workspace.mel counts as one without a rule.
 std::filesystem::path projectImagesFolder(const std::filesystem::path& sceneFile);
+// The images folder of the Maya project at `projectDir` (Render's -proj): its workspace.mel rule,
+// else `images` under it, as a project without a rule keeps it. Never throws.
+std::filesystem::path imagesFolderOfProject(const std::filesystem::path& projectDir);
 
 // The images rule of a workspace.mel text (`workspace -fr "images" "<folder>";`, also spelled
 // -fileRule), or nullopt when it has none. The last rule wins, as when Maya sources the file.

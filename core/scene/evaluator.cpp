@@ -509,14 +509,19 @@ bool Evaluator::nodeVisible(NodeId id) {
 }
 
 bool Evaluator::nodeVisibleUncached(NodeId id) {
+    // Templated objects are drawn as wireframes for reference and never rendered.
     if (!getBool(id, "visibility", true) || !getBool(id, "lodVisibility", true) ||
-        getBool(id, "intermediateObject", false))
+        getBool(id, "intermediateObject", false) || getBool(id, "template", false))
         return false;
     // Drawing overrides: a display layer drives the node's drawOverride through its drawInfo;
-    // otherwise the node's own overrideEnabled/overrideVisibility apply.
-    if (auto layer = m_graph.source(id, "drawOverride"); layer && isA(m_graph.node(layer->node), "displayLayer"))
-        return !(getBool(layer->node, "enabled", true) && !getBool(layer->node, "visibility", true));
-    return !(getBool(id, "overrideEnabled", false) && !getBool(id, "overrideVisibility", true));
+    // otherwise the node's own overrideEnabled/overrideVisibility/overrideDisplayType apply.
+    // Display type 1 is a template.
+    if (auto layer = m_graph.source(id, "drawOverride"); layer && isA(m_graph.node(layer->node), "displayLayer")) {
+        if (!getBool(layer->node, "enabled", true)) return true;
+        return getBool(layer->node, "visibility", true) && getInt(layer->node, "displayType", 0) != 1;
+    }
+    if (!getBool(id, "overrideEnabled", false)) return true;
+    return getBool(id, "overrideVisibility", true) && getInt(id, "overrideDisplayType", 0) != 1;
 }
 
 bool Evaluator::visible(const std::vector<NodeId>& dagPath) {
@@ -531,7 +536,7 @@ std::string Evaluator::hiddenReason(const std::vector<NodeId>& dagPath) {
         if (id >= m_graph.size()) return "hidden";
         if (!nodeVisible(id))
             return "hidden by '" + util::excerpt(m_graph.node(id).name) +
-                   "' (visibility, a drawing override or a display layer)";
+                   "' (visibility, a template, a drawing override or a display layer)";
     }
     return dagPath.empty() ? "hidden" : std::string();
 }

@@ -331,6 +331,17 @@ TEST(PushpinCli, FrameOptionEvaluatesAnimation) {
     EXPECT_NE(at6.out.find("5.5"), std::string::npos);
 }
 
+// -proj names the project whose images folder the images go to (without -rd).
+TEST(PushpinCli, ProjectFlagSendsImagesToItsImagesFolder) {
+    const fs::path project = tempDir() / "proj-flag";
+    fs::remove_all(project);
+    fs::create_directories(project);
+    std::ofstream(project / "workspace.mel") << "workspace -fr \"images\" \"frames\";\n";
+    CliRun r = runPushpin("--demo -x 16 -y 12 -of png -proj '" + project.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(fs::exists(project / "frames" / "softSpotlight.png")) << r.err;
+}
+
 // A render flag for a feature pushpin does not render is accepted and reported: switched on it
 // joins notRendered with the flag; switched off it removes what the scene asked for.
 TEST(PushpinCli, RenderFlagsForMissingFeaturesAreReported) {

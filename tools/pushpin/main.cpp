@@ -152,11 +152,12 @@ void writeWholeFile(const fs::path& path, const std::string& text) {
     out.commit();
 }
 
-// The folder images go to: -rd, else the images folder of the Maya project holding the scene
-// (render::projectImagesFolder: the nearest workspace.mel at or above the scene's folder), else
-// the working folder.
+// The folder images go to: -rd, else the images folder of the -proj project, else of the Maya
+// project holding the scene (render::projectImagesFolder: the nearest workspace.mel at or above
+// the scene's folder), else the working folder.
 fs::path outputFolder(const render::CommandLine& cl) {
     if (!cl.outputDir.empty()) return fs::path(cl.outputDir);
+    if (!cl.project.empty()) return render::imagesFolderOfProject(cl.project);
     if (!cl.demo) {
         fs::path images = render::projectImagesFolder(cl.scene);
         if (!images.empty()) return images;

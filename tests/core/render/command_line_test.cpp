@@ -356,7 +356,8 @@ TEST(CommandLine, EveryRenderFlagIsAcceptedAndAppliesOrIsReported) {
         CommandLine cl;
         ASSERT_NO_THROW(cl = parse(args)) << c.args[0];
         const CommandLine plain = parse({"scene.ma"});
-        const bool applies = cl.help || !cl.cameras.empty() || !cl.outputDir.empty() || !cl.overrides.empty();
+        const bool applies =
+            cl.help || !cl.cameras.empty() || !cl.outputDir.empty() || !cl.project.empty() || !cl.overrides.empty();
         const bool reported = !cl.notApplied.empty() || !cl.featureSwitches.empty();
         EXPECT_TRUE(applies || reported || std::string_view(c.args[0]) == "-r" || std::string_view(c.args[0]) == "-renderer")
             << c.args[0] << " is accepted but neither applies nor is reported";

@@ -572,6 +572,18 @@ TEST(ImageOutput, ProjectImagesFolderSearchesUpward) {
     EXPECT_TRUE(projectImagesFolder(project / "scenes" / "a" / "b" / "c" / "s.ma").empty());
 }
 
+// -proj DIR: the project's own rule, else DIR/images, whatever folder the scene is in.
+TEST(ImageOutput, ImagesFolderOfAGivenProject) {
+    TempDir dir;
+    const fs::path project = dir.path / "farmproj";
+    fs::create_directories(project);
+    EXPECT_EQ(imagesFolderOfProject(project), project / "images");
+    { std::ofstream(project / "workspace.mel") << "workspace -fr \"images\" \"out/renders\";\n"; }
+    EXPECT_EQ(imagesFolderOfProject(project), project / "out" / "renders");
+    { std::ofstream(project / "workspace.mel") << "workspace -fr \"images\" \"\";\n"; }
+    EXPECT_EQ(imagesFolderOfProject(project), project);
+}
+
 TEST(ImageOutput, IsInsideFolderIsLexical) {
     EXPECT_TRUE(isInsideFolder("/out/a.png", "/out"));
     EXPECT_TRUE(isInsideFolder("/out/x/../a.png", "/out/"));

@@ -382,6 +382,27 @@ TEST(Evaluator, HiddenDisplayLayerHidesItsMembers) {
     EXPECT_TRUE(Evaluator(g, 1.0).visible({t}));
 }
 
+// Templated objects, and the members of a template display layer, are not rendered.
+TEST(Evaluator, TemplatesAreNotRendered) {
+    Graph g;
+    const NodeId t = g.createNode("transform", "t");
+    const NodeId u = g.createNode("transform", "u");
+    const NodeId layer = g.createNode("displayLayer", "layer1");
+    link(g, layer, "di", t, "do");
+    EXPECT_TRUE(Evaluator(g, 1.0).visible({t}));
+    set(g, layer, "dt", {1.0});  // template
+    EXPECT_FALSE(Evaluator(g, 1.0).visible({t}));
+    set(g, layer, "dt", {2.0});  // reference: drawn unselectable, still rendered
+    EXPECT_TRUE(Evaluator(g, 1.0).visible({t}));
+    set(g, u, "tmp", {1.0});
+    EXPECT_FALSE(Evaluator(g, 1.0).visible({u}));
+    set(g, u, "tmp", {0.0});
+    set(g, u, "ovdt", {1.0});
+    EXPECT_TRUE(Evaluator(g, 1.0).visible({u}));  // overrides only count when enabled
+    set(g, u, "ove", {1.0});
+    EXPECT_FALSE(Evaluator(g, 1.0).visible({u}));
+}
+
 TEST(Evaluator, OffsetParentMatrixSitsBetweenLocalAndParent) {
     Graph g;
     const NodeId parent = g.createNode("transform", "parent");
