@@ -562,6 +562,27 @@ void addHistoryTypes(Table& t) {
     t.c("tweak", "tk", T::Float3, {0, 0, 0, 0}, U::Distance, {{"tweakX", "tx"}, {"tweakY", "ty"}, {"tweakZ", "tz"}}, true);
     t.type("polyTweakUV", "polyModifier");
     t.a("uvTweak", "uvtk", T::Float2, 0, U::None, true).a("uvSetName", "uvs", T::String);
+    // Evaluated by mesh_eval: polyTriangulate and polySoftEdge change the mesh; the others pass
+    // the geometry through (their UV or normal edits are reported as not applied).
+    t.type("polyTriangulate", "polyModifier");
+    t.type("polySoftEdge", "polyModifier");
+    t.a("angle", "a", T::Double, 0.5235987755982988, U::Angle);
+    t.type("polyNormal", "polyModifier");
+    t.a("normalMode", "nm", T::Enum, 0).a("userNormalMode", "unm", T::Bool, 0);
+    t.type("polyNormalPerVertex", "polyModifier");
+    t.type("polyModifierUV", "polyModifier");
+    t.a("uvSetName", "uvs", T::String);
+    for (const char* uvOnly : {"polyAutoProj", "polyPlanarProj", "polyCylProj", "polySphProj", "polyProjection",
+                               "polyMapCut", "polyMapSew", "polyMapSewMove", "polyMapDel", "polyNormalizeUV",
+                               "polyLayoutUV", "polyFlipUV", "polyMoveUV", "polyCopyUV", "polyUVRectangle",
+                               "polyOptUvs", "polyMergeUV"})
+        t.type(uvOnly, "polyModifierUV");
+    for (const char* unfold : {"Unfold3DUnfold", "Unfold3DOptimize"}) {
+        t.type(unfold, "node");
+        t.a("inMesh", "im", T::Mesh).a("outMesh", "om", T::Mesh);
+    }
+    t.type("createUVSet", "node");
+    t.a("uvSetName", "uvs", T::String).a("inputGeometry", "ig", T::Generic).a("outputGeometry", "og", T::Generic);
     t.type("deleteComponent", "node");
     t.a("deleteComponents", "dc", T::ComponentList).a("inputGeometry", "ig", T::Generic)
         .a("outputGeometry", "og", T::Generic);

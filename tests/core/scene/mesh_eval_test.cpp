@@ -444,14 +444,14 @@ TEST(MeshEval, PolySoftEdgeSetsEdgeSmoothingByAngle) {
     const ShapeUnderTransform s = addMesh(g, "pCube1");
     const NodeId cube = g.createNode("polyCube", "polyCube1");
     const NodeId soft = g.createNode("polySoftEdge", "polySoftEdge1");
-    set(g, soft, "a", {180.0});  // degrees, in the file's angle unit
+    set(g, soft, "a", {std::numbers::pi});  // the Graph holds angles in radians
     g.setValue(soft, *parsePlugPath("ics"), ComponentList{{"e[*]"}});
     connect(g, cube, "output", soft, "ip");
     connect(g, soft, "out", s.shape, "i");
     MeshEvaluation e = evaluate(g, s.shape);
     ASSERT_TRUE(e.mesh) << e.skipReason;
     for (const geom::MeshEdge& edge : e.mesh->edges) EXPECT_TRUE(edge.smooth);
-    set(g, soft, "a", {30.0});
+    set(g, soft, "a", {std::numbers::pi / 6});
     e = evaluate(g, s.shape);
     ASSERT_TRUE(e.mesh) << e.skipReason;
     for (const geom::MeshEdge& edge : e.mesh->edges) EXPECT_FALSE(edge.smooth);
@@ -654,6 +654,13 @@ TEST(MeshEval, UvOnlyHistoryPassesGeometryThrough) {
     EXPECT_EQ(e.mesh->faceCount(), 6u);
     ASSERT_EQ(e.notes.size(), 2u);
     EXPECT_NE(e.notes[0].find("UV edits are not applied"), std::string::npos) << e.notes[0];
+    // Node types pushpin evaluates are not reported as unsupported.
+    EXPECT_TRUE(g.unsupportedTypes().empty()) << g.unsupportedTypes().begin()->first;
+    Graph h;
+    for (const char* type : {"polyTriangulate", "polySoftEdge", "polyNormal", "polyNormalPerVertex", "polyMapCut",
+                             "polyPlanarProj", "polyMergeUV", "createUVSet", "Unfold3DUnfold"})
+        h.createNode(type, std::string(type) + "1");
+    EXPECT_TRUE(h.unsupportedTypes().empty()) << h.unsupportedTypes().begin()->first;
 }
 
 }  // namespace
