@@ -77,6 +77,32 @@ TEST(Corpus, CountsMatchWhatTheFilesSay) {
     }
 }
 
+// Six scenes laid out as their authors' projects, counted by reading each file's createNode and
+// parent -add lines (shapes are mesh and NURBS surface instances).
+TEST(Corpus, ProjectSceneCountsMatchWhatTheFilesSay) {
+    PUSHPIN_REQUIRE_MA_CORPUS();
+    const Expected expected[] = {
+        {"Autodesk__maya-hydra__testUDIMs/test/testSamples/testUVandUDIM/testUDIMs.ma", 1, 0, 4, 1},
+        {"amju-games__amju-ww__crate2/Assets/maya/unused/crate2.ma", 1, 0, 4, 2},
+        {"Crayfish__mayakurs2012__spitzhacke_texture3/group3/spitzhacke_texture3.ma", 2, 0, 4, 4},
+        {"Crayfish__mayakurs2012__Hochsitz/group6/__new_feldlager_marlis_streicher/Hochsitz/Hochsitz.ma", 83, 0, 4, 18},
+        {"elliotfiske__slumber-models__bed/scenes/bed.ma", 29, 1, 4, 3},
+        {"Crayfish__mayakurs2012__ocean/group1/ocean.ma", 2, 2, 4, 8},
+    };
+    for (const Expected& e : expected) {
+        SCOPED_TRACE(e.file);
+        const fs::path file = test::maProjectsDir() / e.file;
+        ASSERT_TRUE(fs::exists(file));
+        Graph g = MaReader::readFile(file);
+        SceneReport report = describeScene(g, sceneCurrentFrame(g));
+        RenderSetup setup = extractRenderSetup(g);
+        EXPECT_EQ(report.shapes.size(), e.shapes);
+        EXPECT_EQ(setup.lights.size(), e.lights);
+        EXPECT_EQ(setup.cameras.size(), e.cameras);
+        EXPECT_EQ(setup.shadingGroups.size(), e.shadingGroups + kDefaultShadingGroups);
+    }
+}
+
 TEST(Corpus, PerFaceMaterialsAreComponentMembers) {
     PUSHPIN_REQUIRE_MA_CORPUS();
     Graph g = MaReader::readFile(maCorpusDir() / "appleseedhq__appleseed-maya__face_materials.ma");
