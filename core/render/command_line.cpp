@@ -164,11 +164,18 @@ double parseFloat(std::string_view flag, std::string_view text, double lo, doubl
     return v;
 }
 
-bool parseBool(std::string_view flag, std::string_view text) {
+// Whether `text` is a boolean word; its value in `out`.
+bool boolWord(std::string_view text, bool& out) {
     const std::string t = lower(text);
-    if (t == "on" || t == "yes" || t == "true" || t == "1") return true;
-    if (t == "off" || t == "no" || t == "false" || t == "0") return false;
-    bad(flag, text, "is not a boolean (on/yes/true/1 or off/no/false/0)");
+    if (t == "on" || t == "yes" || t == "true" || t == "1") return out = true, true;
+    if (t == "off" || t == "no" || t == "false" || t == "0") return out = false, true;
+    return false;
+}
+
+bool parseBool(std::string_view flag, std::string_view text) {
+    bool value = false;
+    if (!boolWord(text, value)) bad(flag, text, "is not a boolean (on/yes/true/1 or off/no/false/0)");
+    return value;
 }
 
 int parseEaa(std::string_view flag, std::string_view text) {
@@ -333,12 +340,8 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
             switch (na->arg) {
                 case ArgKind::None: break;
                 case ArgKind::OptionalBool:
-                    if (i + 1 < args.size() && !isOption(args[i + 1])) {
-                        const std::string t = lower(args[i + 1]);
-                        if (t == "on" || t == "yes" || t == "true" || t == "1" || t == "off" || t == "no" ||
-                            t == "false" || t == "0")
-                            given += " " + std::string(args[++i]);
-                    }
+                    if (bool ignored = false; i + 1 < args.size() && boolWord(args[i + 1], ignored))
+                        given += " " + std::string(args[++i]);
                     break;
                 case ArgKind::Bool: {
                     const std::string_view v = value();

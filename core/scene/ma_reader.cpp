@@ -315,6 +315,8 @@ private:
         return i + 1 < m_argc && m_args[i + 1].kind == MaTokenKind::Word && detail::parseMaBool(m_args[i + 1].text, ignored) ? 1 : 0;
     }
     size_t unknownFlagArgs(std::string_view command, size_t i, size_t needed);
+    // Warns once per command and flag that an unknown flag is skipped.
+    void warnUnknownFlag(std::string_view command, std::string_view flag, uint32_t line, uint32_t column);
     // After a statement failed: warns (the first kMaxSkipWarnings times) and reads to its ';'.
     void skipFailedStatement(const std::string& command, const ParseError& e);
     void warn(uint32_t line, uint32_t column, const std::string& message);
@@ -494,12 +496,16 @@ void Parser::failSyntax(uint32_t line, uint32_t column, const std::string& messa
 // arguments its following tokens look like. Numbers and booleans are its arguments; one name or
 // string is, only when enough non-flag tokens remain after it for the `needed` positional
 // arguments the command has yet to see, so that an unknown flag never takes the node or plug.
+void Parser::warnUnknownFlag(std::string_view command, std::string_view flag, uint32_t line, uint32_t column) {
+    const std::string key = std::string(command) + " " + util::excerpt(flag);
+    if (m_ctx.unknownFlags.size() < kMaxSkipWarnings && m_ctx.unknownFlags.insert(key).second)
+        warn(line, column, std::string(command) + ": unknown flag " + util::excerpt(flag) +
+                               " is skipped with its arguments (reported once)");
+}
+
 size_t Parser::unknownFlagArgs(std::string_view command, size_t i, size_t needed) {
     const MaToken& flag = m_args[i];
-    const std::string key = std::string(command) + " " + util::excerpt(flag.text);
-    if (m_ctx.unknownFlags.size() < kMaxSkipWarnings && m_ctx.unknownFlags.insert(key).second)
-        warn(flag.line, flag.column, std::string(command) + ": unknown flag " + util::excerpt(flag.text) +
-                                         " is skipped with its arguments (reported once)");
+    warnUnknownFlag(command, flag.text, flag.line, flag.column);
     size_t n = 0;
     for (size_t j = i + 1; j < m_argc && !m_args[j].isFlag(); ++j) {
         const MaToken& t = m_args[j];
@@ -1599,9 +1605,7 @@ void Parser::cmdSetAttr() {
             if (afterPlug) return false;  // after the plug an unknown `-word` is a value (and fails as one)
             // Before the plug: skipped with the numbers and booleans that follow it; the plug, a
             // string, is never its argument.
-            const std::string key = "setAttr " + util::excerpt(f);
-            if (m_ctx.unknownFlags.size() < kMaxSkipWarnings && m_ctx.unknownFlags.insert(key).second)
-                warn(flagLine, flagColumn, "setAttr: unknown flag " + util::excerpt(f) + " is skipped with its arguments (reported once)");
+            warnUnknownFlag("setAttr", f, flagLine, flagColumn);
             advance();
             while (m_tok.kind == MaTokenKind::Word && !m_tok.isFlag() &&
                    detail::parseMaNumber(m_tok.text, UnitKind::None, m_units).status != MaNumberStatus::NotANumber)
@@ -1623,15 +1627,6 @@ void Parser::cmdSetAttr() {
         while (!atCommandEnd()) rawNext(m_tok);
         return;
     }
-    if (target.segments.size() >= 2) {
-        const PlugSegment& parent = target.segments[target.segments.size() - 2];
-        if (parent.indexed() && parent.last != parent.first) {
-            const AttrSpec* spec = m_g.node(target.node).findAttr(target.segments.back().name);
-            const UnitKind unit = spec ? spec->unit : UnitKind::None;
-            const double factor = (unit == UnitKind::Distance || unit == UnitKind::Angle) ? toInternal(unit, m_units) : 1.0;
-            return setAcrossMidRange(plug, target, target.segments.size() - 2, unit, factor);
-        }
-    }
     std::vector<PlugSegment>& segs = target.segments;
     const PlugSegment& last = segs.back();
     const int64_t elements = last.indexed() ? last.last - last.first + 1 : 0;
@@ -1639,6 +1634,8 @@ void Parser::cmdSetAttr() {
     const AttrSpec* spec = node.findAttr(last.name);
     const UnitKind unit = spec ? spec->unit : UnitKind::None;
     const double factor = (unit == UnitKind::Distance || unit == UnitKind::Angle) ? toInternal(unit, m_units) : 1.0;
+    if (segs.size() >= 2 && segs[segs.size() - 2].indexed() && segs[segs.size() - 2].last != segs[segs.size() - 2].first)
+        return setAcrossMidRange(plug, target, segs.size() - 2, unit, factor);
     const int schemaWidth = spec ? componentCount(spec->type) : 0;
     const uint32_t valueLine = m_tok.line, valueColumn = m_tok.column;
 

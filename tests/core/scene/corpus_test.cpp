@@ -50,6 +50,20 @@ struct Expected {
 // initialShadingGroup and initialParticleSE exist in every scene.
 constexpr size_t kDefaultShadingGroups = 2;
 
+// Reads `folder / e.file` and checks its shape, light, camera and shading-group counts.
+void expectCounts(const fs::path& folder, const Expected& e) {
+    SCOPED_TRACE(e.file);
+    const fs::path file = folder / e.file;
+    ASSERT_TRUE(fs::exists(file));
+    Graph g = MaReader::readFile(file);
+    SceneReport report = describeScene(g, sceneCurrentFrame(g));
+    RenderSetup setup = extractRenderSetup(g);
+    EXPECT_EQ(report.shapes.size(), e.shapes);
+    EXPECT_EQ(setup.lights.size(), e.lights);
+    EXPECT_EQ(setup.cameras.size(), e.cameras);
+    EXPECT_EQ(setup.shadingGroups.size(), e.shadingGroups + kDefaultShadingGroups);
+}
+
 TEST(Corpus, CountsMatchWhatTheFilesSay) {
     PUSHPIN_REQUIRE_MA_CORPUS();
     const Expected expected[] = {
@@ -63,18 +77,7 @@ TEST(Corpus, CountsMatchWhatTheFilesSay) {
         {"amju-games__music-theory__door2.ma", 17, 0, 5, 12},
         {"tws0002__pop2-project__CarrotTop.ma", 6, 0, 4, 4},
     };
-    for (const Expected& e : expected) {
-        SCOPED_TRACE(e.file);
-        fs::path file = maCorpusDir() / e.file;
-        ASSERT_TRUE(fs::exists(file));
-        Graph g = MaReader::readFile(file);
-        SceneReport report = describeScene(g, sceneCurrentFrame(g));
-        RenderSetup setup = extractRenderSetup(g);
-        EXPECT_EQ(report.shapes.size(), e.shapes);
-        EXPECT_EQ(setup.lights.size(), e.lights);
-        EXPECT_EQ(setup.cameras.size(), e.cameras);
-        EXPECT_EQ(setup.shadingGroups.size(), e.shadingGroups + kDefaultShadingGroups);
-    }
+    for (const Expected& e : expected) expectCounts(maCorpusDir(), e);
 }
 
 // Six scenes laid out as their authors' projects, counted by reading each file's createNode and
@@ -89,18 +92,7 @@ TEST(Corpus, ProjectSceneCountsMatchWhatTheFilesSay) {
         {"elliotfiske__slumber-models__bed/scenes/bed.ma", 29, 1, 4, 3},
         {"Crayfish__mayakurs2012__ocean/group1/ocean.ma", 2, 2, 4, 8},
     };
-    for (const Expected& e : expected) {
-        SCOPED_TRACE(e.file);
-        const fs::path file = test::maProjectsDir() / e.file;
-        ASSERT_TRUE(fs::exists(file));
-        Graph g = MaReader::readFile(file);
-        SceneReport report = describeScene(g, sceneCurrentFrame(g));
-        RenderSetup setup = extractRenderSetup(g);
-        EXPECT_EQ(report.shapes.size(), e.shapes);
-        EXPECT_EQ(setup.lights.size(), e.lights);
-        EXPECT_EQ(setup.cameras.size(), e.cameras);
-        EXPECT_EQ(setup.shadingGroups.size(), e.shadingGroups + kDefaultShadingGroups);
-    }
+    for (const Expected& e : expected) expectCounts(test::maProjectsDir(), e);
 }
 
 TEST(Corpus, PerFaceMaterialsAreComponentMembers) {
