@@ -329,6 +329,7 @@ private:
     void nameFreed(const std::string& name);
     // midRange: a range may also stand before the last segment (`.wl[0:7].w`, setAttr only).
     bool resolvePlug(const MaToken& t, bool requireAttr, ResolvedPlug& out, bool midRange = false);
+    void indexInstancePlug(const MaToken& written, ResolvedPlug& plug);
     void setAcrossMidRange(const MaToken& plug, ResolvedPlug& target, size_t range, UnitKind unit, double factor);
     void setCurrent(NodeId id);
 
@@ -1001,6 +1002,44 @@ void Parser::loadReference(const std::string& pathText, const std::string& ns, c
 
 // ------------------------------------------------------------------ connections, DAG, selection
 
+// A per-instance attribute (instObjGroups, worldMatrix, worldMesh, …) of a DAG node named by one
+// of its instance paths, without an index, is that instance's element: Maya writes
+// "|group1|inst2|shape.iog" for the second instance's shading assignment.
+void Parser::indexInstancePlug(const MaToken& written, ResolvedPlug& plug) {
+    if (plug.segments.empty() || plug.segments.front().indexed() || plug.node == kNoNode) return;
+    const std::string_view text = written.text;
+    const std::string_view nodePart = text.substr(0, text.find('.'));
+    if (nodePart.find('|') == std::string_view::npos) return;
+    const Node& node = m_g.node(plug.node);
+    if (!node.isDag()) return;
+    const std::string_view attr = plug.segments.front().name;
+    static constexpr std::string_view kPerInstance[] = {
+        "iog", "instObjGroups", "wm", "worldMatrix", "wim", "worldInverseMatrix",
+        "pm", "parentMatrix", "pim", "parentInverseMatrix"};
+    bool perInstance = std::find(std::begin(kPerInstance), std::end(kPerInstance), attr) != std::end(kPerInstance);
+    if (!perInstance && node.schema) {
+        if (node.schema->isA("mesh")) perInstance = attr == "w" || attr == "worldMesh";
+        else if (node.schema->isA("nurbsSurface") || node.schema->isA("nurbsCurve"))
+            perInstance = attr == "ws" || attr == "worldSpace";
+    }
+    if (!perInstance) return;
+    DagPathBudget budget;
+    const std::vector<std::vector<NodeId>> paths = m_g.dagPaths(plug.node, &budget);
+    if (paths.size() < 2) return;
+    const std::string full = qualify(nodePart);
+    for (size_t k = 0; k < paths.size(); ++k) {
+        const std::string name = m_g.dagPathName(paths[k]);
+        const bool match = full.front() == '|'
+                               ? name == full
+                               : name.size() > full.size() && name.compare(name.size() - full.size(), full.size(), full) == 0 &&
+                                     name[name.size() - full.size() - 1] == '|';
+        if (match) {
+            plug.segments.front().first = plug.segments.front().last = int64_t(k);
+            return;
+        }
+    }
+}
+
 void Parser::cmdConnectAttr(bool connect) {
     collectArgs();
     const char* cmd = connect ? "connectAttr" : "disconnectAttr";
@@ -1025,6 +1064,8 @@ void Parser::cmdConnectAttr(bool connect) {
     for (const ResolvedPlug* p : {&src, &dst})
         if (p->segments.back().last != p->segments.back().first)
             failAt(*plugs[p == &src ? 0 : 1], std::string(cmd) + ": a plug cannot name a range");
+    indexInstancePlug(*plugs[0], src);
+    indexInstancePlug(*plugs[1], dst);
     Plug s{src.node, m_g.canonicalPath(src.node, src.segments)};
     Plug d{dst.node, m_g.canonicalPath(dst.node, dst.segments)};
     if (connect) {

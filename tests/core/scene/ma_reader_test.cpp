@@ -731,6 +731,34 @@ parent -s -nc -r -add "|pCube1|pCubeShape1" "pCube2";
     EXPECT_EQ(g.dagPathName(paths[1]), "|pCube2|pCubeShape1");
 }
 
+// A per-instance attribute named through one instance's path, without an index, is that
+// instance's element: each instance keeps its own shading group.
+TEST(MaReader, InstancePathsSelectTheirOwnInstObjGroupsElement) {
+    Graph g = read(R"(createNode transform -n "grp";
+createNode transform -n "a" -p "grp";
+createNode mesh -n "shape" -p "a";
+createNode transform -n "b" -p "grp";
+createNode transform -n "c" -p "grp";
+parent -s -nc -r -add "|grp|a|shape" "b";
+parent -s -nc -r -add "|grp|a|shape" "c";
+createNode shadingEngine -n "sgA";
+createNode shadingEngine -n "sgC";
+connectAttr "|grp|a|shape.iog" "sgA.dsm" -na;
+connectAttr "c|shape.iog" "sgC.dsm" -na;
+connectAttr "|grp|b|shape.iog.og[0]" "sgC.dsm" -na;
+connectAttr "|grp|c|shape.wm" "sgA.msg";
+connectAttr "shape.iog[1]" "sgA.dsm" -na;
+)");
+    const NodeId shape = findNode(g, "shape");
+    ASSERT_EQ(g.dagPaths(shape).size(), 3u);
+    std::vector<std::string> sources;
+    for (const std::string sg : {"sgA", "sgC"})
+        for (const Connection* c : g.inputs(findNode(g, sg)))
+            if (c->src.node == shape) sources.push_back(sg + "<-" + c->src.path);
+    EXPECT_EQ(sources, (std::vector<std::string>{"sgA<-instObjGroups[0]", "sgA<-worldMatrix[2]", "sgA<-instObjGroups[1]",
+                                                 "sgC<-instObjGroups[2]", "sgC<-instObjGroups[1].objectGroups[0]"}));
+}
+
 TEST(MaReader, ParentReparentsAndWorld) {
     Graph g = read(R"(createNode transform -n "a";
 createNode transform -n "b";
