@@ -1,10 +1,14 @@
 // core/scene/nurbs_eval.cpp: nurbsSurface / nurbsCurve shapes → geom::NurbsSurface / geom::NurbsCurve.
 #include "core/scene/nurbs_eval.h"
 
+#include "core/geom/nurbs_ops.h"
 #include "core/geom/nurbs_primitives.h"
+
+#include <glm/mat4x4.hpp>
 
 #include <cctype>
 #include <cmath>
+#include <algorithm>
 #include <initializer_list>
 #include <numbers>
 
@@ -200,6 +204,152 @@ std::optional<geom::NurbsSurface> evaluateCreator(Evaluator& ev, NodeId node, co
     return failWith(error, "node type " + type + " is not a NURBS surface creator");
 }
 
+std::optional<geom::NurbsCurve> curveOfShape(Evaluator& ev, NodeId shape, std::string* skipReason, std::string* note,
+                                             int depth);
+std::optional<geom::NurbsSurface> surfaceOfShape(Evaluator& ev, NodeId shape, std::string* skipReason,
+                                                 std::string* note, int depth);
+
+void addNote(std::string* note, const std::string& text) {
+    if (note && !text.empty()) *note += (note->empty() ? "" : "; ") + text;
+}
+
+bool startsWith(const std::string& s, std::string_view prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
+
+// The element index of a multi plug path ("worldSpace[2]" → 2); 0 without an index.
+int plugIndex(const std::string& path) {
+    const size_t bracket = path.find('[');
+    return bracket == std::string::npos ? 0 : std::atoi(path.c_str() + bracket + 1);
+}
+
+// The world matrix of DAG instance `index` of a shape (worldSpace[index] is in that space).
+std::optional<glm::dmat4> instanceMatrix(Evaluator& ev, NodeId shape, int index) {
+    const auto paths = ev.graph().dagPaths(shape);
+    if (index < 0 || size_t(index) >= paths.size()) return std::nullopt;
+    return ev.worldMatrix(paths[size_t(index)]);
+}
+
+std::optional<geom::NurbsCurve> circleOfCreator(Evaluator& ev, NodeId node, std::string* error) {
+    CreatorAttrs a(ev, node);
+    geom::NurbsCircleParams p;
+    p.radius = a.number("r", 1.0);
+    p.sweep = a.number("sw", kTwoPi);
+    p.degree = a.integer("d", 3);
+    p.sections = a.integer("s", 8);
+    p.normal = a.vec3("nr", {"nrx", "nry", "nrz"}, glm::dvec3(0, 0, 1));
+    p.center = a.vec3("c", {"cx", "cy", "cz"}, glm::dvec3(0.0));
+    return geom::makeNurbCircle(p, error);
+}
+
+// The curve a plug carries: a nurbsCurve shape's `local` (or `create`) in object space, its
+// `worldSpace[i]` in world space, or a makeNurbCircle output.
+std::optional<geom::NurbsCurve> curveAtPlug(Evaluator& ev, const Plug& src, std::string* error, std::string* note,
+                                            int depth) {
+    const Graph& g = ev.graph();
+    const Node& n = g.node(src.node);
+    if (n.type == "nurbsCurve") {
+        auto c = curveOfShape(ev, src.node, error, note, depth + 1);
+        if (!c || !startsWith(src.path, "worldSpace")) return c;
+        const int instance = plugIndex(src.path);
+        const auto m = instanceMatrix(ev, src.node, instance);
+        if (!m) return failWith(error, n.name + " has no DAG instance " + std::to_string(instance));
+        std::string err;
+        auto world = geom::transformCurve(*c, *m, &err);
+        if (!world) return failWith(error, n.name + " in world space: " + err);
+        return world;
+    }
+    if (n.type == "makeNurbCircle") {
+        std::string err;
+        auto c = circleOfCreator(ev, src.node, &err);
+        if (!c) return failWith(error, "makeNurbCircle (" + n.name + "): " + err);
+        return c;
+    }
+    return failWith(error, "history node " + n.type + " (" + n.name + ") is not evaluated");
+}
+
+std::optional<geom::NurbsSurface> evaluateRevolve(Evaluator& ev, NodeId node, std::string* error, std::string* note,
+                                                  int depth) {
+    const Graph& g = ev.graph();
+    const auto src = g.source(node, "inputCurve");
+    if (!src) return failWith(error, "no input curve");
+    auto profile = curveAtPlug(ev, *src, error, note, depth);
+    if (!profile) return std::nullopt;
+    CreatorAttrs a(ev, node);
+    geom::RevolveParams p;
+    p.axis = a.vec3("ax", {"axx", "axy", "axz"}, kDefaultAxis);
+    p.pivot = a.vec3("p", {"px", "py", "pz"}, glm::dvec3(0.0));
+    p.startSweep = a.number("ssw", 0.0);
+    p.endSweep = a.number("esw", kTwoPi);
+    p.degree = a.integer("d", 3);
+    p.sections = a.integer("s", 8);
+    p.useTolerance = a.integer("ut", 0) != 0;
+    p.tolerance = a.number("tol", 0.01);
+    p.autoCorrectNormal = a.integer("acn", 0) != 0;
+    const std::string& name = g.node(node).name;
+    if (a.integer("cpa", 0) != 0) {
+        addNote(note, "revolve " + name + ": computePivotAndAxis is not modelled; its axis and pivot attributes are used");
+    }
+    if (a.integer("br", 0) != 0) addNote(note, "revolve " + name + ": bridge is not modelled");
+    return geom::revolveCurve(*profile, p, error);
+}
+
+std::optional<geom::NurbsSurface> evaluateLoft(Evaluator& ev, NodeId node, std::string* error, std::string* note,
+                                               int depth) {
+    const Graph& g = ev.graph();
+    std::vector<std::pair<int, Plug>> inputs;
+    for (const Connection* c : g.inputs(node)) {
+        if (startsWith(c->dst.path, "inputCurve[")) inputs.emplace_back(plugIndex(c->dst.path), c->src);
+    }
+    std::sort(inputs.begin(), inputs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (inputs.size() < 2) return failWith(error, std::to_string(inputs.size()) + " input curves connected, a loft needs 2");
+    CreatorAttrs a(ev, node);
+    geom::LoftParams p;
+    p.uniform = a.integer("u", 0) != 0;
+    p.close = a.integer("c", 0) != 0;
+    p.degree = a.integer("d", 3);
+    p.reverseSurfaceNormals = a.integer("rsn", 0) != 0;
+    p.autoReverse = a.integer("ar", 1) != 0;
+    p.sectionSpans = a.integer("ss", 1);
+    std::vector<geom::NurbsCurve> curves;
+    bool cusp = false;
+    for (const auto& [index, plug] : inputs) {
+        std::string err;
+        auto c = curveAtPlug(ev, plug, &err, note, depth);
+        if (!c) return failWith(error, "inputCurve[" + std::to_string(index) + "]: " + err);
+        curves.push_back(std::move(*c));
+        const std::string k = "[" + std::to_string(index) + "]";
+        p.reverse.push_back(ev.getBool(node, "reverse" + k, false));
+        cusp = cusp || ev.getBool(node, "createCusp" + k, false);
+    }
+    if (cusp) addNote(note, "loft " + g.node(node).name + ": createCusp is not modelled");
+    return geom::loftCurves(curves, p, error);
+}
+
+// The surface a plug carries: a nurbsSurface shape's `local` (object space) or `worldSpace[i]` (world
+// space), or the output of a creator, revolve or loft node.
+std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, std::string* error, std::string* note,
+                                                int depth) {
+    const Graph& g = ev.graph();
+    const Node& n = g.node(src.node);
+    std::string err;
+    if (n.type == "nurbsSurface") {
+        auto s = surfaceOfShape(ev, src.node, error, note, depth + 1);
+        if (!s || !startsWith(src.path, "worldSpace")) return s;
+        const int instance = plugIndex(src.path);
+        const auto m = instanceMatrix(ev, src.node, instance);
+        if (!m) return failWith(error, n.name + " has no DAG instance " + std::to_string(instance));
+        auto world = geom::transformSurface(*s, *m, &err);
+        if (!world) return failWith(error, n.name + " in world space: " + err);
+        return world;
+    }
+    std::optional<geom::NurbsSurface> s;
+    if (isSurfaceCreator(n.type)) s = evaluateCreator(ev, src.node, src.path, &err);
+    else if (n.type == "revolve") s = evaluateRevolve(ev, src.node, &err, note, depth);
+    else if (n.type == "loft") s = evaluateLoft(ev, src.node, &err, note, depth);
+    else return failWith(error, "history node " + n.type + " (" + n.name + ") is not evaluated");
+    if (!s) return failWith(error, n.type + " (" + n.name + "): " + err);
+    return s;
+}
+
 std::optional<geom::NurbsSurface> surfaceOfShape(Evaluator& ev, NodeId shape, std::string* skipReason,
                                                  std::string* note, int depth) {
     const Graph& g = ev.graph();
@@ -222,6 +372,19 @@ std::optional<geom::NurbsSurface> surfaceOfShape(Evaluator& ev, NodeId shape, st
             auto s = evaluateCreator(ev, src->node, src->path, &err);
             if (!s) return failWith(skipReason, n.name + ": " + c.type + " (" + c.name + "): " + err);
             return s;
+        }
+        if ((c.type == "revolve" || c.type == "loft") && depth < kMaxShapeChain) {
+            std::string err, historyNote;
+            auto s = surfaceAtPlug(ev, *src, &err, &historyNote, depth);
+            if (s) {
+                addNote(note, historyNote);
+                return s;
+            }
+            if (cached) {
+                addNote(note, err + "; using the cached surface of " + n.name);
+                return fromCache();
+            }
+            return failWith(skipReason, n.name + ": " + err);
         }
         if (c.type == "nurbsSurface" && depth < kMaxShapeChain && src->node != shape) {
             return surfaceOfShape(ev, src->node, skipReason, note, depth + 1);
@@ -251,16 +414,8 @@ std::optional<geom::NurbsCurve> curveOfShape(Evaluator& ev, NodeId shape, std::s
     if (auto src = g.source(shape, "cr")) {
         const Node& c = g.node(src->node);
         if (c.type == "makeNurbCircle") {
-            CreatorAttrs a(ev, src->node);
-            geom::NurbsCircleParams p;
-            p.radius = a.number("r", 1.0);
-            p.sweep = a.number("sw", kTwoPi);
-            p.degree = a.integer("d", 3);
-            p.sections = a.integer("s", 8);
-            p.normal = a.vec3("nr", {"nrx", "nry", "nrz"}, glm::dvec3(0, 0, 1));
-            p.center = a.vec3("c", {"cx", "cy", "cz"}, glm::dvec3(0.0));
             std::string err;
-            auto curve = geom::makeNurbCircle(p, &err);
+            auto curve = circleOfCreator(ev, src->node, &err);
             if (!curve) return failWith(skipReason, n.name + ": makeNurbCircle (" + c.name + "): " + err);
             return curve;
         }
@@ -335,6 +490,45 @@ std::optional<geom::NurbsSurface> evaluateNurbsSurface(Evaluator& ev, NodeId sha
 std::optional<geom::NurbsCurve> evaluateNurbsCurve(Evaluator& ev, NodeId shape, std::string* skipReason,
                                                    std::string* note) {
     return curveOfShape(ev, shape, skipReason, note, 0);
+}
+
+std::optional<geom::Mesh> evaluateNurbsTessellate(Evaluator& ev, NodeId tessellateNode, std::string* reason,
+                                                  std::vector<std::string>* notes) {
+    const Graph& g = ev.graph();
+    const std::string& name = g.node(tessellateNode).name;
+    const auto src = g.source(tessellateNode, "inputSurface");
+    if (!src) return failWith(reason, name + ": no input surface");
+    std::string err, note;
+    auto surface = surfaceAtPlug(ev, *src, &err, &note, 0);
+    if (!surface) return failWith(reason, name + ": " + err);
+    CreatorAttrs a(ev, tessellateNode);
+    geom::TessellateParams p;
+    p.format = a.integer("f", 1);
+    p.polygonType = a.integer("pt", 0);
+    p.polygonCount = a.integer("pc", 200);
+    p.uType = a.integer("ut", 3);
+    p.vType = a.integer("vt", 3);
+    p.uNumber = a.integer("un", 3);
+    p.vNumber = a.integer("vn", 3);
+    p.useChordHeight = a.integer("uch", 0) != 0;
+    p.chordHeight = a.number("cht", 0.1);
+    p.useChordHeightRatio = a.integer("ucr", 1) != 0;
+    p.chordHeightRatio = a.number("chr", 0.983);
+    p.delta = a.number("d", 0.1);
+    p.matchNormalDir = a.integer("mnd", 0) != 0;
+    std::vector<std::string> tessNotes;
+    if (a.integer("eta", 1) == 0) {
+        tessNotes.push_back("explicitTessellationAttributes off (curvatureTolerance, division factors) is not modelled; "
+                            "the explicit attributes are used");
+    }
+    if (a.integer("es", 0) != 0) tessNotes.push_back("edgeSwap is not modelled");
+    auto mesh = geom::tessellateSurface(*surface, p, &err, &tessNotes);
+    if (!mesh) return failWith(reason, name + ": " + err);
+    if (notes) {
+        if (!note.empty()) notes->push_back(note);
+        for (const std::string& t : tessNotes) notes->push_back(name + ": " + t);
+    }
+    return mesh;
 }
 
 }  // namespace pushpin::scene

@@ -1,8 +1,13 @@
 // core/scene/nurbs_eval.h: the geometry of nurbsSurface and nurbsCurve shapes at one frame: decodes a
 // shape's stored `cached` (`cc`) data, or evaluates the primitive creator node feeding its `create`
 // (`cr`) plug (makeNurbSphere, makeNurbPlane, makeNurbCylinder, makeNurbCone, makeNurbTorus,
-// makeNurbCube, makeNurbCircle) with attribute values taken through the Evaluator (so animated
-// attributes work). Other construction history is not evaluated.
+// makeNurbCube, makeNurbCircle) or the revolve / loft node feeding it (geom/nurbs_ops.h) with attribute
+// values taken through the Evaluator (so animated attributes work); and the polygon mesh of a
+// nurbsTessellate node. Other construction history is not evaluated.
+// Input curves of revolve and loft come from a nurbsCurve shape's `local` plug (object space) or its
+// `worldSpace[i]` plug (transformed by the world matrix of DAG instance i), or straight from a
+// makeNurbCircle; the surface of a nurbsTessellate likewise from a shape's `local` / `worldSpace[i]`,
+// a creator, revolve or loft node.
 // Thread safety: as the Evaluator passed in (one per thread); the decode functions are pure.
 // Memory: results own their knots and CVs.
 //
@@ -12,6 +17,7 @@
 // pre-multiplies internally. RationalCvLayout::PreMultiplied reads (x·w, y·w, z·w, w) instead.
 #pragma once
 
+#include "core/geom/mesh.h"
 #include "core/geom/nurbs.h"
 #include "core/scene/evaluator.h"
 #include "core/scene/value.h"
@@ -37,6 +43,8 @@ std::optional<geom::NurbsCurve> decodeNurbsCurve(const NurbsCurveData& data, std
 // The object-space surface of a nurbsSurface shape at the evaluator's frame:
 // - with an incoming `create` connection from a supported creator node: that node's surface (for
 //   makeNurbCube the face its outputSurface[i] / outputSurfaceN plug names);
+// - from a revolve or loft node: its surface; when it cannot be evaluated, the stored `cc` data when
+//   present (and *note says why), otherwise nullopt with the reason;
 // - with any other incoming `create` connection: the shape's stored `cc` data when present (and
 //   *note says so), otherwise nullopt with *skipReason = "history node <type> (<name>) is not evaluated";
 // - without a `create` connection: the stored `cc` data.
@@ -48,5 +56,10 @@ std::optional<geom::NurbsSurface> evaluateNurbsSurface(Evaluator& ev, NodeId sha
 // The same for a nurbsCurve shape (`create` from makeNurbCircle, else `cc`).
 std::optional<geom::NurbsCurve> evaluateNurbsCurve(Evaluator& ev, NodeId shape, std::string* skipReason,
                                                    std::string* note = nullptr);
+
+// The polygon mesh a nurbsTessellate node outputs at the Evaluator's frame, from the surface at its
+// inputSurface. nullopt with *reason set when the surface or the settings cannot be evaluated.
+std::optional<geom::Mesh> evaluateNurbsTessellate(Evaluator& ev, NodeId tessellateNode, std::string* reason,
+                                                  std::vector<std::string>* notes);
 
 }  // namespace pushpin::scene

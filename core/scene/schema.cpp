@@ -624,6 +624,34 @@ void addHistoryTypes(Table& t) {
     t.xyz("center", "c", T::Double3, 0, 0, 0, U::Distance).xyz("normal", "nr", T::Double3, 0, 0, 1, U::None)
         .a("radius", "r", T::Double, 1, U::Distance).a("sweep", "sw", T::Double, 360 * kDeg, U::Angle)
         .a("degree", "d", T::Enum, 3).a("sections", "s", T::Int, 8).a("outputCurve", "oc", T::NurbsCurve);
+    // NURBS construction history evaluated by nurbs_eval (geom/nurbs_ops.h).
+    t.type("revolve", "abstractBaseCreate");
+    t.xyz("pivot", "p", T::Double3, 0, 0, 0, U::Distance).xyz("axis", "ax", T::Double3, 1, 0, 0, U::None)
+        .a("startSweep", "ssw", T::Double, 0, U::Angle).a("endSweep", "esw", T::Double, 360 * kDeg, U::Angle)
+        .a("sections", "s", T::Int, 8).a("degree", "d", T::Enum, 3).a("useTolerance", "ut", T::Bool, 0)
+        .a("tolerance", "tol", T::Double, 0.01, U::Distance).a("axisChoice", "ach", T::Enum, 0)
+        .a("computePivotAndAxis", "cpa", T::Enum, 0).a("autoCorrectNormal", "acn", T::Bool, 0)
+        .a("bridge", "br", T::Bool, 0).a("radius", "r", T::Double, 1, U::Distance)
+        .a("inputCurve", "ic", T::NurbsCurve).a("outputSurface", "os", T::NurbsSurface);
+    t.type("loft", "abstractBaseCreate");
+    t.a("inputCurve", "ic", T::NurbsCurve, 0, U::None, true).a("uniform", "u", T::Bool, 0).a("close", "c", T::Bool, 0)
+        .a("degree", "d", T::Enum, 3).a("reverseSurfaceNormals", "rsn", T::Bool, 0).a("autoReverse", "ar", T::Bool, 1)
+        .a("sectionSpans", "ss", T::Int, 1).a("reverse", "r", T::Bool, 0, U::None, true)
+        .a("createCusp", "cc", T::Bool, 0, U::None, true).a("outputSurface", "os", T::NurbsSurface);
+    t.type("parentTessellate", "node");
+    t.a("format", "f", T::Enum, 1).a("polygonType", "pt", T::Enum, 0).a("polygonCount", "pc", T::Int, 200)
+        .a("uType", "ut", T::Enum, 3).a("vType", "vt", T::Enum, 3).a("uNumber", "un", T::Int, 3)
+        .a("vNumber", "vn", T::Int, 3).a("useChordHeight", "uch", T::Bool, 0)
+        .a("chordHeight", "cht", T::Double, 0.1, U::Distance).a("useChordHeightRatio", "ucr", T::Bool, 1)
+        .a("chordHeightRatio", "chr", T::Double, 0.983).a("delta", "d", T::Double, 0.1, U::Distance)
+        .a("edgeSwap", "es", T::Bool, 0).a("fractionalTolerance", "ft", T::Double, 0.01)
+        .a("minEdgeLength", "mel", T::Double, 0.001, U::Distance).a("matchNormalDir", "mnd", T::Bool, 0)
+        .a("normalizeTrimmedUVRange", "ntr", T::Bool, 1).a("outputPolygon", "op", T::Mesh);
+    t.type("nurbsTessellate", "parentTessellate");
+    t.a("inputSurface", "is", T::NurbsSurface).a("explicitTessellationAttributes", "eta", T::Bool, 1)
+        .a("curvatureTolerance", "cvt", T::Enum, 2).a("uDivisionsFactor", "nuf", T::Double, 1.5)
+        .a("vDivisionsFactor", "nvf", T::Double, 1.5).a("smoothEdge", "ues", T::Bool, 0)
+        .a("smoothEdgeRatio", "esr", T::Double, 0.99);
 }
 
 void addMiscTypes(Table& t) {
@@ -686,6 +714,81 @@ void addMiscTypes(Table& t) {
         .a("bumpFilterOffset", "bfo", T::Float).a("bumpInterp", "bi", T::Enum).xyz("outNormal", "o", T::Float3, 0, 0, 0, U::None);
 }
 
+// Deformers evaluated by core/scene/deformer_eval.cpp and their handles. A nonLinear node carries
+// its handle type's parameters as addAttr'd attributes, so only the shared ones are listed here;
+// the handle shapes declare them with Maya's defaults (angles in radians).
+void addDeformerTypes(Table& t) {
+    t.type("geometryFilter", "node");
+    t.a("envelope", "en", T::Float, 1).a("input", "ip", T::Compound, 0, U::None, true)
+        .a("inputGeometry", "ig", T::Generic, 0, U::None, false, "input")
+        .a("groupId", "gi", T::Int, 0, U::None, false, "input")
+        .a("outputGeometry", "og", T::Generic, 0, U::None, true)
+        .a("originalGeometry", "orggeom", T::Generic, 0, U::None, true);
+    t.type("weightGeometryFilter", "geometryFilter");
+    t.a("weightList", "wl", T::Compound, 0, U::None, true)
+        .a("weights", "w", T::Double, 1, U::None, true, "weightList");
+    t.type("tweak", "geometryFilter");
+    t.a("relativeTweak", "rtw", T::Bool, 1).a("plist", "pl", T::Compound, 0, U::None, true)
+        .c("controlPoints", "cp", T::Double3, {0, 0, 0, 0}, U::Distance,
+           {{"xValue", "xv"}, {"yValue", "yv"}, {"zValue", "zv"}}, true, "plist")
+        .a("vlist", "vl", T::Compound, 0, U::None, true)
+        .c("vertex", "vt", T::Float3, {0, 0, 0, 0}, U::Distance,
+           {{"xVertex", "vx"}, {"yVertex", "vy"}, {"zVertex", "vz"}}, true, "vlist");
+    t.type("cluster", "weightGeometryFilter");
+    t.a("matrix", "ma", T::Matrix).a("bindPreMatrix", "pm", T::Matrix)
+        .a("clusterXforms", "x", T::Compound)
+        .a("preMatrix", "pre", T::Matrix, 0, U::None, false, "clusterXforms")
+        .a("weightedMatrix", "wt", T::Matrix, 0, U::None, false, "clusterXforms")
+        .a("postMatrix", "post", T::Matrix, 0, U::None, false, "clusterXforms")
+        .a("relative", "rel", T::Bool, 0).a("angleInterpolation", "ai", T::Enum, 0)
+        .a("geomMatrix", "gm", T::Matrix, 0, U::None, true)
+        .a("percentResolution", "ptr", T::Float, 5).a("usePartialResolution", "upr", T::Enum, 0);
+    t.type("nonLinear", "weightGeometryFilter");
+    t.a("deformerData", "dd", T::Generic).a("matrix", "ma", T::Matrix);
+    t.type("skinCluster", "geometryFilter");
+    t.a("weightList", "wl", T::Compound, 0, U::None, true)
+        .a("weights", "w", T::Double, 0, U::None, true, "weightList")
+        .a("matrix", "ma", T::Matrix, 0, U::None, true).a("bindPreMatrix", "pm", T::Matrix, 0, U::None, true)
+        .a("geomMatrix", "gm", T::Matrix).a("normalizeWeights", "nw", T::Enum, 1)
+        .a("skinningMethod", "skm", T::Enum, 0).a("blendWeights", "bw", T::Double, 0, U::None, true)
+        .a("dropoff", "dpf", T::Double, 4, U::None, true).a("lockWeights", "lw", T::Bool, 0, U::None, true)
+        .a("maintainMaxInfluences", "mmi", T::Bool, 0).a("maxInfluences", "mi", T::Int, 2)
+        .a("bindMethod", "bm", T::Enum, 0).a("useComponents", "uc", T::Bool, 0)
+        .a("useComponentsMatrix", "ucm", T::Bool, 0).a("bindPose", "bp", T::Message)
+        .color("influenceColor", "ifcl", 0, 0, 0, "ifcl", true)
+        .a("weightDistribution", "wd", T::Enum, 0);
+
+    t.type("deformFunc", "shape");
+    t.a("deformerData", "dd", T::Generic).a("handleWidth", "hw", T::Double, 1);
+    t.type("deformBend", "deformFunc");
+    t.a("curvature", "cur", T::Double, 0, U::Angle).a("lowBound", "lb", T::Double, -1).a("highBound", "hb", T::Double, 1);
+    t.type("deformFlare", "deformFunc");
+    t.a("lowBound", "lb", T::Double, -1).a("highBound", "hb", T::Double, 1)
+        .a("startFlareX", "sfx", T::Double, 1).a("startFlareZ", "sfz", T::Double, 1)
+        .a("endFlareX", "efx", T::Double, 1).a("endFlareZ", "efz", T::Double, 1).a("curve", "crv", T::Double, 0);
+    t.type("deformSine", "deformFunc");
+    t.a("amplitude", "amp", T::Double, 0).a("wavelength", "wav", T::Double, 2).a("offset", "off", T::Double, 0)
+        .a("dropoff", "dr", T::Double, 0).a("lowBound", "lb", T::Double, -1).a("highBound", "hb", T::Double, 1);
+    t.type("deformSquash", "deformFunc");
+    t.a("factor", "fac", T::Double, 0).a("expand", "exp", T::Double, 1).a("maxExpandPos", "mp", T::Double, 0.5)
+        .a("startSmoothness", "ss", T::Double, 0).a("endSmoothness", "es", T::Double, 0)
+        .a("lowBound", "lb", T::Double, -1).a("highBound", "hb", T::Double, 1);
+    t.type("deformTwist", "deformFunc");
+    t.a("startAngle", "sa", T::Double, 0, U::Angle).a("endAngle", "ea", T::Double, 0, U::Angle)
+        .a("lowBound", "lb", T::Double, -1).a("highBound", "hb", T::Double, 1);
+    t.type("deformWave", "deformFunc");
+    t.a("amplitude", "amp", T::Double, 0).a("wavelength", "wav", T::Double, 1).a("offset", "off", T::Double, 0)
+        .a("dropoff", "dr", T::Double, 0).a("dropoffPosition", "dp", T::Double, 0)
+        .a("minRadius", "mnr", T::Double, 0).a("maxRadius", "mxr", T::Double, 1);
+    t.type("clusterHandle", "shape");
+    t.xyz("origin", "or", T::Double3, 0, 0, 0, U::Distance)
+        .a("clusterTransforms", "x", T::Compound, 0, U::None, true)
+        .a("preWeightedMatrixTransform", "pre", T::Matrix, 0, U::None, false, "clusterTransforms")
+        .a("weightedMatrixTransform", "wt", T::Matrix, 0, U::None, false, "clusterTransforms")
+        .a("postWeightedMatrixTransform", "post", T::Matrix, 0, U::None, false, "clusterTransforms")
+        .a("weightedNode", "wn", T::Message);
+}
+
 const Table& table() {
     static const Table instance = [] {
         Table t;
@@ -696,6 +799,7 @@ const Table& table() {
         addAnimationTypes(t);
         addHistoryTypes(t);
         addMiscTypes(t);
+        addDeformerTypes(t);
         for (auto& [name, schema] : t.m_types) {
             schema->finalize();
             t.m_byType.emplace(name, schema.get());

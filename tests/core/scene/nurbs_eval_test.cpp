@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <numbers>
 
 namespace pushpin::scene {
 namespace {
@@ -315,6 +316,219 @@ TEST(NurbsEval, CurvesDecodeAndCircleCreatorEvaluates) {
         EXPECT_NEAR(glm::length(glm::dvec3(made->cvs()[size_t(k)]) - glm::dvec3(cv[k][0], cv[k][1], cv[k][2])), 0.0,
                     1e-12) << k;
     }
+}
+
+const char* kRevolveScene = R"(//Maya ASCII 2018 scene
+requires maya "2018";
+currentUnit -l centimeter -a degree -t film;
+createNode transform -n "curve1";
+	setAttr ".t" -type "double3" 0 1 0 ;
+createNode nurbsCurve -n "curveShape1" -p "curve1";
+	setAttr ".cc" -type "nurbsCurve"
+		1 1 0 no 3
+		2 0 1
+		2
+		2 0 0
+		2 3 0
+		;
+createNode transform -n "revolvedSurface1";
+createNode nurbsSurface -n "revolvedSurfaceShape1" -p "revolvedSurface1";
+createNode revolve -n "revolve1";
+	setAttr ".ax" -type "double3" 0 1 0 ;
+	setAttr ".esw" 180;
+createNode nurbsTessellate -n "nurbsTessellate1";
+	setAttr ".f" 2;
+	setAttr ".pt" 1;
+	setAttr ".un" 1;
+	setAttr ".ucr" no;
+connectAttr "curveShape1.ws" "revolve1.ic";
+connectAttr "revolve1.os" "nurbsTessellate1.is";
+connectAttr "revolve1.os" "revolvedSurfaceShape1.cr";
+)";
+
+TEST(NurbsEval, RevolveOfAWorldSpaceCurveTessellatesToAHalfCylinder) {
+    Graph g = MaReader::readString(kRevolveScene, "revolve.ma");
+    Evaluator ev(g, 1.0);
+    std::string reason;
+    std::vector<std::string> notes;
+    auto mesh = evaluateNurbsTessellate(ev, g.find("nurbsTessellate1"), &reason, &notes);
+    ASSERT_TRUE(mesh.has_value()) << reason;
+    EXPECT_TRUE(mesh->validate().ok());
+    // One linear span with uNumber 1: 2 segments; the default 8 sections with the default vNumber 3:
+    // 4 segments each. A half sweep is open: both end rows stay.
+    EXPECT_EQ(mesh->points.size(), size_t(3 * 33));
+    EXPECT_EQ(mesh->faceCount(), size_t(2 * 32));
+    for (const glm::vec3& p : mesh->points) {
+        EXPECT_NEAR(std::hypot(p.x, p.z), 2.0, 0.006);
+        EXPECT_GE(p.z, -1e-6);  // +X turns towards +Z
+        EXPECT_GE(p.y, 1.0 - 1e-6);  // worldSpace: the curve's translation applies
+        EXPECT_LE(p.y, 4.0 + 1e-6);
+    }
+    EXPECT_NEAR(mesh->points.front().y, 1.0, 1e-6);
+    EXPECT_NEAR(mesh->points[2].y, 4.0, 1e-6);  // u varies fastest
+
+    auto surface = evaluateNurbsSurface(ev, g.find("revolvedSurfaceShape1"), &reason);
+    ASSERT_TRUE(surface.has_value()) << reason;
+    EXPECT_NEAR(glm::length(surface->point(0.0, surface->vMax()) - glm::dvec3(-2, 1, 0)), 0.0, 1e-12);
+
+    // Through `local` the curve stays in object space.
+    Graph local = MaReader::readString(kRevolveScene, "revolve.ma");
+    const NodeId rev = local.find("revolve1");
+    const NodeId curve = local.find("curveShape1");
+    for (const Connection* c : local.inputs(rev)) local.disconnect(c->src, c->dst);
+    connect(local, curve, "l", rev, "ic");
+    Evaluator ev2(local, 1.0);
+    auto objectSpace = evaluateNurbsTessellate(ev2, local.find("nurbsTessellate1"), &reason, nullptr);
+    ASSERT_TRUE(objectSpace.has_value()) << reason;
+    EXPECT_NEAR(objectSpace->points.front().y, 0.0, 1e-6);
+    EXPECT_NEAR(objectSpace->points[2].y, 3.0, 1e-6);
+}
+
+TEST(NurbsEval, LoftOfThreeCurvesTessellatesInMayasGrid) {
+    const char* text = R"(//Maya ASCII 2018 scene
+requires maya "2018";
+currentUnit -l centimeter -a degree -t film;
+createNode transform -n "c0";
+createNode nurbsCurve -n "cs0" -p "c0";
+	setAttr ".cc" -type "nurbsCurve"
+		3 2 0 no 3
+		7 0 0 0 1 2 2 2
+		5
+		0 0 0  0.5 0.2 0  1 0 0  1.5 -0.2 0  2 0 0
+		;
+createNode transform -n "c1";
+	setAttr ".t" -type "double3" 0 0 1 ;
+createNode nurbsCurve -n "cs1" -p "c1";
+	setAttr ".cc" -type "nurbsCurve"
+		3 2 0 no 3
+		7 0 0 0 1 2 2 2
+		5
+		0 0 0  0.5 0.5 0  1 0.3 0  1.5 0.1 0  2 0 0
+		;
+createNode transform -n "c2";
+	setAttr ".t" -type "double3" 0 0 3 ;
+createNode nurbsCurve -n "cs2" -p "c2";
+	setAttr ".cc" -type "nurbsCurve"
+		3 2 0 no 3
+		7 0 0 0 1 2 2 2
+		5
+		0 0 0  0.5 0 0  1 0 0  1.5 0 0  2 0 0
+		;
+createNode loft -n "loft1";
+	setAttr -s 3 ".ic";
+	setAttr ".u" yes;
+	setAttr ".rsn" yes;
+createNode nurbsTessellate -n "nurbsTessellate1";
+	setAttr ".f" 2;
+	setAttr ".pt" 1;
+	setAttr ".un" 5;
+	setAttr ".ucr" no;
+connectAttr "cs0.ws" "loft1.ic[0]";
+connectAttr "cs2.ws" "loft1.ic[2]";
+connectAttr "cs1.ws" "loft1.ic[1]";
+connectAttr "loft1.os" "nurbsTessellate1.is";
+)";
+    Graph g = MaReader::readString(text, "loft.ma");
+    Evaluator ev(g, 1.0);
+    std::string reason;
+    auto mesh = evaluateNurbsTessellate(ev, g.find("nurbsTessellate1"), &reason, nullptr);
+    ASSERT_TRUE(mesh.has_value()) << reason;
+    EXPECT_TRUE(mesh->validate().ok());
+    // reverseSurfaceNormals: U runs along the curves (2 spans x 6 segments), V across them (2 spans x
+    // 4 segments), u fastest.
+    const size_t m = 13, n = 9;
+    ASSERT_EQ(mesh->points.size(), m * n);
+    EXPECT_EQ(mesh->faceCount(), (m - 1) * (n - 1));
+    // Row 4 (v = 1) is the middle curve, in world space; rows 0 and 8 the outer curves.
+    std::string err;
+    for (int k = 0; k < 3; ++k) {
+        auto c = evaluateNurbsCurve(ev, g.find("cs" + std::to_string(k)), &err);
+        ASSERT_TRUE(c.has_value()) << err;
+        const double z[3] = {0, 1, 3};
+        for (size_t i = 0; i < m; ++i) {
+            const glm::dvec3 expected = c->point(2.0 * double(i) / double(m - 1)) + glm::dvec3(0, 0, z[k]);
+            EXPECT_NEAR(glm::length(glm::dvec3(mesh->points[size_t(4 * k) * m + i]) - expected), 0.0, 1e-6) << k << " " << i;
+        }
+    }
+}
+
+TEST(NurbsEval, TessellateInputsThatCannotBeEvaluatedGiveAReason) {
+    Graph g = MaReader::readString(kRevolveScene, "revolve.ma");
+    const NodeId rev = g.find("revolve1");
+    const NodeId tess = g.find("nurbsTessellate1");
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    {
+        setNumbers(g, rev, ".esw", {nan});
+        Evaluator ev(g, 1.0);
+        std::string reason;
+        EXPECT_FALSE(evaluateNurbsTessellate(ev, tess, &reason, nullptr).has_value());
+        EXPECT_NE(reason.find("revolve"), std::string::npos) << reason;
+        // The shape has no cached surface to fall back on.
+        EXPECT_FALSE(evaluateNurbsSurface(ev, g.find("revolvedSurfaceShape1"), &reason).has_value());
+        EXPECT_FALSE(reason.empty());
+        setNumbers(g, rev, ".esw", {std::numbers::pi});
+    }
+    {
+        setNumbers(g, tess, ".un", {nan});
+        Evaluator ev(g, 1.0);
+        std::string reason;
+        EXPECT_FALSE(evaluateNurbsTessellate(ev, tess, &reason, nullptr).has_value());
+        EXPECT_NE(reason.find("uNumber"), std::string::npos) << reason;
+        setNumbers(g, tess, ".un", {1});
+        Evaluator ok(g, 1.0);
+        EXPECT_TRUE(evaluateNurbsTessellate(ok, tess, &reason, nullptr).has_value()) << reason;
+    }
+    {
+        const NodeId lonely = g.createNode("nurbsTessellate", "nurbsTessellate9");
+        Evaluator ev(g, 1.0);
+        std::string reason;
+        EXPECT_FALSE(evaluateNurbsTessellate(ev, lonely, &reason, nullptr).has_value());
+        EXPECT_NE(reason.find("no input surface"), std::string::npos) << reason;
+        const NodeId iso = g.createNode("curveFromSurfaceIso", "curveFromSurfaceIso1");
+        for (const Connection* c : g.inputs(rev)) g.disconnect(c->src, c->dst);
+        connect(g, iso, "oc", rev, "ic");
+        Evaluator ev2(g, 1.0);
+        EXPECT_FALSE(evaluateNurbsTessellate(ev2, tess, &reason, nullptr).has_value());
+        EXPECT_NE(reason.find("curveFromSurfaceIso"), std::string::npos) << reason;
+    }
+}
+
+TEST(NurbsEval, PotSceneTessellatesItsRevolveAndLoft) {
+    const fs::path file = test::maCorpusDir() / "Logna-Logo__Essentials__pot.ma";
+    if (!fs::exists(file)) GTEST_SKIP() << "no " << file;
+    Graph g = MaReader::readFile(file);
+    Evaluator ev(g, 1.0);
+    for (const char* name : {"nurbsTessellate1", "nurbsTessellate2"}) {
+        std::string reason;
+        std::vector<std::string> notes;
+        auto mesh = evaluateNurbsTessellate(ev, g.find(name), &reason, &notes);
+        ASSERT_TRUE(mesh.has_value()) << name << ": " << reason;
+        EXPECT_TRUE(mesh->validate().ok()) << name;
+        std::printf("[ measure  ] pot %s: %zu vertices, %zu faces, %zu notes\n", name, mesh->points.size(),
+                    mesh->faceCount(), notes.size());
+        for (const glm::vec3& p : mesh->points) EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    }
+    // The loft's mesh (2 x 2 spans, uNumber 5): the polyTweak after it moves vertices 54..57 and the
+    // deleteComponents remove faces 38..40, one row of three quads and the four vertices on its far
+    // side in a 13-vertex-wide grid.
+    std::string reason;
+    auto loft = evaluateNurbsTessellate(ev, g.find("nurbsTessellate2"), &reason, nullptr);
+    ASSERT_TRUE(loft.has_value()) << reason;
+    ASSERT_EQ(loft->points.size(), size_t(13 * 9));
+    for (uint32_t f = 38; f <= 40; ++f) {
+        const auto loop = loft->faceOuterLoop(f);
+        ASSERT_EQ(loop.size(), 4u);
+        EXPECT_EQ(loop[2], f + 17);  // the far corners of faces 38..40 are vertices 55..57
+        EXPECT_EQ(loop[3], f + 16);
+    }
+    // The revolve: every vertex keeps the distance from the axis (+Y through the pivot) that the
+    // profile has at the same height, and the first vertex row is the world-space profile.
+    auto revolved = evaluateNurbsTessellate(ev, g.find("nurbsTessellate1"), &reason, nullptr);
+    ASSERT_TRUE(revolved.has_value()) << reason;
+    auto profile = evaluateNurbsCurve(ev, g.find("curveShape1"), &reason);
+    ASSERT_TRUE(profile.has_value()) << reason;
+    const glm::dvec3 p0 = profile->point(profile->tMin()) + glm::dvec3(0, 0.11710513427848745, 0);
+    EXPECT_NEAR(glm::length(glm::dvec3(revolved->points[0]) - p0), 0.0, 1e-5);
 }
 
 TEST(NurbsEval, EveryCorpusNurbsShapeDecodesOrIsSkippedWithAReason) {
