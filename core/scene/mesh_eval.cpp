@@ -3,6 +3,8 @@
 
 #include "core/geom/poly_primitives.h"
 #include "core/scene/components.h"
+#include "core/scene/deformer_eval.h"
+#include "core/scene/nurbs_eval.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -347,8 +349,12 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
 
     if (type == "mesh") {
         std::optional<geom::Mesh> m = evaluateShape(c, src.node, reason);
-        // worldMesh carries the shape in world space (of its first instance).
-        if (m && src.path.rfind("worldMesh", 0) == 0) {
+        // worldMesh carries the shape in world space (of its first instance). A deformer takes its
+        // input in object space and goes to world space through its own geometry matrix.
+        const bool intoDeformer = std::any_of(c.visiting.begin(), c.visiting.end(), [&](NodeId v) {
+            return isEvaluatedDeformer(g.node(v).type);
+        });
+        if (m && !intoDeformer && src.path.rfind("worldMesh", 0) == 0) {
             geom::transformMesh(*m, ev.worldMatrix(g.firstDagPath(src.node)));
         }
         return m;
@@ -441,6 +447,44 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
             c.out.notes.push_back(nodeLabel(node) + ": " + std::to_string(kept) + " faces with holes are left whole");
         return m;
     }
+    if (isEvaluatedDeformer(type)) {
+        // outputGeometry[k] is the deformation of input[k].inputGeometry.
+        uint32_t k = 0;
+        if (std::optional<std::vector<PlugSegment>> segs = parsePlugPath(src.path);
+            segs && !segs->empty() && segs->front().indexed() && segs->front().first < int64_t(kMaxElements))
+            k = uint32_t(segs->front().first);
+        const std::string inputPath =
+            g.canonicalPath(src.node, *parsePlugPath("input[" + std::to_string(k) + "].inputGeometry"));
+        const Plug* in = g.sourceOfCanonical(src.node, inputPath);
+        if (!in) {
+            reason = nodeLabel(node) + " has no input geometry";
+            return std::nullopt;
+        }
+        std::optional<geom::Mesh> m = evaluatePlug(c, *in, reason);
+        if (!m) return m;
+        // The deformer's set: the vertices its groupParts lists.
+        std::vector<bool> members;
+        bool restricted = false;
+        if (in->node < g.size() && g.node(in->node).type == "groupParts")
+            if (const ComponentList* list = componentListOf(g, in->node, "ic"); list && !list->items.empty()) {
+                members = componentMask(parseComponents(*list).ranges, ComponentKind::Vertex, m->points.size());
+                restricted = true;
+            }
+        std::string error = applyDeformer(ev, src.node, k, restricted ? &members : nullptr, *m, c.out.notes);
+        if (!error.empty()) {
+            reason = error;
+            return std::nullopt;
+        }
+        return m;
+    }
+    if (type == "nCloth") {
+        // The simulation is not run: the cloth renders as its input mesh, the shape it has at the
+        // start frame.
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputMesh", "imsh"}, reason);
+        if (m) c.out.notes.push_back(nodeLabel(node) + " is not simulated: its input mesh is used");
+        return m;
+    }
+    if (type == "nurbsTessellate") return evaluateNurbsTessellate(ev, src.node, &reason, &c.out.notes);
     if (isUvOnlyHistory(type)) {
         // These change texture coordinates only: the geometry passes through unchanged.
         std::optional<geom::Mesh> m =

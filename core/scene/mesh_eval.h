@@ -3,7 +3,10 @@
 // history feeding its inMesh: creator nodes (polyCube, polySphere, polyPlane, polyCylinder,
 // polyCone, polyTorus, polyPlatonicSolid) and the common cheap history nodes (polyTweak,
 // polyTweakUV, groupParts, transformGeometry, deleteComponent, polySoftEdge, polyNormal,
-// createColorSet, another mesh's outMesh/worldMesh). deleteComponent deletes the listed faces and
+// createColorSet, polyTriangulate, the UV-only and normal-only nodes passed through, another mesh's
+// outMesh/worldMesh), the deformers of deformer_eval.h (tweak, cluster, nonLinear, skinCluster,
+// given their input in object space), nurbsTessellate of a NURBS surface (nurbs_eval.h) and nCloth,
+// which is not simulated: its input mesh is used. deleteComponent deletes the listed faces and
 // every face using a listed vertex or edge, then drops unused points (Maya merges the faces
 // around a deleted edge or vertex instead; that merge is not modelled). polyNormal passes the
 // mesh through unchanged (noted). groupParts component lists are recorded as written, relative

@@ -88,6 +88,8 @@ std::vector<NotRendered> notRenderedFeatures(Evaluator& ev, const RenderSetup& s
         } else if (t == "particle" || t == "nParticle" || t == "stroke" || t == "pfxHair" || t == "hairSystem" ||
                    t == "pfxToon") {
             out.add("particles and strokes", n.id);
+        } else if (t == "nCloth" || t == "nRigid" || t == "nucleus") {
+            out.add("cloth simulation (the cloth's input mesh is rendered)", n.id);
         } else if (t == "imagePlane") {
             out.add("image planes", n.id);
         } else if (t == "renderLayer" && n.name != "defaultRenderLayer" && n.name.find(":defaultRenderLayer") == std::string::npos &&

@@ -417,15 +417,35 @@ TEST(MeshEval, OrigShapeFeedingDeformers) {
     EXPECT_EQ(e.mesh->faceCount(), 6u);
     EXPECT_EQ(e.history.front(), "mesh pCubeShape1Orig");
 
-    // Orig → tweak → skinCluster → shape: the deformers are not evaluated.
+    // Orig.worldMesh → tweak → skinCluster → shape: the deformers take the points in object space
+    // (the transform's translate is not applied twice), and a skin without weights leaves them.
+    set(g, s.transform, "t", {5.0, 0.0, 0.0});
     const NodeId tweak = g.createNode("tweak", "tweak1");
     const NodeId skin = g.createNode("skinCluster", "skinCluster1");
     connect(g, orig, "worldMesh[0]", tweak, "input[0].inputGeometry");
     connect(g, tweak, "outputGeometry[0]", skin, "input[0].inputGeometry");
     connect(g, skin, "outputGeometry[0]", s.shape, "inMesh");
     e = evaluate(g, s.shape);
-    EXPECT_FALSE(e.mesh);
-    EXPECT_EQ(e.skipReason, "history node skinCluster (skinCluster1) is not evaluated");
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 6u);
+    const geom::Bounds3 b = e.mesh->bounds();
+    EXPECT_NEAR(b.lo.x, -0.5, 1e-6);
+    EXPECT_NEAR(b.hi.x, 0.5, 1e-6);
+    EXPECT_EQ(e.history.front(), "skinCluster skinCluster1");
+}
+
+TEST(MeshEval, ClothIsNotSimulatedItsInputMeshRenders) {
+    Graph g;
+    const ShapeUnderTransform s = addMesh(g, "outputCloth1");
+    const NodeId cube = g.createNode("polyCube", "polyCube1");
+    const NodeId cloth = g.createNode("nCloth", "nClothShape1");
+    connect(g, cube, "output", cloth, "inputMesh");
+    connect(g, cloth, "outputMesh", s.shape, "inMesh");
+    const MeshEvaluation e = evaluate(g, s.shape);
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 6u);
+    ASSERT_FALSE(e.notes.empty());
+    EXPECT_NE(e.notes.back().find("not simulated"), std::string::npos) << e.notes.back();
 }
 
 TEST(MeshEval, HistoryCycleIsReportedNotFollowedForever) {

@@ -78,7 +78,8 @@ TEST(NotRendered, PlainSceneListsNothing) {
 // Types that stand for a feature, plug-in shading, and the node list's bound.
 TEST(NotRendered, FeatureNodesPlugInsAndBound) {
     std::string text = "createNode imagePlane -n \"ip1\";\ncreateNode envFog -n \"fog1\";\ncreateNode renderLayer -n \"layer1\";\n"
-                       "createNode transform -n \"sky\";\ncreateNode aiSkyDomeLight -n \"skyShape\" -p \"sky\";\n";
+                       "createNode transform -n \"sky\";\ncreateNode aiSkyDomeLight -n \"skyShape\" -p \"sky\";\n"
+                       "createNode transform -n \"cloth\";\ncreateNode nCloth -n \"clothShape\" -p \"cloth\";\n";
     for (int i = 0; i < 60; ++i) text += "createNode particle -n \"p" + std::to_string(i) + "\";\n";
     const std::vector<NotRendered> all = featuresOf(text);
     EXPECT_NE(find(all, "image planes"), nullptr);
@@ -86,6 +87,9 @@ TEST(NotRendered, FeatureNodesPlugInsAndBound) {
     ASSERT_NE(find(all, "render layers other than the default"), nullptr);
     EXPECT_EQ(find(all, "render layers other than the default")->nodes, (std::vector<std::string>{"layer1"}));
     EXPECT_NE(find(all, "plug-in lights"), nullptr);
+    ASSERT_NE(find(all, "cloth simulation (the cloth's input mesh is rendered)"), nullptr);
+    EXPECT_EQ(find(all, "cloth simulation (the cloth's input mesh is rendered)")->nodes,
+              (std::vector<std::string>{"clothShape"}));
     const NotRendered* particles = find(all, "particles and strokes");
     ASSERT_NE(particles, nullptr);
     EXPECT_EQ(particles->count, 60u);
