@@ -2,6 +2,7 @@
 // and what is verified against Maya.
 #include "core/geom/nurbs_ops.h"
 
+#include "core/geom/finite.h"
 #include "core/geom/nurbs_primitives.h"
 
 #include <glm/geometric.hpp>
@@ -25,8 +26,6 @@ std::nullopt_t failWith(std::string* error, const std::string& msg) {
     if (error) *error = msg;
     return std::nullopt;
 }
-
-bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 bool isFullTurn(double sweep) { return std::abs(std::abs(sweep) - kTwoPi) < 1e-9 || std::abs(sweep) > kTwoPi; }
 
@@ -719,7 +718,7 @@ std::optional<NurbsSurface> revolveCurve(const NurbsCurve& profile, const Revolv
     if (std::abs(sweep) < 1e-9) return failWith(error, "sweep angle is zero");
     const double axisLength = glm::length(p.axis);
     if (!std::isfinite(axisLength) || axisLength <= 0.0) return failWith(error, "axis must be a non-zero finite vector");
-    if (!finite3(p.pivot)) return failWith(error, "pivot is not finite");
+    if (!isFinite(p.pivot)) return failWith(error, "pivot is not finite");
     RevolveFrame f{p.axis / axisLength, p.pivot};
 
     double maxRadius = 0.0;
@@ -849,7 +848,7 @@ std::optional<Mesh> tessellateSurface(const NurbsSurface& s, const TessellatePar
                 uvs.emplace_back(m > 1 ? double(i) / double(m - 1) : 0.0, n > 1 ? double(j) / double(n - 1) : 0.0);
             }
         for (const glm::dvec3& q : pts)
-            if (!finite3(q)) return failWith(error, "the surface has non-finite CVs");
+            if (!isFinite(q)) return failWith(error, "the surface has non-finite CVs");
         return gridMesh(pts, uvs, m, n, triangles);
     }
 
@@ -941,7 +940,7 @@ std::optional<Mesh> tessellateSurface(const NurbsSurface& s, const TessellatePar
     for (size_t j = 0; j < n; ++j)
         for (size_t i = 0; i < m; ++i) {
             const glm::dvec3 q = s.point(us[i], vs[j]);
-            if (!finite3(q)) return failWith(error, "the surface evaluates to NaN/Inf");
+            if (!isFinite(q)) return failWith(error, "the surface evaluates to NaN/Inf");
             pts.push_back(q);
             uvs.emplace_back(ru > 0 ? (us[i] - s.uMin()) / ru : 0.0, rv > 0 ? (vs[j] - s.vMin()) / rv : 0.0);
         }

@@ -1,5 +1,7 @@
 #include "core/geom/triangulate.h"
 
+#include "core/geom/finite.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -15,8 +17,6 @@ double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y
 // Twice the signed area of (a, b, c): positive for a left turn (counter-clockwise).
 double orient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) { return cross2(b - a, c - a); }
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 }  // namespace
 
 size_t PolygonTriangulator::triangulate(std::span<const glm::dvec3> points, std::span<const uint32_t> loopStarts,
@@ -28,12 +28,12 @@ size_t PolygonTriangulator::triangulate(std::span<const glm::dvec3> points, std:
     const uint32_t outerBegin = loopStarts[0], outerEnd = loopStarts[1];
     if (outerEnd - outerBegin < 3) return 0;
     for (uint32_t i = loopStarts.front(); i < loopStarts.back(); ++i)
-        if (!finite(points[i])) return 0;
+        if (!isFinite(points[i])) return 0;
 
     // Projection plane: (u, v, n) right-handed, so counter-clockwise about n stays
     // counter-clockwise in the plane.
     glm::dvec3 n = normal;
-    if (!finite(n) || glm::dot(n, n) == 0.0) {
+    if (!isFinite(n) || glm::dot(n, n) == 0.0) {
         n = glm::dvec3(0.0);
         for (uint32_t i = outerBegin; i < outerEnd; ++i) {
             const glm::dvec3& a = points[i];

@@ -1,5 +1,6 @@
 #include "core/render/frame_scene.h"
 
+#include "core/geom/finite.h"
 #include "core/render/camera.h"
 #include "core/util/format.h"
 #include "cache/error.h"
@@ -33,19 +34,10 @@ uint64_t edgeKey(uint32_t a, uint32_t b) {
     return (uint64_t(a) << 32) | b;
 }
 
-bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-bool finiteMatrix(const glm::dmat4& m) {
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r)
-            if (!std::isfinite(m[c][r])) return false;
-    return true;
-}
-
 // Why a world matrix cannot place anything the renderer can project, or empty when it can: an
 // entry that is not finite or beyond kMaxSceneCoordinate (camera.h says why that limit).
 std::string matrixProblem(const glm::dmat4& m) {
-    if (!finiteMatrix(m)) return "non-finite world matrix";
+    if (!geom::isFinite(m)) return "non-finite world matrix";
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
             if (std::abs(m[c][r]) > kMaxSceneCoordinate)
@@ -229,7 +221,7 @@ std::optional<RenderGeometry> tessellateNurbs(const geom::NurbsSurface& s, int d
         for (size_t j = 0; j < nv; ++j) {
             const glm::dvec3 p = s.point(us[i], vs[j]);
             const glm::dvec3 n = s.normal(us[i], vs[j]);
-            if (!finite3(p) || !finite3(n)) {
+            if (!geom::isFinite(p) || !geom::isFinite(n)) {
                 problem = "the surface evaluates to NaN/Inf";
                 return std::nullopt;
             }
@@ -477,7 +469,7 @@ void readLights(scene::Evaluator& ev, const scene::RenderSetup& setup, FrameScen
         light.position = position;
         light.direction = axis / axisLength;
         glm::dvec3 color = ev.getDouble3(n, "color", glm::dvec3(1.0));
-        if (!finite3(color)) {
+        if (!geom::isFinite(color)) {
             out.notes.push_back(label + ": non-finite color replaced by 1 1 1");
             color = glm::dvec3(1.0);
         }
@@ -698,7 +690,7 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
             object.shape = node.id;
             object.instance = int(instance);
             object.worldFromObject = ev.worldMatrix(path);
-            if (!finiteMatrix(object.worldFromObject)) {
+            if (!geom::isFinite(object.worldFromObject)) {
                 skip("non-finite world matrix");
                 continue;
             }

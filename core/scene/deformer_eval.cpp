@@ -6,6 +6,8 @@
 // every one of them is finite, so a failing deformer leaves the mesh untouched.
 #include "core/scene/deformer_eval.h"
 
+#include "core/geom/finite.h"
+
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -33,21 +35,12 @@ constexpr uint32_t kMaxInfluences = 1u << 16;
 
 std::string nodeLabel(const Node& n) { return n.type + " (" + n.name + ")"; }
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-bool finite(const glm::dmat4& m) {
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r)
-            if (!std::isfinite(m[c][r])) return false;
-    return true;
-}
-
 // An invertible, finite matrix: its inverse is finite too.
 std::optional<glm::dmat4> inverseOf(const glm::dmat4& m) {
     const double det = glm::determinant(m);
     if (!std::isfinite(det) || std::abs(det) < 1e-300) return std::nullopt;
     const glm::dmat4 inv = glm::inverse(m);
-    if (!finite(inv)) return std::nullopt;
+    if (!geom::isFinite(inv)) return std::nullopt;
     return inv;
 }
 
@@ -177,7 +170,7 @@ MatrixValue matrixFromSource(Evaluator& ev, const Plug& src) {
         else if (is("matrix", "m") || is("xformMatrix", "xm") || is("inverseMatrix", "im")) m = ev.localMatrix(src.node);
         if (m) {
             if (inverse) m = inverseOf(*m);
-            if (!m || !finite(*m)) out.error = "the matrix of " + n.name + " is not finite or not invertible";
+            if (!m || !geom::isFinite(*m)) out.error = "the matrix of " + n.name + " is not finite or not invertible";
             else out.m = *m;
             return out;
         }
@@ -189,7 +182,7 @@ MatrixValue matrixFromSource(Evaluator& ev, const Plug& src) {
     }
     // Maya's matrix is row-major for row vectors; read column-major it is the column-vector matrix.
     out.m = glm::make_mat4(v.data());
-    if (!finite(out.m)) out.error = "the matrix from " + n.name + "." + src.path + " is not finite";
+    if (!geom::isFinite(out.m)) out.error = "the matrix from " + n.name + "." + src.path + " is not finite";
     return out;
 }
 
@@ -203,7 +196,7 @@ MatrixValue readMatrix(Evaluator& ev, NodeId node, std::initializer_list<std::st
         if (!ev.numbers(node, s, v) || v.size() != 16) continue;
         out.present = true;
         out.m = glm::make_mat4(v.data());
-        if (!finite(out.m)) out.error = "its " + s + " matrix is not finite";
+        if (!geom::isFinite(out.m)) out.error = "its " + s + " matrix is not finite";
         return out;
     }
     return out;
@@ -267,7 +260,7 @@ std::string commitPoints(const Node& node, const std::vector<glm::dvec3>& points
     constexpr double kFloatMax = double(std::numeric_limits<float>::max());
     size_t bad = 0;
     for (const glm::dvec3& p : points)
-        if (!finite(p) || std::abs(p.x) > kFloatMax || std::abs(p.y) > kFloatMax || std::abs(p.z) > kFloatMax) ++bad;
+        if (!geom::isFinite(p) || std::abs(p.x) > kFloatMax || std::abs(p.y) > kFloatMax || std::abs(p.z) > kFloatMax) ++bad;
     if (bad)
         return nodeLabel(node) + ": the deformation gives " + std::to_string(bad) + " non-finite point" +
                (bad == 1 ? "" : "s");
@@ -311,7 +304,7 @@ std::string applyTweak(Evaluator& ev, NodeId n, uint32_t index, const std::vecto
             ++outside;
             continue;
         }
-        if (!finite(t)) {
+        if (!geom::isFinite(t)) {
             ++nonFinite;
             continue;
         }
@@ -373,7 +366,7 @@ std::string applyCluster(Evaluator& ev, NodeId n, uint32_t index, const std::vec
     if (ev.getInt(n, "ai", 0) != 0)
         notes.push_back(who + "angleInterpolation is not modelled; weighted motion is interpolated linearly");
     const glm::dmat4 objectMotion = *objectFromWorld * motion * gm.m;
-    if (!finite(objectMotion)) return who + "the cluster matrix is not finite";
+    if (!geom::isFinite(objectMotion)) return who + "the cluster matrix is not finite";
 
     const std::vector<double> weights = pointWeights(ev, n, index, mesh.points.size(), 1.0, notes);
     std::vector<glm::dvec3> points = pointsOf(mesh);
@@ -661,7 +654,7 @@ std::string applyNonLinear(Evaluator& ev, NodeId n, uint32_t index, const std::v
     if (!handleFromWorld) return who + "the handle matrix is not invertible";
     const glm::dmat4 handleFromObject = *handleFromWorld * gm.m;
     const std::optional<glm::dmat4> objectFromHandle = inverseOf(handleFromObject);
-    if (!finite(gm.m) || !objectFromHandle) return who + "the geometry matrix is not finite or not invertible";
+    if (!geom::isFinite(gm.m) || !objectFromHandle) return who + "the geometry matrix is not finite or not invertible";
 
     const std::vector<double> weights = pointWeights(ev, n, index, mesh.points.size(), 1.0, notes);
     std::vector<glm::dvec3> points = pointsOf(mesh);
@@ -775,7 +768,7 @@ std::string applySkinCluster(Evaluator& ev, NodeId n, uint32_t index, const std:
         if (!pm.error.empty()) return who + "bindPreMatrix[" + e + "]: " + pm.error;
         hasMatrix[j] = ma.present;
         motion[j] = *objectFromWorld * ma.m * pm.m * gm.m;
-        if (!finite(motion[j])) return who + "the matrix of influence " + e + " is not finite";
+        if (!geom::isFinite(motion[j])) return who + "the matrix of influence " + e + " is not finite";
     }
 
     const int method = ev.getInt(n, "skm", 0);

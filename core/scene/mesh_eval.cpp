@@ -1,6 +1,7 @@
 // core/scene/mesh_eval.cpp: mesh shapes and their construction history → geom::Mesh.
 #include "core/scene/mesh_eval.h"
 
+#include "core/geom/finite.h"
 #include "core/geom/poly_primitives.h"
 #include "core/scene/components.h"
 #include "core/scene/deformer_eval.h"
@@ -404,12 +405,10 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
         // Maya's matrix is row-major for row vectors; read column-major it is the column-vector matrix.
         glm::dmat4 mat = glm::make_mat4(v.data());
         if (ev.getBool(src.node, "itf", false)) mat = glm::inverse(mat);
-        for (int col = 0; col < 4; ++col)
-            for (int row = 0; row < 4; ++row)
-                if (!std::isfinite(mat[col][row])) {
-                    reason = nodeLabel(node) + ": the transform is not finite";
-                    return std::nullopt;
-                }
+        if (!geom::isFinite(mat)) {
+            reason = nodeLabel(node) + ": the transform is not finite";
+            return std::nullopt;
+        }
         geom::transformMesh(*m, mat);
         return m;
     }
