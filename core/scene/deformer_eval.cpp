@@ -7,6 +7,7 @@
 #include "core/scene/deformer_eval.h"
 
 #include "core/geom/finite.h"
+#include "core/scene/detail/multi_elements.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -26,14 +27,17 @@ namespace pushpin::scene {
 
 namespace {
 
+using detail::elementIndexAfter;
+using detail::forEachNumeric;
+using detail::kMaxElements;
+using detail::nodeLabel;
+using detail::vectorElements;
+
 // Elements beyond this index are ignored: a hostile `.wl[2000000000]` must not allocate.
-constexpr uint64_t kMaxElements = uint64_t(1) << 27;
 // Longest chain of history walked upstream to find the geometry's world matrix.
 constexpr int kMaxChain = 256;
 // Influences of one skinCluster beyond this index are refused (real rigs have a few hundred).
 constexpr uint32_t kMaxInfluences = 1u << 16;
-
-std::string nodeLabel(const Node& n) { return n.type + " (" + n.name + ")"; }
 
 // An invertible, finite matrix: its inverse is finite too.
 std::optional<glm::dmat4> inverseOf(const glm::dmat4& m) {
@@ -54,55 +58,6 @@ bool isMember(const std::vector<bool>* members, size_t i) { return !members || (
 std::string elementKey(const Graph& g, NodeId node, std::string_view name, uint32_t index, std::string_view child) {
     std::vector<PlugSegment> segs{{std::string(name), int64_t(index), int64_t(index)}, {std::string(child), -1, -1}};
     return g.canonicalPath(node, segs);
-}
-
-// Calls fn(index, values, width) for every stored numeric element of a multi attribute.
-template <class F>
-void forEachStored(const AttrData& a, F&& fn) {
-    for (const auto& [first, run] : a.multi.runs()) {
-        const Numbers* nums = std::get_if<Numbers>(&run.value);
-        if (!nums || run.width <= 0) continue;
-        const size_t width = size_t(run.width);
-        for (uint32_t k = 0; k < run.count; ++k) {
-            if ((size_t(k) + 1) * width > nums->values.size()) break;
-            if (uint64_t(first) + k >= kMaxElements) return;
-            fn(uint32_t(first + k), nums->values.data() + size_t(k) * width, run.width);
-        }
-    }
-}
-
-// The index right after `prefix` + "[" in a connection's destination path, if it starts that way.
-std::optional<uint32_t> elementIndexAfter(std::string_view path, std::string_view prefix) {
-    if (path.size() <= prefix.size() + 1 || path.substr(0, prefix.size()) != prefix || path[prefix.size()] != '[')
-        return std::nullopt;
-    uint64_t v = 0;
-    size_t i = prefix.size() + 1;
-    for (; i < path.size() && path[i] >= '0' && path[i] <= '9'; ++i) {
-        v = v * 10 + uint64_t(path[i] - '0');
-        if (v >= kMaxElements) return std::nullopt;
-    }
-    if (i == prefix.size() + 1 || i >= path.size() || path[i] != ']') return std::nullopt;
-    return uint32_t(v);
-}
-
-// The 3-vectors of the multi attribute stored under `key` (stored values, then elements driven by
-// a connection evaluated through the Evaluator).
-std::map<uint32_t, glm::dvec3> vectorElements(Evaluator& ev, NodeId node, const std::string& key) {
-    const Graph& g = ev.graph();
-    std::map<uint32_t, glm::dvec3> out;
-    if (const AttrData* a = g.findAttr(node, key))
-        forEachStored(*a, [&](uint32_t i, const double* v, int w) {
-            glm::dvec3 value(0.0);
-            for (int k = 0; k < std::min(w, 3); ++k) value[k] = v[k];
-            out[i] = value;
-        });
-    std::vector<double> v;
-    for (const Connection* c : g.inputs(node)) {
-        const std::optional<uint32_t> i = elementIndexAfter(c->dst.path, key);
-        if (!i) continue;
-        if (ev.numbers(node, key + "[" + std::to_string(*i) + "]", v) && v.size() >= 3) out[*i] = {v[0], v[1], v[2]};
-    }
-    return out;
 }
 
 // Whether any connection drives an element of the multi attribute stored under `key`.
@@ -236,7 +191,7 @@ std::vector<double> pointWeights(Evaluator& ev, NodeId node, uint32_t index, siz
     std::vector<double> w(count, fallback);
     const std::string key = elementKey(g, node, "wl", index, "w");
     if (const AttrData* a = g.findAttr(node, key))
-        forEachStored(*a, [&](uint32_t i, const double* v, int) {
+        forEachNumeric(*a, [&](uint32_t i, const double* v, int) {
             if (i < count) w[i] = v[0];
         });
     if (anyElementConnected(g, node, key))
@@ -294,8 +249,8 @@ std::string applyTweak(Evaluator& ev, NodeId n, uint32_t index, const std::vecto
     if (!en) return reason;
     const bool relative = ev.getBool(n, "rtw", true);
     // Mesh tweaks live in vlist (float3) in older files and plist (double3) in newer ones.
-    std::map<uint32_t, glm::dvec3> offsets = vectorElements(ev, n, elementKey(g, n, "pl", index, "cp"));
-    for (const auto& [i, t] : vectorElements(ev, n, elementKey(g, n, "vl", index, "vt"))) offsets[i] += t;
+    std::map<uint32_t, glm::dvec3> offsets = vectorElements(ev, n, elementKey(g, n, "pl", index, "cp"), 3);
+    for (const auto& [i, t] : vectorElements(ev, n, elementKey(g, n, "vl", index, "vt"), 3)) offsets[i] += t;
 
     std::vector<glm::dvec3> points = pointsOf(mesh);
     size_t outside = 0, nonFinite = 0;
@@ -729,7 +684,7 @@ std::string applySkinCluster(Evaluator& ev, NodeId n, uint32_t index, const std:
         if (!i || *i >= count) continue;
         const std::string expected = listPrefix + "[" + std::to_string(*i) + "]" + weightSuffix;
         if (it->first != expected) continue;
-        forEachStored(it->second, [&](uint32_t j, const double* v, int) {
+        forEachNumeric(it->second, [&](uint32_t j, const double* v, int) {
             if (j >= kMaxInfluences) return;
             if (!std::isfinite(v[0])) {
                 ++nonFiniteWeights;
@@ -790,7 +745,7 @@ std::string applySkinCluster(Evaluator& ev, NodeId n, uint32_t index, const std:
     if (method == 2) {
         blend.assign(count, 0.0);
         if (const AttrData* a = g.findAttr(n, g.canonicalPath(n, {{"bw", -1, -1}})))
-            forEachStored(*a, [&](uint32_t i, const double* v, int) {
+            forEachNumeric(*a, [&](uint32_t i, const double* v, int) {
                 if (i < count && std::isfinite(v[0])) blend[i] = std::clamp(v[0], 0.0, 1.0);
             });
     }

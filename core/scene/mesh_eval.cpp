@@ -5,6 +5,7 @@
 #include "core/geom/poly_primitives.h"
 #include "core/scene/components.h"
 #include "core/scene/deformer_eval.h"
+#include "core/scene/detail/multi_elements.h"
 #include "core/scene/nurbs_eval.h"
 
 #include <glm/geometric.hpp>
@@ -21,34 +22,22 @@ namespace pushpin::scene {
 
 namespace {
 
-// Elements beyond this index are refused: a hostile `.vt[2000000000]` must not allocate 24 GB.
-constexpr uint64_t kMaxElements = uint64_t(1) << 27;
+using detail::forEachNumeric;
+using detail::kMaxElements;
+using detail::nodeLabel;
+using detail::vectorElements;
+
 constexpr int kMaxHistoryDepth = 256;
 // Maya writes this for per-face-vertex normals that are "not set, compute".
 constexpr double kUnsetNormal = 1e19;
 
-std::string nodeLabel(const Node& n) { return n.type + " (" + n.name + ")"; }
-
-// The AttrData of a top-level attribute given by short or long name, as the Graph keys it.
-const AttrData* attrOf(const Graph& g, NodeId n, std::string_view name) {
+// The key the Graph stores a top-level attribute under, given by short or long name.
+std::string keyOf(const Graph& g, NodeId n, std::string_view name) {
     std::optional<std::vector<PlugSegment>> segs = parsePlugPath(name);
-    if (!segs) return nullptr;
-    return g.findAttr(n, g.canonicalPath(n, *segs));
+    return segs ? g.canonicalPath(n, *segs) : std::string(name);
 }
 
-// Calls fn(index, values, width) for every numeric element of a multi attribute, in index order.
-template <class F>
-void forEachNumeric(const AttrData& a, F&& fn) {
-    for (const auto& [first, run] : a.multi.runs()) {
-        const Numbers* nums = std::get_if<Numbers>(&run.value);
-        if (!nums || run.width <= 0) continue;
-        const size_t width = size_t(run.width);
-        for (uint32_t k = 0; k < run.count; ++k) {
-            if ((size_t(k) + 1) * width > nums->values.size()) break;
-            fn(uint64_t(first) + k, nums->values.data() + size_t(k) * width, run.width);
-        }
-    }
-}
+const AttrData* attrOf(const Graph& g, NodeId n, std::string_view name) { return g.findAttr(n, keyOf(g, n, name)); }
 
 // Incoming connection into any of `names` (long names as canonical paths, or as written for
 // node types outside the schema). The connection's last index is ignored (`inputGeometry[0]`).
@@ -65,37 +54,6 @@ std::optional<Plug> inputPlug(const Graph& g, NodeId n, std::initializer_list<st
         }
     }
     return std::nullopt;
-}
-
-// Per-element 3-vectors (or 2-vectors) of a multi attribute such as polyTweak.tweak or mesh.pnts:
-// stored values, with elements driven by a connection evaluated through the Evaluator.
-std::map<uint32_t, glm::dvec3> vectorElements(Evaluator& ev, NodeId n, std::string_view name, int width) {
-    const Graph& g = ev.graph();
-    std::map<uint32_t, glm::dvec3> out;
-    if (const AttrData* a = attrOf(g, n, name))
-        forEachNumeric(*a, [&](uint64_t index, const double* v, int w) {
-            if (index >= kMaxElements) return;
-            glm::dvec3 value(0.0);
-            for (int k = 0; k < std::min(w, width); ++k) value[k] = v[k];
-            out[uint32_t(index)] = value;
-        });
-    std::optional<std::vector<PlugSegment>> segs = parsePlugPath(name);
-    if (!segs) return out;
-    const std::string prefix = g.canonicalPath(n, *segs) + "[";
-    for (const Connection* c : g.inputs(n)) {
-        if (c->dst.path.rfind(prefix, 0) != 0) continue;
-        std::optional<std::vector<PlugSegment>> dst = parsePlugPath(c->dst.path);
-        if (!dst || dst->empty() || !dst->front().indexed() || dst->front().first >= int64_t(kMaxElements)) continue;
-        // Evaluate the whole element (a connection into one component updates that component).
-        const std::string elementPath = formatPlugPath({dst->front()});
-        std::vector<double> v;
-        if (ev.numbers(n, elementPath, v) && v.size() >= size_t(width)) {
-            glm::dvec3 value(0.0);
-            for (int k = 0; k < width; ++k) value[k] = v[size_t(k)];
-            out[uint32_t(dst->front().first)] = value;
-        }
-    }
-    return out;
 }
 
 const ComponentList* componentListOf(const Graph& g, NodeId n, std::string_view name) {
@@ -366,7 +324,7 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
 
     if (type == "polyTweak") {
         std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
-        if (m) applyPointTweaks(vectorElements(ev, src.node, "tweak", 3), *m, node, c.out.notes);
+        if (m) applyPointTweaks(vectorElements(ev, src.node, keyOf(g, src.node, "tweak"), 3), *m, node, c.out.notes);
         return m;
     }
     if (type == "polyTweakUV") {
@@ -381,7 +339,7 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
             return m;
         }
         std::vector<glm::vec2>& uvs = m->uvSets[size_t(set)].uvs;
-        for (const auto& [index, t] : vectorElements(ev, src.node, "uvTweak", 2))
+        for (const auto& [index, t] : vectorElements(ev, src.node, keyOf(g, src.node, "uvTweak"), 2))
             if (index < uvs.size() && std::isfinite(t.x) && std::isfinite(t.y))
                 uvs[index] += glm::vec2(float(t.x), float(t.y));
         return m;
@@ -530,7 +488,7 @@ std::optional<geom::Mesh> evaluateShape(Context& c, NodeId shape, std::string& r
             return std::nullopt;
         }
     }
-    applyPointTweaks(vectorElements(c.ev, shape, "pnts", 3), *mesh, node, c.out.notes);
+    applyPointTweaks(vectorElements(c.ev, shape, keyOf(g, shape, "pnts"), 3), *mesh, node, c.out.notes);
     return mesh;
 }
 
