@@ -497,8 +497,9 @@ TEST(DeformerTypes, OnlyTheFourEvaluatedTypesAreClaimed) {
 // cylinder spans y = ±1.25 / 2.25, so t = (±0.5556 + 1) / 2 and the radius at the bottom is
 // 1.2396 + (0.4958 − 1.2396)·0.2222 = 1.0743, at the top 1.2396 − 0.7438·0.7778 = 0.6611.
 TEST(DeformerCorpus, LavaLampFlareTapersTheCylinder) {
+    PUSHPIN_REQUIRE_MA_CORPUS();
     const std::filesystem::path file = test::maCorpusDir() / "tws0002__pop2-project__LavaLamp.ma";
-    if (!std::filesystem::exists(file)) GTEST_SKIP() << "corpus scene not found: " << file;
+    ASSERT_TRUE(std::filesystem::exists(file)) << file;
     const Graph g = MaReader::readFile(file);
     Evaluator ev(g, 1.0);
     std::string why;
