@@ -189,7 +189,8 @@ std::optional<Mesh> makePolySphere(const PolySphereParams& pIn, std::string* err
         const double theta = std::numbers::pi * ring / sh;  // from the south pole
         const double y = -r * std::cos(theta), rho = r * std::sin(theta);
         for (int j = 0; j < sa; ++j) {
-            const double phi = kTwoPi * j / sa;
+            // Maya's point 0 of a ring is one step round from +x.
+            const double phi = kTwoPi * (j + 1) / sa;
             b.point(rho * std::cos(phi), y, -rho * std::sin(phi));
         }
     }
@@ -244,15 +245,16 @@ constexpr double kSideV0 = 0.3125, kSideV1 = 0.6875, kCapRadius = 0.15625;
 
 // Adds a flat cap closing `outerRing` (sa points, counter-clockwise seen from +Y) at height y with
 // `caps` rings (0: one n-gon). `down` caps face −Y. UVs go in a disc centred at (0.5, centreV).
+// `phase` turns the inner rings by that many steps, to line up with the outer ring's first point.
 void addCap(Builder& b, const std::vector<uint32_t>& outerRing, double radius, double y, int sa, int caps,
-            bool down, double centreV) {
+            bool down, double centreV, int phase) {
     const int rings = std::max(1, caps);
     std::vector<std::vector<uint32_t>> ring(rings);
     std::vector<std::vector<int32_t>> ringUv(rings);
     ring[0] = outerRing;
     for (int c = 1; c < rings; ++c)
         for (int j = 0; j < sa; ++j) {
-            const double phi = kTwoPi * j / sa, rho = radius * (1.0 - double(c) / caps);
+            const double phi = kTwoPi * (j + phase) / sa, rho = radius * (1.0 - double(c) / caps);
             ring[c].push_back(b.point(rho * std::cos(phi), y, -rho * std::sin(phi)));
         }
     uint32_t centre = 0;
@@ -263,7 +265,7 @@ void addCap(Builder& b, const std::vector<uint32_t>& outerRing, double radius, d
         const double mirror = down ? -1.0 : 1.0;
         for (int c = 0; c < rings; ++c)
             for (int j = 0; j < sa; ++j) {
-                const double phi = kTwoPi * j / sa, rho = kCapRadius * (1.0 - (caps ? double(c) / caps : 0.0));
+                const double phi = kTwoPi * (j + phase) / sa, rho = kCapRadius * (1.0 - (caps ? double(c) / caps : 0.0));
                 ringUv[c].push_back(b.uv(0.5 + mirror * rho * std::cos(phi), centreV + rho * std::sin(phi)));
             }
         if (caps >= 1) centreUv = b.uv(0.5, centreV);
@@ -312,7 +314,8 @@ std::optional<Mesh> makePolyCylinder(const PolyCylinderParams& pIn, std::string*
     Builder b(p.createUVs);
     for (int k = 0; k <= sh; ++k)
         for (int j = 0; j < sa; ++j) {
-            const double phi = kTwoPi * j / sa;
+            // As on Maya's cylinder, point 0 of each ring is one step round from +x.
+            const double phi = kTwoPi * (j + 1) / sa;
             b.point(r * std::cos(phi), -h / 2 + h * k / sh, -r * std::sin(phi));
         }
     if (p.createUVs)
@@ -330,8 +333,8 @@ std::optional<Mesh> makePolyCylinder(const PolyCylinderParams& pIn, std::string*
         bottom[j] = pt(0, j);
         top[j] = pt(sh, j);
     }
-    addCap(b, bottom, r, -h / 2, sa, sc, true, kCapRadius);
-    addCap(b, top, r, h / 2, sa, sc, false, 1.0 - kCapRadius);
+    addCap(b, bottom, r, -h / 2, sa, sc, true, kCapRadius, 1);
+    addCap(b, top, r, h / 2, sa, sc, false, 1.0 - kCapRadius, 1);
     Mesh mesh = b.finish(p.axis, true);
     hardenRing(mesh, 0, uint32_t(sa));
     hardenRing(mesh, uint32_t(sh * sa), uint32_t(sa));
@@ -370,7 +373,7 @@ std::optional<Mesh> makePolyCone(const PolyConeParams& pIn, std::string* error) 
         b.face({pt(sh - 1, j), pt(sh - 1, j + 1), apex}, {uv(sh - 1, j), uv(sh - 1, j + 1), apexUv0 + j});
     std::vector<uint32_t> base(sa);
     for (int j = 0; j < sa; ++j) base[j] = pt(0, j);
-    addCap(b, base, r, -h / 2, sa, sc, true, kCapRadius);
+    addCap(b, base, r, -h / 2, sa, sc, true, kCapRadius, 0);
     Mesh mesh = b.finish(p.axis, true);
     hardenRing(mesh, 0, uint32_t(sa));
     return mesh;

@@ -47,7 +47,8 @@ struct PolyCubeParams : PrimitiveAxis {
 std::optional<Mesh> makePolyCube(const PolyCubeParams& p, std::string* error = nullptr);
 
 // polySphere: sa ≥ 3 points per ring, sh ≥ 2 bands. Points: sh−1 rings from the south (−Y) pole
-// up, sa each, then the south pole, then the north pole (sa·(sh−1)+2 points, Maya's order).
+// up, sa each, then the south pole, then the north pole (sa·(sh−1)+2 points, Maya's order). A
+// ring's first point is one step (2π/sa) round from +X towards −Z, as in Maya's files.
 // Faces: quads band by band, then the south triangle fan, then the north one (sa·sh faces).
 // UVs: u = around/sa over sa+1 columns per ring, v = band/sh; each pole triangle has its own pole
 // UV ((sa+1)·(sh−1) + 2·sa UVs, as Maya).
@@ -66,7 +67,7 @@ struct PolyPlaneParams : PrimitiveAxis {
 std::optional<Mesh> makePolyPlane(const PolyPlaneParams& p, std::string* error = nullptr);
 
 // polyCylinder: radius r, height h centred on the origin, sa ≥ 3 around, sh ≥ 1 bands, sc ≥ 0 cap
-// rings. Points: sh+1 side rings bottom to top, then the bottom cap's inner rings (outside in) and
+// rings; each ring starts one step (2π/sa) round from +X towards −Z, as in Maya's files. Points: sh+1 side rings bottom to top, then the bottom cap's inner rings (outside in) and
 // centre, then the top cap's (for sc = 1: bottom centre, then top centre, as Maya). sc = 0 closes each end with
 // one n-gon. Faces: side quads band by band, then the bottom cap, then the top cap.
 // Counts: sa·(sh+1) + 2·sa·(sc−1) + 2 points and sa·sh + 2·sa·sc faces for sc ≥ 1.

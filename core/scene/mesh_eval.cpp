@@ -2,6 +2,8 @@
 #include "core/scene/mesh_eval.h"
 
 #include "core/geom/finite.h"
+#include "core/geom/poly_extrude.h"
+#include "core/geom/poly_merge.h"
 #include "core/geom/poly_primitives.h"
 #include "core/scene/components.h"
 #include "core/scene/deformer_eval.h"
@@ -9,6 +11,7 @@
 #include "core/scene/nurbs_eval.h"
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
@@ -282,6 +285,136 @@ void softenEdges(geom::Mesh& mesh, const ComponentList* list, double angleRadian
         if (e < selected.size() && selected[e]) mesh.edges[e].smooth = maxAngle[e] <= angleRadians + 1e-9;
 }
 
+// The selection of a component list as a face mask, with what did not parse or fit as notes.
+std::vector<bool> faceSelection(const geom::Mesh& mesh, const ComponentList& list, const Node& node,
+                                std::vector<std::string>& notes) {
+    const ParsedComponents parsed = parseComponents(list);
+    for (const std::string& e : parsed.errors) notes.push_back(nodeLabel(node) + ": " + e);
+    std::string clip;
+    std::vector<bool> faces = componentMask(parsed.ranges, ComponentKind::Face, mesh.faceCount(), &clip);
+    if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
+    return faces;
+}
+
+// The space polyMoveVertex and its descendants move points in: world space through inputMatrix
+// when worldSpace is on (worldFromObject), else object space (the identity).
+glm::dmat4 moveSpace(Evaluator& ev, NodeId n) {
+    std::vector<double> v;
+    if (ev.getBool(n, "ws", false) && ev.numbers(n, "ix", v) && v.size() == 16) {
+        const glm::dmat4 worldFromObject = glm::make_mat4(v.data());
+        if (geom::isFinite(worldFromObject) && geom::isFinite(glm::inverse(worldFromObject))) return worldFromObject;
+    }
+    return glm::dmat4(1.0);
+}
+
+// Maya's polyMoveVertex transform in its move space: translate, rotate (XYZ order) and scale
+// about the pivot; nullopt when it is not finite.
+std::optional<glm::dmat4> moveTransform(Evaluator& ev, NodeId n) {
+    const glm::dvec3 t = ev.getDouble3(n, "t"), r = ev.getDouble3(n, "r");
+    const glm::dvec3 s = ev.getDouble3(n, "s", glm::dvec3(1.0)), pivot = ev.getDouble3(n, "pvt");
+    glm::dmat4 m = glm::translate(glm::dmat4(1.0), pivot + t);
+    m = glm::rotate(m, r.z, glm::dvec3(0, 0, 1));
+    m = glm::rotate(m, r.y, glm::dvec3(0, 1, 0));
+    m = glm::rotate(m, r.x, glm::dvec3(1, 0, 0));
+    m = glm::scale(m, s);
+    m = glm::translate(m, -pivot);
+    if (!geom::isFinite(m)) return std::nullopt;
+    return m;
+}
+
+std::optional<geom::Mesh> evaluateExtrudeFace(Context& c, NodeId n, std::string& reason) {
+    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
+    if (!m) return m;
+    const Graph& g = c.g;
+    Evaluator& ev = c.ev;
+    const Node& node = g.node(n);
+    const ComponentList* list = componentListOf(g, n, "ics");
+    if (!list || list->items.empty()) return m;
+    geom::ExtrudeFacesParams p;
+    p.faces = faceSelection(*m, *list, node, c.out.notes);
+    p.keepFacesTogether = ev.getBool(n, "kft", true);
+    p.divisions = ev.getInt(n, "dv", 1);
+    std::optional<glm::dmat4> transform = moveTransform(ev, n);
+    if (!transform) {
+        reason = nodeLabel(node) + ": its translate, rotate, scale or pivot is not finite";
+        return std::nullopt;
+    }
+    p.transform = *transform;
+    p.space = moveSpace(ev, n);
+    p.localTranslate = ev.getDouble3(n, "lt");
+    p.localScale = ev.getDouble3(n, "ls", glm::dvec3(1.0));
+    p.smoothingAngle = ev.getDouble(n, "sma", p.smoothingAngle);
+    if (!geom::isFinite(p.localTranslate) || !geom::isFinite(p.localScale) || !std::isfinite(p.smoothingAngle)) {
+        reason = nodeLabel(node) + ": its local translate, local scale or smoothing angle is not finite";
+        return std::nullopt;
+    }
+    // What the extrusion does not apply yet, said rather than dropped.
+    std::vector<std::string> ignored;
+    if (ev.getDouble3(n, "lr") != glm::dvec3(0.0)) ignored.push_back("localRotate");
+    if (ev.getDouble(n, "off") != 0.0) ignored.push_back("offset");
+    if (ev.getDouble(n, "tk") != 0.0) ignored.push_back("thickness");
+    if (ev.getDouble(n, "twt") != 0.0) ignored.push_back("twist");
+    if (ev.getDouble(n, "tp", 1.0) != 1.0) ignored.push_back("taper");
+    if (ev.getDouble(n, "ran") != 0.0) ignored.push_back("random");
+    if (ev.getDouble(n, "att") != 0.0 || ev.getDouble(n, "w") != 0.0) ignored.push_back("attraction and weight");
+    if (ev.getBool(n, "raf", false)) ignored.push_back("reverseAllFaces");
+    for (const auto& [index, point] : vectorElements(ev, n, keyOf(g, n, "c"), 3))
+        if (point.y != 1.0) {
+            ignored.push_back("taperCurve");
+            break;
+        }
+    if (!ignored.empty()) {
+        std::string names;
+        for (const std::string& a : ignored) names += (names.empty() ? "" : ", ") + a;
+        c.out.notes.push_back(nodeLabel(node) + ": " + names + " not applied");
+    }
+    std::string error;
+    if (!geom::extrudeFaces(*m, p, nullptr, &error)) {
+        reason = nodeLabel(node) + ": " + error;
+        return std::nullopt;
+    }
+    return m;
+}
+
+// polyMergeVert: its own tweaks first (as Maya stores them on the node), then the merge.
+std::optional<geom::Mesh> evaluateMergeVert(Context& c, NodeId n, std::string& reason) {
+    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
+    if (!m) return m;
+    const Graph& g = c.g;
+    Evaluator& ev = c.ev;
+    const Node& node = g.node(n);
+    applyPointTweaks(vectorElements(ev, n, keyOf(g, n, "tk"), 3), *m, node, c.out.notes);
+    const ComponentList* list = componentListOf(g, n, "ics");
+    if (!list || list->items.empty()) return m;
+    geom::MergeVerticesParams p;
+    {
+        const ParsedComponents parsed = parseComponents(*list);
+        for (const std::string& e : parsed.errors) c.out.notes.push_back(nodeLabel(node) + ": " + e);
+        std::string clip;
+        p.points = componentMask(parsed.ranges, ComponentKind::Vertex, m->points.size(), &clip);
+        if (!clip.empty()) c.out.notes.push_back(nodeLabel(node) + ": " + clip);
+    }
+    if (const ComponentList* to = componentListOf(g, n, "mtc"); to && !to->items.empty()) {
+        const std::vector<bool> target =
+            componentMask(parseComponents(*to).ranges, ComponentKind::Vertex, m->points.size());
+        for (size_t i = 0; i < target.size() && !p.target; ++i)
+            if (target[i]) p.target = uint32_t(i);
+        if (!p.target) {
+            reason = nodeLabel(node) + ": the point to merge to is not on the mesh";
+            return std::nullopt;
+        }
+    }
+    p.distance = ev.getDouble(n, "d", 0.0);
+    p.alwaysMergeTwo = ev.getBool(n, "am", false);
+    p.space = moveSpace(ev, n);
+    std::string error;
+    if (!geom::mergeVertices(*m, p, nullptr, &error)) {
+        reason = nodeLabel(node) + ": " + error;
+        return std::nullopt;
+    }
+    return m;
+}
+
 std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string& reason) {
     const Graph& g = c.g;
     if (src.node >= g.size()) {
@@ -327,6 +460,8 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
         if (m) applyPointTweaks(vectorElements(ev, src.node, keyOf(g, src.node, "tweak"), 3), *m, node, c.out.notes);
         return m;
     }
+    if (type == "polyExtrudeFace") return evaluateExtrudeFace(c, src.node, reason);
+    if (type == "polyMergeVert") return evaluateMergeVert(c, src.node, reason);
     if (type == "polyTweakUV") {
         std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
         if (!m) return m;
@@ -734,6 +869,27 @@ MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape) {
         }
     }
     if (!out.mesh) out.skipReason = reason.empty() ? "mesh " + node.name + " could not be evaluated" : reason;
+    return out;
+}
+
+MeshEvaluation evaluateMeshPlug(Evaluator& ev, const Plug& output) {
+    MeshEvaluation out;
+    Context c{ev, ev.graph(), out, {}};
+    std::string reason;
+    try {
+        out.mesh = evaluatePlug(c, output, reason);
+    } catch (const std::exception& e) {
+        out.mesh.reset();
+        reason = std::string("evaluation failed: ") + e.what();
+    }
+    if (out.mesh) {
+        const geom::MeshValidation v = out.mesh->validate();
+        if (!v.ok()) {
+            out.mesh.reset();
+            reason = v.errors.front();
+        }
+    }
+    if (!out.mesh) out.skipReason = reason.empty() ? "the plug's mesh could not be evaluated" : reason;
     return out;
 }
 

@@ -53,6 +53,10 @@ MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape);
 // The same, reduced to the mesh; on a skip, `skipReason` (if given) receives the reason.
 std::optional<geom::Mesh> evaluateMesh(Evaluator& ev, NodeId meshShape, std::string* skipReason);
 
+// Evaluates the mesh a history node's output plug carries (polyExtrudeFace1.output, a shape's
+// worldMesh[0], …), as a shape's history is evaluated: the mesh, a skip reason and notes.
+MeshEvaluation evaluateMeshPlug(Evaluator& ev, const Plug& output);
+
 // Decodes the shape's own stored data, without tweaks and without looking at history.
 // Returns nullopt with `error` set when the data is missing or inconsistent (an edge index out of
 // range, a face whose edges do not meet, …); recoverable oddities go to `notes`.

@@ -234,8 +234,11 @@ void addDagTypes(Table& t) {
         .a("colorSetPoints", "clsp", T::Double4, 0, U::None, true, "colorSet");
 
     t.type("mesh", "controlPoint");
-    t.c("vrts", "vt", T::Float3, {0, 0, 0, 0}, U::Distance, {{"vrtx", "vx"}, {"vrty", "vy"}, {"vrtz", "vz"}}, true)
-        .c("pnts", "pt", T::Float3, {0, 0, 0, 0}, U::Distance, {{"pntx", "px"}, {"pnty", "py"}, {"pntz", "pz"}}, true)
+    // Point arrays are float3 data in internal units (centimetres) whatever the file's linear unit:
+    // a metre scene's polyTweak moves its points by the centimetres written (Maya's own recorded
+    // extrusion bounds on real metre scenes agree only so).
+    t.c("vrts", "vt", T::Float3, {0, 0, 0, 0}, U::None, {{"vrtx", "vx"}, {"vrty", "vy"}, {"vrtz", "vz"}}, true)
+        .c("pnts", "pt", T::Float3, {0, 0, 0, 0}, U::None, {{"pntx", "px"}, {"pnty", "py"}, {"pntz", "pz"}}, true)
         .c("edge", "ed", T::Long3, {0, 0, 0, 0}, U::None, {{"edg1", "e1"}, {"edg2", "e2"}, {"edgh", "eh"}}, true)
         .a("face", "fc", T::PolyFaces, 0, U::None, true)
         .c("uvpt", "uv", T::Float2, {0, 0, 0, 0}, U::None, {{"uvpx", "uvpx"}, {"uvpy", "uvpy"}}, true)
@@ -559,7 +562,36 @@ void addHistoryTypes(Table& t) {
     t.type("polyModifier", "polyBase");
     t.a("inputPolymesh", "ip", T::Mesh).a("inputComponents", "ics", T::ComponentList);
     t.type("polyTweak", "polyModifier");
-    t.c("tweak", "tk", T::Float3, {0, 0, 0, 0}, U::Distance, {{"tweakX", "tx"}, {"tweakY", "ty"}, {"tweakZ", "tz"}}, true);
+    t.c("tweak", "tk", T::Float3, {0, 0, 0, 0}, U::None, {{"tweakX", "tx"}, {"tweakY", "ty"}, {"tweakZ", "tz"}}, true);
+    // polyExtrudeFace and the polyMove* / polyModifierWorld attributes it inherits.
+    t.type("polyModifierWorld", "polyModifier");
+    t.a("inputMatrix", "ix", T::Matrix).a("worldSpace", "ws", T::Bool, 0).a("manipMatrix", "mp", T::Matrix);
+    t.type("polyMoveVertex", "polyModifierWorld");
+    t.xyz("translate", "t", T::Double3, 0, 0, 0, U::Distance).xyz("rotate", "r", T::Double3, 0, 0, 0, U::Angle)
+        .xyz("scale", "s", T::Double3, 1, 1, 1, U::None)
+        .c("pivot", "pvt", T::Float3, {0, 0, 0, 0}, U::Distance, {{"pivotX", "pvx"}, {"pivotY", "pvy"}, {"pivotZ", "pvz"}})
+        .a("random", "ran", T::Double, 0).xyz("localTranslate", "lt", T::Double3, 0, 0, 0, U::Distance)
+        .xyz("localDirection", "ld", T::Double3, 1, 0, 0, U::Distance);
+    t.type("polyMoveEdge", "polyMoveVertex");
+    t.xyz("localRotate", "lr", T::Double3, 0, 0, 0, U::Angle).xyz("localScale", "ls", T::Double3, 1, 1, 1, U::None)
+        .a("localCenter", "lc", T::Enum, 0);
+    t.type("polyMoveFace", "polyMoveEdge");
+    t.a("offset", "off", T::Double, 0).a("attraction", "att", T::Double, 0).a("weight", "w", T::Double, 0)
+        .xyz("gravity", "g", T::Double3, 0, -1, 0, U::Distance).xyz("magnet", "m", T::Double3, 0, 0, 0, U::Distance);
+    t.type("polyExtrudeFace", "polyMoveFace");
+    t.a("keepFacesTogether", "kft", T::Bool, 1).a("divisions", "dv", T::Int, 1).a("twist", "twt", T::Double, 0, U::Angle)
+        .a("taper", "tp", T::Double, 1).a("thickness", "tk", T::Double, 0, U::Distance)
+        .a("smoothingAngle", "sma", T::Double, 0.5235987755982988, U::Angle).a("reverseAllFaces", "raf", T::Bool, 0)
+        .c("taperCurve", "c", T::Float3, {0, 1, 1, 0}, U::None,
+           {{"taperCurve_Position", "cp"}, {"taperCurve_FloatValue", "cfv"}, {"taperCurve_Interp", "ci"}}, true)
+        .c("compBoundingBoxMin", "cbn", T::Double3, {0, 0, 0, 0}, U::Distance,
+           {{"compBoundingBoxMinX", "cnx"}, {"compBoundingBoxMinY", "cny"}, {"compBoundingBoxMinZ", "cnz"}})
+        .c("compBoundingBoxMax", "cbx", T::Double3, {1, 1, 1, 0}, U::Distance,
+           {{"compBoundingBoxMaxX", "cxx"}, {"compBoundingBoxMaxY", "cxy"}, {"compBoundingBoxMaxZ", "cxz"}});
+    t.type("polyMergeVert", "polyModifierWorld");
+    t.a("distance", "d", T::Double, 0, U::Distance).a("alwaysMergeTwoVertices", "am", T::Bool, 0)
+        .a("mergeToComponents", "mtc", T::ComponentList)
+        .c("tweak", "tk", T::Float3, {0, 0, 0, 0}, U::None, {{"tweakX", "tx"}, {"tweakY", "ty"}, {"tweakZ", "tz"}}, true);
     t.type("polyTweakUV", "polyModifier");
     t.a("uvTweak", "uvtk", T::Float2, 0, U::None, true).a("uvSetName", "uvs", T::String);
     // Evaluated by mesh_eval: polyTriangulate and polySoftEdge change the mesh; the others pass

@@ -441,11 +441,12 @@ createNode mesh -n "m";
     EXPECT_EQ(run.width, 3);
     std::vector<double> p;
     ASSERT_TRUE(g.numbers(m, "vrts[5]", p));
-    expectValues(Numbers{Numbers::Kind::Plain, 1, p}, {50, 50, -50});  // metres → cm
+    // Point arrays are float3 data in centimetres whatever the file's unit: kept as written.
+    expectValues(Numbers{Numbers::Kind::Plain, 1, p}, {0.5, 0.5, -0.5});
     ASSERT_TRUE(g.numbers(m, "vt[8]", p));
-    expectValues(Numbers{Numbers::Kind::Plain, 1, p}, {100, 200, 300});
+    expectValues(Numbers{Numbers::Kind::Plain, 1, p}, {1, 2, 3});
     ASSERT_TRUE(g.numbers(m, "pnts[2]", p));
-    expectValues(Numbers{Numbers::Kind::Plain, 1, p}, {0, 25, 0});
+    expectValues(Numbers{Numbers::Kind::Plain, 1, p}, {0, 0.25, 0});
 }
 
 TEST(MaReader, TupleRangesAndEdges) {

@@ -683,5 +683,67 @@ TEST(MeshEval, UvOnlyHistoryPassesGeometryThrough) {
     EXPECT_TRUE(h.unsupportedTypes().empty()) << h.unsupportedTypes().begin()->first;
 }
 
+
+namespace extrude_text {
+
+// A metre scene: the cube is 2 m (200 cm) wide, moved 10 m up by its transform. The extrusion
+// works in world space: its local translate of 1 m along the top face's normal, and a tweak whose
+// float3 values are centimetres whatever the file's unit.
+constexpr const char* kExtrudeScene = R"(currentUnit -l meter -a degree -t film;
+createNode transform -n "pCube1";
+	setAttr ".t" -type "double3" 0 10 0 ;
+createNode mesh -n "pCubeShape1" -p "pCube1";
+createNode polyCube -n "polyCube1";
+	setAttr ".w" 2;
+	setAttr ".h" 2;
+	setAttr ".d" 2;
+createNode polyExtrudeFace -n "polyExtrudeFace1";
+	setAttr ".ics" -type "componentList" 1 "f[1]";
+	setAttr ".ix" -type "matrix" 1 0 0 0 0 2 0 0 0 0 1 0 0 1000 0 1;
+	setAttr ".ws" yes;
+	setAttr ".lt" -type "double3" 0 0 1 ;
+	setAttr ".off" 0.25;
+createNode polyTweak -n "polyTweak1";
+	setAttr -s 4 ".tk[8:11]" -type "float3" 0 50 0 0 50 0 0 50 0 0 50 0;
+connectAttr "polyCube1.out" "polyExtrudeFace1.ip";
+connectAttr "polyExtrudeFace1.out" "polyTweak1.ip";
+connectAttr "polyTweak1.out" "pCubeShape1.i";
+)";
+
+}  // namespace extrude_text
+
+TEST(MeshEval, PolyExtrudeFaceMovesInWorldSpaceAndNamesWhatItDoesNotApply) {
+    const Graph g = MaReader::readString(extrude_text::kExtrudeScene, "extrude.ma");
+    const MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->points.size(), 12u);
+    EXPECT_EQ(e.mesh->faceCount(), 10u);
+    // Top at 100 cm; 1 m along the normal in world space, where inputMatrix doubles y, is 50 cm
+    // in object space; the tweak adds 50 cm more.
+    EXPECT_NEAR(e.mesh->bounds().hi.y, 200.0, 1e-3);
+    EXPECT_NEAR(e.mesh->bounds().hi.x, 100.0, 1e-3);
+    bool offsetNoted = false;
+    for (const std::string& n : e.notes) offsetNoted |= n.find("offset not applied") != std::string::npos;
+    EXPECT_TRUE(offsetNoted);
+}
+
+TEST(MeshEval, PolyExtrudeFaceWithoutComponentsOrWithBadValues) {
+    std::string text = extrude_text::kExtrudeScene;
+    // No components: the mesh passes through.
+    std::string none = text;
+    none.replace(none.find("\tsetAttr \".ics\""), std::string("\tsetAttr \".ics\" -type \"componentList\" 1 \"f[1]\";\n").size(), "");
+    Graph g = MaReader::readString(none, "none.ma");
+    MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->points.size(), 8u);
+    // A scale that takes the cap past the largest double skips the shape with a reason naming the node.
+    std::string bad = text;
+    bad.replace(bad.find("\tsetAttr \".off\""), 0, "\tsetAttr \".s\" -type \"double3\" 1e308 1e308 1e308 ;\n");
+    g = MaReader::readString(bad, "bad.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("polyExtrudeFace1"), std::string::npos) << e.skipReason;
+}
+
 }  // namespace
 }  // namespace pushpin::scene
