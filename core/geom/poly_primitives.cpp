@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
 
 namespace pushpin::geom {
 
@@ -174,7 +175,34 @@ std::optional<Mesh> makePolyCube(const PolyCubeParams& pIn, std::string* error) 
             b.face({sidePoint(false, sd - cb, yb), sidePoint(false, sd - cb - 1, yb),
                     sidePoint(false, sd - cb - 1, yb + 1), sidePoint(false, sd - cb, yb + 1)},
                    {leftUv(cb, yb), leftUv(cb + 1, yb), leftUv(cb + 1, yb + 1), leftUv(cb, yb + 1)});
-    return b.finish(p.axis, false);
+    Mesh mesh = b.finish(p.axis, false);
+    // Maya's edge order: along X row by row round the belt, then round the belt row by row and
+    // column by column, then the edges inside the ±X sides (for 1×1×1 exactly Maya's
+    // "0 1, 2 3, 4 5, 6 7, 0 2, 1 3, 2 4, 3 5, 4 6, 5 7, 6 0, 7 1").
+    std::vector<MeshEdge> ordered;
+    ordered.reserve(mesh.edges.size());
+    std::vector<bool> taken(mesh.edges.size(), false);
+    std::unordered_map<uint64_t, size_t> edgeIndex;
+    edgeIndex.reserve(mesh.edges.size());
+    auto key = [](uint32_t a, uint32_t c) { return a < c ? (uint64_t(a) << 32) | c : (uint64_t(c) << 32) | a; };
+    for (size_t e = 0; e < mesh.edges.size(); ++e) edgeIndex.emplace(key(mesh.edges[e].v0, mesh.edges[e].v1), e);
+    auto take = [&](uint32_t a, uint32_t c) {
+        const auto it = edgeIndex.find(key(a, c));
+        if (it == edgeIndex.end() || taken[it->second]) return;
+        taken[it->second] = true;
+        MeshEdge edge = mesh.edges[it->second];
+        edge.v0 = a;
+        edge.v1 = c;
+        ordered.push_back(edge);
+    };
+    for (int k = 0; k < K; ++k)
+        for (int i = 0; i < sw; ++i) take(beltPoint(k, i), beltPoint(k, i + 1));
+    for (int k = 0; k < K; ++k)
+        for (int i = 0; i <= sw; ++i) take(beltPoint(k, i), beltPoint(k + 1, i));
+    for (size_t e = 0; e < mesh.edges.size(); ++e)
+        if (!taken[e]) ordered.push_back(mesh.edges[e]);
+    mesh.edges = std::move(ordered);
+    return mesh;
 }
 
 // ---------------------------------------------------------------------------------- polySphere

@@ -588,6 +588,12 @@ void addHistoryTypes(Table& t) {
            {{"compBoundingBoxMinX", "cnx"}, {"compBoundingBoxMinY", "cny"}, {"compBoundingBoxMinZ", "cnz"}})
         .c("compBoundingBoxMax", "cbx", T::Double3, {1, 1, 1, 0}, U::Distance,
            {{"compBoundingBoxMaxX", "cxx"}, {"compBoundingBoxMaxY", "cxy"}, {"compBoundingBoxMaxZ", "cxz"}});
+    t.type("polySplitRing", "polyModifierWorld");
+    t.a("weight", "wt", T::Double, 0.5).a("direction", "dr", T::Bool, 1).a("rootEdge", "re", T::Int, -1)
+        .a("splitType", "stp", T::Enum, 0).a("divisions", "div", T::Int, 2)
+        .a("smoothingAngle", "sma", T::Double, 0.5235987755982988, U::Angle).a("fixQuads", "fq", T::Bool, 0)
+        .a("insertWithEdgeFlow", "iwe", T::Bool, 0)
+        .c("tweak", "tk", T::Float3, {0, 0, 0, 0}, U::None, {{"tweakX", "tx"}, {"tweakY", "ty"}, {"tweakZ", "tz"}}, true);
     t.type("polyMergeVert", "polyModifierWorld");
     t.a("distance", "d", T::Double, 0, U::Distance).a("alwaysMergeTwoVertices", "am", T::Bool, 0)
         .a("mergeToComponents", "mtc", T::ComponentList)

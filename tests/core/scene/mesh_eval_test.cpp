@@ -745,5 +745,38 @@ TEST(MeshEval, PolyExtrudeFaceWithoutComponentsOrWithBadValues) {
     EXPECT_NE(e.skipReason.find("polyExtrudeFace1"), std::string::npos) << e.skipReason;
 }
 
+TEST(MeshEval, PolySplitRingAndPolyMergeVertFromMaText) {
+    // A cube cut round its middle, then two corners of one end merged into one.
+    const char* text = R"(createNode transform -n "pCube1";
+createNode mesh -n "pCubeShape1" -p "pCube1";
+createNode polyCube -n "polyCube1";
+	setAttr ".d" 8;
+createNode polySplitRing -n "polySplitRing1";
+	setAttr ".ics" -type "componentList" 2 "e[6:7]" "e[10:11]";
+	setAttr ".wt" 0.5;
+	setAttr ".re" 7;
+createNode polyMergeVert -n "polyMergeVert1";
+	setAttr ".ics" -type "componentList" 2 "vtx[0]" "vtx[1]";
+	setAttr ".mtc" -type "componentList" 1 "vtx[1]";
+connectAttr "polyCube1.out" "polySplitRing1.ip";
+connectAttr "polySplitRing1.out" "polyMergeVert1.ip";
+connectAttr "polyMergeVert1.out" "pCubeShape1.i";
+)";
+    Graph g = MaReader::readString(text, "split.ma");
+    MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->points.size(), 11u);  // 8 + 4 from the split, 1 merged away
+    EXPECT_EQ(e.mesh->faceCount(), 10u);
+    EXPECT_NEAR(e.mesh->points[0].x, 0.5, 1e-6);  // merged at vtx[1]'s place
+    // Several loops (splitType 2) are not evaluated: the shape is skipped with the node named.
+    std::string multi = text;
+    multi.replace(multi.find("\tsetAttr \".re\" 7;"), 0, "\tsetAttr \".stp\" 2;\n");
+    g = MaReader::readString(multi, "multi.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("polySplitRing1"), std::string::npos) << e.skipReason;
+    EXPECT_NE(e.skipReason.find("several loops"), std::string::npos) << e.skipReason;
+}
+
 }  // namespace
 }  // namespace pushpin::scene
