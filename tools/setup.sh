@@ -9,6 +9,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev
   libembree-dev libzstd-dev libglm-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libosd-dev
 )
 
 missing=()

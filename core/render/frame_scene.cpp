@@ -720,10 +720,14 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
             } else {
                 const geom::Mesh& mesh = *shape.mesh.mesh;
                 const size_t faces = mesh.faceCount();
-                std::vector<int32_t> faceGroup(faces, -1);
+                // Shading assignments name the faces of the unsmoothed mesh when the shape renders
+                // its smooth preview; each smoothed face takes the group of the face it comes from.
+                const std::vector<uint32_t>& origin = shape.mesh.faceOrigin;
+                const size_t sourceFaces = origin.size() == faces ? shape.mesh.sourceFaceCount : faces;
+                std::vector<int32_t> sourceGroup(sourceFaces, -1);
                 if (whole) {
                     candidates.push_back(whole);
-                    std::fill(faceGroup.begin(), faceGroup.end(), 0);
+                    std::fill(sourceGroup.begin(), sourceGroup.end(), 0);
                 }
                 for (const Membership& m : groups) {
                     if (m.member->objectGroup < 0) continue;
@@ -734,12 +738,17 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                         continue;
                     }
                     std::string error;
-                    const std::vector<bool> mask = scene::faceMask(list, faces, &error);
+                    const std::vector<bool> mask = scene::faceMask(list, sourceFaces, &error);
                     if (!error.empty()) scene.notes.push_back(label + ": " + m.group->name + ": " + error);
                     const int32_t index = int32_t(candidates.size());
                     candidates.push_back(m.group);
-                    for (size_t f = 0; f < faces; ++f)
-                        if (mask[f]) faceGroup[f] = index;
+                    for (size_t f = 0; f < sourceFaces; ++f)
+                        if (mask[f]) sourceGroup[f] = index;
+                }
+                std::vector<int32_t> faceGroup(faces, -1);
+                for (size_t f = 0; f < faces; ++f) {
+                    const size_t from = origin.size() == faces ? origin[f] : f;
+                    faceGroup[f] = from < sourceFaces ? sourceGroup[from] : -1;
                 }
                 // Slots for the groups that kept at least one face, in first-use order.
                 std::vector<int32_t> slotOf(candidates.size(), -1);

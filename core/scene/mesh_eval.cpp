@@ -2,9 +2,11 @@
 #include "core/scene/mesh_eval.h"
 
 #include "core/geom/finite.h"
+#include "core/geom/poly_dissolve.h"
 #include "core/geom/poly_extrude.h"
 #include "core/geom/poly_merge.h"
 #include "core/geom/poly_split_ring.h"
+#include "core/geom/subdivide.h"
 #include "core/geom/poly_primitives.h"
 #include "core/scene/components.h"
 #include "core/scene/deformer_eval.h"
@@ -208,47 +210,42 @@ void applyPointTweaks(const std::map<uint32_t, glm::dvec3>& tweaks, geom::Mesh& 
                         " points)");
 }
 
-// Per-face mask of faces that use a selected vertex, edge or face.
-std::vector<bool> facesToDelete(const geom::Mesh& mesh, const ComponentList& list, std::vector<std::string>& notes,
-                                const Node& node) {
+// deleteComponent as Maya does it: listed edges dissolve (their two faces merge; a border edge
+// takes its face with it), listed points on only two edges leave their faces, listed faces go.
+void deleteComponents(geom::Mesh& mesh, const ComponentList& list, const Node& node, std::vector<std::string>& notes) {
     const ParsedComponents parsed = parseComponents(list);
     for (const std::string& e : parsed.errors) notes.push_back(nodeLabel(node) + ": " + e);
     std::string clip;
-    std::vector<bool> remove = componentMask(parsed.ranges, ComponentKind::Face, mesh.faceCount(), &clip);
-    if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
-    const std::vector<bool> vertices = componentMask(parsed.ranges, ComponentKind::Vertex, mesh.points.size(), &clip);
-    if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
-    std::vector<geom::MeshEdge> edgeList = mesh.edges.empty() ? geom::deriveEdges(mesh, true) : mesh.edges;
-    const std::vector<bool> edges = componentMask(parsed.ranges, ComponentKind::Edge, edgeList.size(), &clip);
-    if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
-    std::unordered_map<uint64_t, bool> deletedEdge;
-    for (size_t e = 0; e < edges.size(); ++e)
-        if (edges[e]) {
-            uint32_t a = edgeList[e].v0, b = edgeList[e].v1;
-            if (a > b) std::swap(a, b);
-            deletedEdge[(uint64_t(a) << 32) | b] = true;
-        }
-    for (size_t f = 0; f < mesh.faceCount(); ++f) {
-        if (remove[f]) continue;
-        for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1] && !remove[f]; ++l) {
-            const std::span<const uint32_t> lp = mesh.loop(l);
-            for (size_t i = 0; i < lp.size(); ++i) {
-                if (lp[i] < vertices.size() && vertices[lp[i]]) {
-                    remove[f] = true;
-                    break;
-                }
-                if (!deletedEdge.empty()) {
-                    uint32_t a = lp[i], b = lp[(i + 1) % lp.size()];
-                    if (a > b) std::swap(a, b);
-                    if (deletedEdge.count((uint64_t(a) << 32) | b)) {
-                        remove[f] = true;
-                        break;
-                    }
-                }
-            }
-        }
+    auto mask = [&](ComponentKind kind, size_t count) {
+        std::vector<bool> m = componentMask(parsed.ranges, kind, count, &clip);
+        if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
+        clip.clear();
+        return m;
+    };
+    auto any = [](const std::vector<bool>& m) { return std::find(m.begin(), m.end(), true) != m.end(); };
+    // Masks against the input's numbering. One kind per node is what Maya writes; a mix applies
+    // the faces and says what it left.
+    geom::completeEdges(mesh, true);
+    const std::vector<bool> faces = mask(ComponentKind::Face, mesh.faceCount());
+    const std::vector<bool> edges = mask(ComponentKind::Edge, mesh.edges.size());
+    const std::vector<bool> points = mask(ComponentKind::Vertex, mesh.points.size());
+    if (any(faces)) {
+        geom::deleteFaces(mesh, faces);
+        if (any(edges) || any(points))
+            notes.push_back(nodeLabel(node) + ": edges and points listed with faces are not deleted");
+        return;
     }
-    return remove;
+    if (any(edges)) {
+        geom::dissolveEdges(mesh, edges);
+        if (any(points)) notes.push_back(nodeLabel(node) + ": points listed with edges are not deleted");
+        return;
+    }
+    if (any(points)) {
+        const geom::DissolveResult r = geom::removeWingedPoints(mesh, points);
+        if (r.keptPoints)
+            notes.push_back(nodeLabel(node) + ": " + std::to_string(r.keptPoints) +
+                            " points on more than two edges stay (Maya deletes only points on two edges)");
+    }
 }
 
 // polySoftEdge: selected edges (all when none are listed) become soft where the faces meeting
@@ -456,6 +453,41 @@ std::optional<geom::Mesh> evaluateSplitRing(Context& c, NodeId n, std::string& r
     return m;
 }
 
+// polySmoothFace: Catmull-Clark through OpenSubdiv for the exponential method, on every face.
+std::optional<geom::Mesh> evaluateSmoothFace(Context& c, NodeId n, std::string& reason) {
+    const Graph& g = c.g;
+    Evaluator& ev = c.ev;
+    const Node& node = g.node(n);
+    if (const int method = ev.getInt(n, "mth", 0); method != 0) {
+        reason = nodeLabel(node) + ": the " + (method == 1 ? std::string("linear") : "method " + std::to_string(method)) +
+                 " smoothing method is not evaluated";
+        return std::nullopt;
+    }
+    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
+    if (!m) return m;
+    if (const ComponentList* list = componentListOf(g, n, "ics"); list && !list->items.empty()) {
+        const std::vector<bool> faces = faceSelection(*m, *list, node, c.out.notes);
+        if (std::find(faces.begin(), faces.end(), false) != faces.end()) {
+            reason = nodeLabel(node) + ": smoothing only some of the faces is not evaluated";
+            return std::nullopt;
+        }
+    }
+    geom::SubdivideParams p;
+    p.levels = ev.getInt(n, "dv", 1);
+    p.keepBorder = ev.getBool(n, "kb", true);
+    p.keepHardEdges = ev.getBool(n, "khe", false);
+    p.smoothUvs = ev.getBool(n, "suv", true);
+    p.continuity = ev.getDouble(n, "c", 1.0);
+    if (!std::isfinite(p.continuity)) p.continuity = 1.0;
+    if (ev.getBool(n, "peh", false)) c.out.notes.push_back(nodeLabel(node) + ": propagateEdgeHardness not applied");
+    std::string error;
+    if (!geom::subdivideMesh(*m, p, nullptr, &error)) {
+        reason = nodeLabel(node) + ": " + error;
+        return std::nullopt;
+    }
+    return m;
+}
+
 std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string& reason) {
     const Graph& g = c.g;
     if (src.node >= g.size()) {
@@ -504,6 +536,7 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
     if (type == "polyExtrudeFace") return evaluateExtrudeFace(c, src.node, reason);
     if (type == "polyMergeVert") return evaluateMergeVert(c, src.node, reason);
     if (type == "polySplitRing") return evaluateSplitRing(c, src.node, reason);
+    if (type == "polySmoothFace") return evaluateSmoothFace(c, src.node, reason);
     if (type == "polyTweakUV") {
         std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
         if (!m) return m;
@@ -550,8 +583,7 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
     if (type == "deleteComponent") {
         std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputGeometry", "ig"}, reason);
         if (!m) return m;
-        if (const ComponentList* list = componentListOf(g, src.node, "dc"))
-            geom::deleteFaces(*m, facesToDelete(*m, *list, c.out.notes, node));
+        if (const ComponentList* list = componentListOf(g, src.node, "dc")) deleteComponents(*m, *list, node, c.out.notes);
         return m;
     }
     if (type == "polySoftEdge") {
@@ -667,6 +699,39 @@ std::optional<geom::Mesh> evaluateShape(Context& c, NodeId shape, std::string& r
     }
     applyPointTweaks(vectorElements(c.ev, shape, keyOf(g, shape, "pnts"), 3), *mesh, node, c.out.notes);
     return mesh;
+}
+
+// The smooth mesh preview, rendered as Maya Software renders it. Too many levels for the face
+// budget come down until the result fits, with a note.
+void applySmoothPreview(Evaluator& ev, NodeId shape, MeshEvaluation& out) {
+    const Graph& g = ev.graph();
+    const Node& node = g.node(shape);
+    geom::SubdivideParams p;
+    p.levels = ev.getBool(shape, "uspr", true) ? ev.getInt(shape, "lev", 2) : ev.getInt(shape, "rsl", 1);
+    p.levels = std::clamp(p.levels, 0, 8);
+    p.keepBorder = ev.getBool(shape, "kb", true);
+    p.keepHardEdges = ev.getBool(shape, "khe", false);
+    p.smoothUvs = ev.getBool(shape, "suv", true);
+    const int asked = p.levels;
+    double faces = 0.0;
+    for (size_t f = 0; f < out.mesh->faceCount(); ++f) faces += double(out.mesh->faceOuterLoop(f).size());
+    while (p.levels > 0 && faces * std::pow(4.0, p.levels - 1) > double(geom::kMaxSubdividedFaces)) --p.levels;
+    if (p.levels == 0) {
+        if (asked > 0) out.notes.push_back("mesh " + node.name + ": the smooth mesh preview is too large to render; the cage renders");
+        return;
+    }
+    if (p.levels < asked)
+        out.notes.push_back("mesh " + node.name + ": smooth mesh preview rendered at level " + std::to_string(p.levels) +
+                            " of " + std::to_string(asked) + " (face budget)");
+    const size_t sourceFaces = out.mesh->faceCount();
+    std::vector<uint32_t> origin;
+    std::string error;
+    if (!geom::subdivideMesh(*out.mesh, p, &origin, &error)) {
+        out.notes.push_back("mesh " + node.name + ": the smooth mesh preview is not rendered: " + error);
+        return;
+    }
+    out.faceOrigin = std::move(origin);
+    out.sourceFaceCount = sourceFaces;
 }
 
 }  // namespace
@@ -910,6 +975,7 @@ MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape) {
             reason = "mesh " + node.name + ": " + v.errors.front();
         }
     }
+    if (out.mesh && ev.getInt(meshShape, "dsm", 0) != 0) applySmoothPreview(ev, meshShape, out);
     if (!out.mesh) out.skipReason = reason.empty() ? "mesh " + node.name + " could not be evaluated" : reason;
     return out;
 }

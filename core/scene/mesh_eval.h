@@ -43,11 +43,17 @@ struct MeshEvaluation {
     std::vector<std::string> history;      // "type name" of each node evaluated, nearest the shape first
     std::vector<MeshComponentGroup> groups;
     bool usedCachedData = false;           // history was not evaluable; the shape's stored data was used
+    // When the shape renders its smooth mesh preview: per face of `mesh`, the face of the
+    // unsmoothed mesh it comes from (the faces shading assignments name), and how many there were.
+    std::vector<uint32_t> faceOrigin;
+    size_t sourceFaceCount = 0;
 };
 
 // Evaluates mesh shape `meshShape` at the Evaluator's frame. Never throws for bad scene content:
 // malformed data, unknown history and non-finite creator attributes give a skip reason.
-// Shape tweaks (.pt) are added to the result whether it comes from stored data or history.
+// Shape tweaks (.pt) are added to the result whether it comes from stored data or history. A
+// shape showing its smooth mesh preview (displaySmoothMesh on) renders it, as Maya Software does:
+// Catmull-Clark at smoothLevel (renderSmoothLevel when useSmoothPreviewForRender is off).
 MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape);
 
 // The same, reduced to the mesh; on a skip, `skipReason` (if given) receives the reason.

@@ -315,7 +315,8 @@ TEST(MeshEval, PolyTweakTransformGeometryAndShapeTweaks) {
 
 TEST(MeshEval, DeleteComponentRemovesFacesAndCompacts) {
     struct Case { const char* component; size_t faces, points; };
-    for (const Case c : {Case{"f[0:1]", 4, 8}, Case{"vtx[0]", 3, 7}, Case{"f[*]", 0, 0}, Case{"f[2]", 5, 8}}) {
+    // A cube corner is on three edges: Maya deletes only points on two edges, so it stays.
+    for (const Case c : {Case{"f[0:1]", 4, 8}, Case{"vtx[0]", 6, 8}, Case{"f[*]", 0, 0}, Case{"f[2]", 5, 8}}) {
         Graph g;
         const ShapeUnderTransform s = addMesh(g, "pCube1");
         const NodeId cube = g.createNode("polyCube", "polyCube1");
@@ -329,7 +330,7 @@ TEST(MeshEval, DeleteComponentRemovesFacesAndCompacts) {
         EXPECT_EQ(e.mesh->points.size(), c.points) << c.component;
         EXPECT_TRUE(e.mesh->validate().ok());
     }
-    // An edge deletes both faces using it.
+    // An edge dissolves: its two faces become one.
     Graph g;
     const ShapeUnderTransform s = addMesh(g, "pCube1");
     const NodeId cube = g.createNode("polyCube", "polyCube1");
@@ -339,7 +340,8 @@ TEST(MeshEval, DeleteComponentRemovesFacesAndCompacts) {
     connect(g, del, "outputGeometry", s.shape, "inMesh");
     const MeshEvaluation e = evaluate(g, s.shape);
     ASSERT_TRUE(e.mesh) << e.skipReason;
-    EXPECT_EQ(e.mesh->faceCount(), 4u);
+    EXPECT_EQ(e.mesh->faceCount(), 5u);
+    EXPECT_EQ(e.mesh->points.size(), 8u);
     EXPECT_EQ(e.notes.size(), 2u);  // the bad item and the face past the end
 }
 
@@ -393,14 +395,14 @@ TEST(MeshEval, UnknownHistoryIsSkippedUnlessTheShapeCachesGeometry) {
     // With the final mesh cached on the shape, that is used instead.
     Graph cached = MaReader::readString(kWorkedCube);
     const NodeId shape = cached.find("pCubeShape1");
-    const NodeId smooth = cached.createNode("polySmoothFace", "polySmoothFace1");
-    connect(cached, smooth, "output", shape, "inMesh");
+    const NodeId bevel = cached.createNode("polyBevel", "polyBevel1");
+    connect(cached, bevel, "output", shape, "inMesh");
     e = evaluate(cached, shape);
     ASSERT_TRUE(e.mesh) << e.skipReason;
     EXPECT_TRUE(e.usedCachedData);
     EXPECT_EQ(e.mesh->faceCount(), 6u);
     ASSERT_FALSE(e.notes.empty());
-    EXPECT_NE(e.notes[0].find("polySmoothFace (polySmoothFace1) is not evaluated"), std::string::npos);
+    EXPECT_NE(e.notes[0].find("polyBevel (polyBevel1) is not evaluated"), std::string::npos);
 }
 
 TEST(MeshEval, OrigShapeFeedingDeformers) {
@@ -776,6 +778,52 @@ connectAttr "polyMergeVert1.out" "pCubeShape1.i";
     EXPECT_FALSE(e.mesh);
     EXPECT_NE(e.skipReason.find("polySplitRing1"), std::string::npos) << e.skipReason;
     EXPECT_NE(e.skipReason.find("several loops"), std::string::npos) << e.skipReason;
+}
+
+TEST(MeshEval, PolySmoothFaceAndSmoothMeshPreview) {
+    const char* text = R"(createNode transform -n "pCube1";
+createNode mesh -n "pCubeShape1" -p "pCube1";
+createNode polyCube -n "polyCube1";
+createNode polySmoothFace -n "polySmoothFace1";
+	setAttr ".ics" -type "componentList" 1 "f[*]";
+connectAttr "polyCube1.out" "polySmoothFace1.ip";
+connectAttr "polySmoothFace1.out" "pCubeShape1.i";
+)";
+    Graph g = MaReader::readString(text, "smooth.ma");
+    MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 24u);
+    EXPECT_TRUE(e.faceOrigin.empty());  // history smoothing renumbers the faces for good
+
+    // The linear method is not evaluated: the shape is skipped, naming the node.
+    std::string linear = text;
+    linear.replace(linear.find("connectAttr"), 0, "setAttr \"polySmoothFace1.mth\" 1;\n");
+    g = MaReader::readString(linear, "linear.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("polySmoothFace1"), std::string::npos) << e.skipReason;
+
+    // Smooth mesh preview at level 2 renders 96 faces, each mapped to the cube face it came from.
+    const char* preview = R"(createNode transform -n "pCube1";
+createNode mesh -n "pCubeShape1" -p "pCube1";
+	setAttr ".dsm" 2;
+createNode polyCube -n "polyCube1";
+connectAttr "polyCube1.out" "pCubeShape1.i";
+)";
+    g = MaReader::readString(preview, "preview.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 96u);
+    ASSERT_EQ(e.faceOrigin.size(), 96u);
+    EXPECT_EQ(e.sourceFaceCount, 6u);
+    EXPECT_EQ(e.faceOrigin[95], 5u);
+    // With useSmoothPreviewForRender off, renderSmoothLevel (1) decides.
+    std::string render = preview;
+    render.replace(render.find("createNode polyCube"), 0, "\tsetAttr \".uspr\" no;\n");
+    g = MaReader::readString(render, "render.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 24u);
 }
 
 }  // namespace
