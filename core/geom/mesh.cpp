@@ -503,4 +503,115 @@ size_t removeUnusedPoints(Mesh& mesh) {
     return dropped;
 }
 
+size_t faceShells(const Mesh& mesh, std::vector<uint32_t>& shellOfFace) {
+    // Union-find over points, then faces take the shell of their first point.
+    std::vector<uint32_t> parent(mesh.points.size());
+    for (size_t i = 0; i < parent.size(); ++i) parent[i] = uint32_t(i);
+    auto find = [&](uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        const uint32_t first = mesh.faceVertices[mesh.faceVertexBegin(f)];
+        for (uint32_t fv = mesh.faceVertexBegin(f); fv < mesh.faceVertexEnd(f); ++fv) {
+            const uint32_t a = find(first), b = find(mesh.faceVertices[fv]);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+    }
+    shellOfFace.assign(mesh.faceCount(), 0);
+    std::vector<uint32_t> number(mesh.points.size(), ~uint32_t(0));
+    uint32_t shells = 0;
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        const uint32_t root = find(mesh.faceVertices[mesh.faceVertexBegin(f)]);
+        if (number[root] == ~uint32_t(0)) number[root] = shells++;
+        shellOfFace[f] = number[root];
+    }
+    return shells;
+}
+
+bool appendMesh(Mesh& into, const Mesh& part, const glm::dmat4& m) {
+    if (into.faceVertices.size() + part.faceVertices.size() >= size_t(UINT32_MAX) ||
+        into.points.size() + part.points.size() >= size_t(UINT32_MAX))
+        return false;
+    // Edge lists stay complete on both sides or absent on both (absent: every edge soft).
+    const bool withEdges = !into.edges.empty() || !part.edges.empty();
+    if (withEdges && into.edges.empty()) completeEdges(into, true);
+    const uint32_t pointBase = uint32_t(into.points.size());
+    const size_t fvBefore = into.faceVertices.size();
+    const uint32_t loopBase = uint32_t(into.loopCount());
+    const bool intoNormals = !into.normals.empty() || !part.normals.empty();
+    if (intoNormals && into.normals.empty()) into.normals.assign(fvBefore, glm::vec3(0.0f));
+    for (const glm::vec3& p : part.points) into.points.emplace_back(glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0)));
+    for (uint32_t v : part.faceVertices) into.faceVertices.push_back(pointBase + v);
+    for (size_t l = 1; l < part.loopStarts.size(); ++l) into.loopStarts.push_back(uint32_t(fvBefore) + part.loopStarts[l]);
+    for (size_t f = 1; f < part.faceLoopStarts.size(); ++f) into.faceLoopStarts.push_back(loopBase + part.faceLoopStarts[f]);
+    if (intoNormals) {
+        if (part.normals.empty()) {
+            into.normals.resize(into.faceVertices.size(), glm::vec3(0.0f));
+        } else {
+            const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(m)));
+            for (const glm::vec3& n : part.normals) {
+                if (n == glm::vec3(0.0f)) {
+                    into.normals.push_back(n);
+                    continue;
+                }
+                const glm::dvec3 t = normalMatrix * glm::dvec3(n);
+                const double len = glm::length(t);
+                into.normals.push_back(len > 0.0 ? glm::vec3(t / len) : glm::vec3(0.0f));
+            }
+        }
+    }
+    if (withEdges) {
+        for (const MeshEdge& e : part.edges) into.edges.push_back({pointBase + e.v0, pointBase + e.v1, e.smooth});
+        if (part.edges.empty()) completeEdges(into, true);
+    }
+    // UV sets by name.
+    const size_t fvAfter = into.faceVertices.size();
+    for (UvSet& set : into.uvSets)
+        if (!set.faceVertexUvs.empty() || fvBefore == 0) set.faceVertexUvs.resize(fvBefore, -1);
+    std::vector<bool> filled(into.uvSets.size(), false);
+    for (const UvSet& src : part.uvSets) {
+        size_t s = 0;
+        while (s < into.uvSets.size() && into.uvSets[s].name != src.name) ++s;
+        if (s == into.uvSets.size()) {
+            into.uvSets.push_back({src.name, {}, std::vector<int32_t>(fvBefore, -1)});
+            filled.push_back(false);
+        }
+        UvSet& dst = into.uvSets[s];
+        const int32_t base = int32_t(dst.uvs.size());
+        dst.uvs.insert(dst.uvs.end(), src.uvs.begin(), src.uvs.end());
+        dst.faceVertexUvs.resize(fvBefore, -1);
+        if (src.faceVertexUvs.size() == part.faceVertices.size())
+            for (int32_t id : src.faceVertexUvs) dst.faceVertexUvs.push_back(id >= 0 ? base + id : -1);
+        else
+            dst.faceVertexUvs.resize(fvAfter, -1);
+        filled[s] = true;
+    }
+    for (size_t s = 0; s < into.uvSets.size(); ++s)
+        if (!filled[s]) into.uvSets[s].faceVertexUvs.resize(fvAfter, -1);
+    if (into.uvSets.size() > 0 && (into.currentUvSet < 0 || size_t(into.currentUvSet) >= into.uvSets.size())) into.currentUvSet = 0;
+    // Colour sets by name, the same way.
+    std::vector<bool> colored(into.colorSets.size(), false);
+    for (ColorSet& set : into.colorSets) set.faceVertexColors.resize(fvBefore, -1);
+    for (const ColorSet& src : part.colorSets) {
+        size_t s = 0;
+        while (s < into.colorSets.size() && into.colorSets[s].name != src.name) ++s;
+        if (s == into.colorSets.size()) {
+            into.colorSets.push_back({src.name, {}, std::vector<int32_t>(fvBefore, -1)});
+            colored.push_back(false);
+        }
+        ColorSet& dst = into.colorSets[s];
+        const int32_t base = int32_t(dst.colors.size());
+        dst.colors.insert(dst.colors.end(), src.colors.begin(), src.colors.end());
+        if (src.faceVertexColors.size() == part.faceVertices.size())
+            for (int32_t id : src.faceVertexColors) dst.faceVertexColors.push_back(id >= 0 ? base + id : -1);
+        else
+            dst.faceVertexColors.resize(fvAfter, -1);
+        colored[s] = true;
+    }
+    for (size_t s = 0; s < into.colorSets.size(); ++s)
+        if (!colored[s]) into.colorSets[s].faceVertexColors.resize(fvAfter, -1);
+    return true;
+}
+
 }  // namespace pushpin::geom

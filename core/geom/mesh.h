@@ -18,6 +18,7 @@
 
 #include "core/geom/bounds.h"
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -145,5 +146,15 @@ size_t triangulateFaces(Mesh& mesh, const std::vector<bool>* only = nullptr);
 
 // Drops points no face uses and renumbers the loops and edges. Returns how many were dropped.
 size_t removeUnusedPoints(Mesh& mesh);
+
+// The mesh's shells (faces joined through shared points), as a shell number per face; shells are
+// numbered in the order of their lowest face. Returns the number of shells.
+size_t faceShells(const Mesh& mesh, std::vector<uint32_t>& shellOfFace);
+
+// Appends `part` with its points taken through the affine transform `m` (column vectors): its
+// points, faces, edges, normals and colour sets follow the existing ones; its UV sets join the
+// sets of the same name (new names are added, faces without a set get no UVs). Returns false,
+// leaving `into` unchanged, when the result would pass 2^32 face-vertices.
+bool appendMesh(Mesh& into, const Mesh& part, const glm::dmat4& m);
 
 }  // namespace pushpin::geom

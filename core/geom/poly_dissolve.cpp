@@ -95,7 +95,7 @@ DissolveResult rebuild(Mesh& mesh, const Faces& faces, const std::unordered_set<
 
 }  // namespace
 
-DissolveResult dissolveEdges(Mesh& mesh, const std::vector<bool>& edges) {
+DissolveResult dissolveEdges(Mesh& mesh, const std::vector<bool>& edges, bool cleanPoints) {
     DissolveResult r;
     completeEdges(mesh, true);
     Faces faces(mesh);
@@ -172,8 +172,31 @@ DissolveResult dissolveEdges(Mesh& mesh, const std::vector<bool>& edges) {
         ++r.dissolvedEdges;
     }
     const size_t removedBefore = size_t(std::count(faces.gone.begin(), faces.gone.end(), true)) - r.dissolvedEdges;
+    // The ends of the dissolved edges, numbered as they will be once unused points have gone
+    // (removeUnusedPoints keeps the order of the rest).
+    std::vector<bool> ends;
+    if (cleanPoints) {
+        std::vector<bool> used(mesh.points.size(), false);
+        for (size_t f = 0; f < faces.loops.size(); ++f)
+            if (!faces.gone[f])
+                for (const std::vector<uint32_t>& loop : faces.loops[f])
+                    if (loop.size() >= 3)
+                        for (uint32_t fv : loop) used[mesh.faceVertices[fv]] = true;
+        std::vector<uint32_t> renumber(mesh.points.size(), UINT32_MAX);
+        uint32_t next = 0;
+        for (size_t p = 0; p < used.size(); ++p)
+            if (used[p]) renumber[p] = next++;
+        ends.assign(next, false);
+        for (uint64_t key : dropped)
+            for (const uint32_t p : {uint32_t(key >> 32), uint32_t(key & 0xffffffffu)})
+                if (p < renumber.size() && renumber[p] != UINT32_MAX) ends[renumber[p]] = true;
+    }
     DissolveResult out = rebuild(mesh, faces, dropped, r);
     out.removedFaces += removedBefore;
+    if (cleanPoints) {
+        const DissolveResult winged = removeWingedPoints(mesh, ends);
+        out.removedPoints += winged.removedPoints;
+    }
     return out;
 }
 
@@ -198,16 +221,19 @@ DissolveResult removeWingedPoints(Mesh& mesh, const std::vector<bool>& points) {
                        loop.end());
     // The two edges at a removed point become one, in the place of the first.
     std::vector<MeshEdge> edges;
-    std::vector<bool> merged(mesh.points.size(), false);
-    std::unordered_map<uint32_t, uint32_t> otherEnd;
+    std::unordered_map<uint32_t, size_t> firstAt;  // removed point → its first edge's slot
     for (const MeshEdge& e : mesh.edges) {
         if (remove[e.v0] || remove[e.v1]) {
             const uint32_t w = remove[e.v0] ? e.v0 : e.v1, keepEnd = remove[e.v0] ? e.v1 : e.v0;
-            if (const auto it = otherEnd.find(w); it != otherEnd.end()) {
-                edges.push_back({it->second, keepEnd, e.smooth});
-                otherEnd.erase(it);
+            if (const auto it = firstAt.find(w); it != firstAt.end()) {
+                MeshEdge& first = edges[it->second];
+                // The first edge stays in its place and direction, reaching this one's far end.
+                if (first.v0 == w) first.v0 = keepEnd;
+                else first.v1 = keepEnd;
+                firstAt.erase(it);
             } else {
-                otherEnd[w] = keepEnd;
+                firstAt[w] = edges.size();
+                edges.push_back(e);
             }
             continue;
         }

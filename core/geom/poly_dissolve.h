@@ -24,8 +24,9 @@ struct DissolveResult {
 
 // Dissolves the marked edges (indices into mesh.edges after completeEdges; a shorter mask leaves
 // the rest). An edge on a single face removes that face; an edge with the same face on both sides
-// stays.
-DissolveResult dissolveEdges(Mesh& mesh, const std::vector<bool>& edges);
+// stays. With `cleanPoints`, the dissolved edges' ends left on only two edges go as well (as
+// removeWingedPoints takes them out).
+DissolveResult dissolveEdges(Mesh& mesh, const std::vector<bool>& edges, bool cleanPoints = false);
 
 // Takes the marked points that lie on exactly two edges out of every loop (the two edges become
 // one); other marked points stay and are counted.

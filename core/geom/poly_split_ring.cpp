@@ -202,6 +202,7 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
     };
 
     std::vector<uint32_t> newPoint(chain.size());
+    std::vector<uint32_t> nearHalf;
     std::vector<MeshEdge> addedEdges;
     auto splitEdge = [&](size_t k) {
         const RingPoint& p = chain[k];
@@ -210,6 +211,9 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
         work.points.push_back(glm::mix(work.points[p.from], work.points[p.to], float(p.fraction)));
         MeshEdge& e = work.edges[p.edge];
         const uint32_t v1 = e.v1;
+        // The half towards `from`: the kept index when `from` is the edge's first point, else the
+        // new half (its index once appended after the existing edges).
+        nearHalf.push_back(p.from == e.v0 ? p.edge : uint32_t(work.edges.size() + addedEdges.size()));
         addedEdges.push_back({np, v1, e.smooth});
         e.v1 = np;
         // Insert the point into every loop that runs along the edge.
@@ -310,7 +314,10 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
     }
     out.edges = std::move(work.edges);
     out.edges.insert(out.edges.end(), addedEdges.begin(), addedEdges.end());
-    if (result) *result = {chain.size(), appendedFaces.size(), closed};
+    if (result) {
+        *result = {chain.size(), appendedFaces.size(), closed, std::vector<bool>(out.edges.size(), false)};
+        for (uint32_t e : nearHalf) result->nearHalves[e] = true;
+    }
     mesh = std::move(out);
     return true;
 }

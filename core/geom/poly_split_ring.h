@@ -39,6 +39,9 @@ struct SplitRingResult {
     size_t newPoints = 0;
     size_t newFaces = 0;
     bool closed = false;
+    // Per ring edge split, the index of its half between the end the fraction was measured from
+    // and the new point (the ring a further loop on that side splits); the root's is `rootEdge`.
+    std::vector<bool> nearHalves;
 };
 
 // The largest number of points a split may leave.

@@ -24,7 +24,7 @@ struct SubdivideParams {
     double continuity = 1.0;     // 1 smooth, 0 the linear subdivision, between: a blend of the two
 };
 
-inline constexpr size_t kMaxSubdividedFaces = size_t(1) << 24;
+inline constexpr size_t kMaxSubdividedFaces = size_t(1) << 22;
 
 // Subdivides a valid mesh in place. `faceOrigin` (when given) receives, per new face, the index of
 // the face it came from. Returns false with `error` set, leaving the mesh unchanged, for a face

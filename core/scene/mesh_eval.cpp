@@ -418,11 +418,16 @@ std::optional<geom::Mesh> evaluateSplitRing(Context& c, NodeId n, std::string& r
     const Graph& g = c.g;
     Evaluator& ev = c.ev;
     const Node& node = g.node(n);
-    // Files from before splitType existed split at the weight; 1 (absolute) and 2 (several
-    // loops) are not evaluated yet.
-    if (const int splitType = g.value(n, "stp") ? ev.getInt(n, "stp", 0) : 0; splitType != 0) {
-        reason = nodeLabel(node) + ": splitType " + std::to_string(splitType) +
-                 (splitType == 2 ? " (several loops)" : " (absolute distance)") + " is not evaluated";
+    // Files from before splitType existed split at the weight; 2 puts `divisions` loops evenly
+    // along the ring; 1 (an absolute distance) is not evaluated yet.
+    const int splitType = g.value(n, "stp") ? ev.getInt(n, "stp", 0) : 0;
+    if (splitType != 0 && splitType != 2) {
+        reason = nodeLabel(node) + ": splitType " + std::to_string(splitType) + " (absolute distance) is not evaluated";
+        return std::nullopt;
+    }
+    const int loops = splitType == 2 ? ev.getInt(n, "div", 2) : 1;
+    if (loops < 1 || loops > 1024) {
+        reason = nodeLabel(node) + ": " + std::to_string(loops) + " loops is outside 1 to 1024";
         return std::nullopt;
     }
     std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
@@ -446,10 +451,28 @@ std::optional<geom::Mesh> evaluateSplitRing(Context& c, NodeId n, std::string& r
     p.fromFirst = true;
     if (ev.getBool(n, "iwe", false)) c.out.notes.push_back(nodeLabel(node) + ": insertWithEdgeFlow not applied");
     std::string error;
-    if (!geom::splitRing(*m, p, nullptr, &error)) {
-        reason = nodeLabel(node) + ": " + error;
-        return std::nullopt;
+    if (loops == 1) {
+        if (!geom::splitRing(*m, p, nullptr, &error)) {
+            reason = nodeLabel(node) + ": " + error;
+            return std::nullopt;
+        }
+        return m;
     }
+    // Several loops at k/(loops+1), the farthest from the root's first point first; each next
+    // one splits the halves on the near side at its share of what is left.
+    // (Maya's recorded extrusion bounds after such splits on real scenes match this order, not
+    // the nearest loop first.)
+    for (int k = loops; k >= 1; --k) {
+        p.weight = k == loops ? double(k) / double(loops + 1) : double(k) / double(k + 1);
+        geom::SplitRingResult r;
+        if (!geom::splitRing(*m, p, &r, &error)) {
+            reason = nodeLabel(node) + ": " + error;
+            return std::nullopt;
+        }
+        p.edges = std::move(r.nearHalves);
+    }
+    c.out.notes.push_back(nodeLabel(node) + ": " + std::to_string(loops) +
+                          " loops inserted evenly; their numbering is not Maya's own");
     return m;
 }
 
@@ -485,6 +508,104 @@ std::optional<geom::Mesh> evaluateSmoothFace(Context& c, NodeId n, std::string& 
         reason = nodeLabel(node) + ": " + error;
         return std::nullopt;
     }
+    return m;
+}
+
+// Element index of a plug's first segment ("output[3]" → 3), 0 without one.
+uint32_t firstIndexOf(std::string_view path) {
+    if (std::optional<std::vector<PlugSegment>> segs = parsePlugPath(path);
+        segs && !segs->empty() && segs->front().indexed() && segs->front().first < int64_t(kMaxElements))
+        return uint32_t(segs->front().first);
+    return 0;
+}
+
+// polySeparate's output[k]: the k-th shell of its input (shells in the order of their lowest face).
+std::optional<geom::Mesh> evaluateSeparate(Context& c, NodeId n, const std::string& path, std::string& reason) {
+    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPoly", "ip"}, reason);
+    if (!m) return m;
+    const uint32_t k = firstIndexOf(path);
+    std::vector<uint32_t> shell;
+    const size_t shells = geom::faceShells(*m, shell);
+    if (k >= shells) {
+        reason = nodeLabel(c.g.node(n)) + ": output[" + std::to_string(k) + "] asks for a shell past the " +
+                 std::to_string(shells) + " the mesh has";
+        return std::nullopt;
+    }
+    std::vector<bool> others(m->faceCount());
+    for (size_t f = 0; f < others.size(); ++f) others[f] = shell[f] != k;
+    geom::deleteFaces(*m, others);
+    return m;
+}
+
+// polyUnite: its inputs in index order, each through its inputMat (the input shape's world
+// matrix when that is what is connected), in one mesh.
+std::optional<geom::Mesh> evaluateUnite(Context& c, NodeId n, std::string& reason) {
+    const Graph& g = c.g;
+    Evaluator& ev = c.ev;
+    const Node& node = g.node(n);
+    std::map<uint32_t, Plug> inputs, matrices;
+    for (const Connection* conn : g.inputs(n)) {
+        std::optional<std::vector<PlugSegment>> segs = parsePlugPath(conn->dst.path);
+        if (!segs || segs->size() != 1 || !segs->front().indexed() || segs->front().first >= int64_t(kMaxElements)) continue;
+        const std::string& name = segs->front().name;
+        const uint32_t k = uint32_t(segs->front().first);
+        if (name == "inputPoly" || name == "ip") inputs[k] = conn->src;
+        else if (name == "inputMat" || name == "im") matrices[k] = conn->src;
+    }
+    if (inputs.empty()) {
+        reason = nodeLabel(node) + " has no input geometry";
+        return std::nullopt;
+    }
+    geom::Mesh united;
+    for (const auto& [k, plug] : inputs) {
+        std::string why;
+        std::optional<geom::Mesh> part = evaluatePlug(c, plug, why);
+        if (!part) {
+            reason = nodeLabel(node) + ": inputPoly[" + std::to_string(k) + "]: " + why;
+            return std::nullopt;
+        }
+        glm::dmat4 m(1.0);
+        if (const auto it = matrices.find(k); it != matrices.end()) {
+            const Plug& mp = it->second;
+            std::vector<double> v;
+            if (mp.node < g.size() && mp.path.rfind("worldMatrix", 0) == 0) {
+                const uint32_t instance = firstIndexOf(mp.path);
+                const std::vector<std::vector<NodeId>> paths = g.dagPaths(mp.node);
+                if (instance < paths.size()) m = ev.worldMatrix(paths[instance]);
+            } else if (ev.numbers(n, "im[" + std::to_string(k) + "]", v) && v.size() == 16) {
+                m = glm::make_mat4(v.data());
+            }
+        } else {
+            std::vector<double> v;
+            if (ev.numbers(n, "im[" + std::to_string(k) + "]", v) && v.size() == 16) m = glm::make_mat4(v.data());
+        }
+        if (!geom::isFinite(m)) {
+            reason = nodeLabel(node) + ": inputMat[" + std::to_string(k) + "] is not finite";
+            return std::nullopt;
+        }
+        if (!geom::appendMesh(united, *part, m)) {
+            reason = nodeLabel(node) + ": the united mesh is too large";
+            return std::nullopt;
+        }
+    }
+    return united;
+}
+
+// polyDelEdge: the listed edges dissolve; with cleanVertices, their ends left on two edges go too.
+std::optional<geom::Mesh> evaluateDelEdge(Context& c, NodeId n, std::string& reason) {
+    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
+    if (!m) return m;
+    const Graph& g = c.g;
+    const Node& node = g.node(n);
+    const ComponentList* list = componentListOf(g, n, "ics");
+    if (!list || list->items.empty()) return m;
+    geom::completeEdges(*m, true);
+    const ParsedComponents parsed = parseComponents(*list);
+    for (const std::string& e : parsed.errors) c.out.notes.push_back(nodeLabel(node) + ": " + e);
+    std::string clip;
+    const std::vector<bool> edges = componentMask(parsed.ranges, ComponentKind::Edge, m->edges.size(), &clip);
+    if (!clip.empty()) c.out.notes.push_back(nodeLabel(node) + ": " + clip);
+    geom::dissolveEdges(*m, edges, c.ev.getBool(n, "cv", false));
     return m;
 }
 
@@ -537,6 +658,9 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
     if (type == "polyMergeVert") return evaluateMergeVert(c, src.node, reason);
     if (type == "polySplitRing") return evaluateSplitRing(c, src.node, reason);
     if (type == "polySmoothFace") return evaluateSmoothFace(c, src.node, reason);
+    if (type == "polyDelEdge") return evaluateDelEdge(c, src.node, reason);
+    if (type == "polySeparate") return evaluateSeparate(c, src.node, src.path, reason);
+    if (type == "polyUnite") return evaluateUnite(c, src.node, reason);
     if (type == "polyTweakUV") {
         std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
         if (!m) return m;

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <numbers>
 
 namespace pushpin::scene {
@@ -770,14 +771,27 @@ connectAttr "polyMergeVert1.out" "pCubeShape1.i";
     EXPECT_EQ(e.mesh->points.size(), 11u);  // 8 + 4 from the split, 1 merged away
     EXPECT_EQ(e.mesh->faceCount(), 10u);
     EXPECT_NEAR(e.mesh->points[0].x, 0.5, 1e-6);  // merged at vtx[1]'s place
-    // Several loops (splitType 2) are not evaluated: the shape is skipped with the node named.
+    // Several loops (splitType 2): `divisions` loops evenly along the ring, at z = 2, 0 and -2.
     std::string multi = text;
-    multi.replace(multi.find("\tsetAttr \".re\" 7;"), 0, "\tsetAttr \".stp\" 2;\n");
+    multi.replace(multi.find("\tsetAttr \".re\" 7;"), 0, "\tsetAttr \".stp\" 2;\n\tsetAttr \".div\" 3;\n");
     g = MaReader::readString(multi, "multi.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->points.size(), 8u + 12u - 1u);
+    EXPECT_EQ(e.mesh->faceCount(), 18u);
+    std::map<int, int> atZ;
+    for (const glm::vec3& q : e.mesh->points) ++atZ[int(std::lround(q.z))];
+    EXPECT_EQ(atZ[2], 4);
+    EXPECT_EQ(atZ[0], 4);
+    EXPECT_EQ(atZ[-2], 4);
+    // An absolute distance (splitType 1) is not evaluated: the shape is skipped, naming the node.
+    std::string absolute = text;
+    absolute.replace(absolute.find("\tsetAttr \".re\" 7;"), 0, "\tsetAttr \".stp\" 1;\n");
+    g = MaReader::readString(absolute, "absolute.ma");
     e = evaluate(g, g.find("pCubeShape1"));
     EXPECT_FALSE(e.mesh);
     EXPECT_NE(e.skipReason.find("polySplitRing1"), std::string::npos) << e.skipReason;
-    EXPECT_NE(e.skipReason.find("several loops"), std::string::npos) << e.skipReason;
+    EXPECT_NE(e.skipReason.find("absolute distance"), std::string::npos) << e.skipReason;
 }
 
 TEST(MeshEval, PolySmoothFaceAndSmoothMeshPreview) {
@@ -824,6 +838,65 @@ connectAttr "polyCube1.out" "pCubeShape1.i";
     e = evaluate(g, g.find("pCubeShape1"));
     ASSERT_TRUE(e.mesh) << e.skipReason;
     EXPECT_EQ(e.mesh->faceCount(), 24u);
+}
+
+TEST(MeshEval, PolyUniteSeparateAndDelEdgeFromMaText) {
+    // Two cubes, one moved 5 along X by its transform, united in world space; then the second
+    // shell separated out again, and an edge of it deleted with its winged ends.
+    const char* text = R"(createNode transform -n "a";
+createNode mesh -n "aShape" -p "a";
+	setAttr ".io" yes;
+createNode transform -n "b";
+	setAttr ".t" -type "double3" 5 0 0 ;
+createNode mesh -n "bShape" -p "b";
+	setAttr ".io" yes;
+createNode transform -n "united";
+createNode mesh -n "unitedShape" -p "united";
+createNode transform -n "piece";
+createNode mesh -n "pieceShape" -p "piece";
+createNode polyCube -n "polyCube1";
+createNode polyCube -n "polyCube2";
+createNode polyUnite -n "polyUnite1";
+createNode polySeparate -n "polySeparate1";
+createNode polyDelEdge -n "polyDelEdge1";
+	setAttr ".ics" -type "componentList" 1 "e[0]";
+	setAttr ".cv" yes;
+connectAttr "polyCube1.out" "aShape.i";
+connectAttr "polyCube2.out" "bShape.i";
+connectAttr "aShape.o" "polyUnite1.ip[0]";
+connectAttr "bShape.o" "polyUnite1.ip[1]";
+connectAttr "aShape.wm" "polyUnite1.im[0]";
+connectAttr "bShape.wm" "polyUnite1.im[1]";
+connectAttr "polyUnite1.out" "unitedShape.i";
+connectAttr "polyUnite1.out" "polySeparate1.ip";
+connectAttr "polySeparate1.out[1]" "polyDelEdge1.ip";
+connectAttr "polyDelEdge1.out" "pieceShape.i";
+)";
+    Graph g = MaReader::readString(text, "unite.ma");
+    MeshEvaluation e = evaluate(g, g.find("unitedShape"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->points.size(), 16u);
+    EXPECT_EQ(e.mesh->faceCount(), 12u);
+    EXPECT_NEAR(e.mesh->bounds().hi.x, 5.5, 1e-6);
+    EXPECT_NEAR(e.mesh->bounds().lo.x, -0.5, 1e-6);
+    EXPECT_EQ(e.mesh->uvSets.size(), 1u);
+    EXPECT_TRUE(e.mesh->validate().ok());
+
+    e = evaluate(g, g.find("pieceShape"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    // The second cube (at x = 5), its edge 0-1 dissolved and both ends, left on two edges, gone.
+    EXPECT_EQ(e.mesh->faceCount(), 5u);
+    EXPECT_EQ(e.mesh->points.size(), 6u);
+    EXPECT_NEAR(e.mesh->bounds().lo.x, 4.5, 1e-6);
+    EXPECT_TRUE(e.mesh->validate().ok());
+
+    // A shell past the last is a skip with a reason.
+    std::string past = text;
+    past.replace(past.find("polySeparate1.out[1]"), std::string("polySeparate1.out[1]").size(), "polySeparate1.out[7]");
+    g = MaReader::readString(past, "past.ma");
+    e = evaluate(g, g.find("pieceShape"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("shell"), std::string::npos) << e.skipReason;
 }
 
 }  // namespace
