@@ -237,5 +237,45 @@ TEST(Mesh, RemoveUnusedPointsRenumbers) {
     EXPECT_FALSE(m.edges[0].smooth);
 }
 
+Mesh uvQuad(const std::string& set) {
+    Mesh m;
+    m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    m.addFace({0, 1, 2, 3});
+    m.uvSets.push_back({set, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {0, 1, 2, 3}});
+    return m;
+}
+
+TEST(AppendMesh, JoinsUvSetsByNameAndTransformsPoints) {
+    Mesh into = uvQuad("map1");
+    Mesh same = uvQuad("map1"), other = uvQuad("extra");
+    ASSERT_TRUE(appendMesh(into, same, glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 2))));
+    ASSERT_TRUE(appendMesh(into, other, glm::dmat4(1.0)));
+    EXPECT_EQ(into.points.size(), 12u);
+    EXPECT_EQ(into.faceCount(), 3u);
+    EXPECT_FLOAT_EQ(into.points[4].z, 2.0f);
+    ASSERT_EQ(into.uvSets.size(), 2u);
+    const UvSet& map1 = into.uvSets[0];
+    ASSERT_EQ(map1.faceVertexUvs.size(), 12u);
+    EXPECT_EQ(map1.uvs.size(), 8u);
+    EXPECT_EQ(map1.faceVertexUvs[4], 4);   // the second quad's UVs follow the first's
+    EXPECT_EQ(map1.faceVertexUvs[8], -1);  // the third quad has no map1 UVs
+    ASSERT_EQ(into.uvSets[1].faceVertexUvs.size(), 12u);
+    EXPECT_EQ(into.uvSets[1].faceVertexUvs[0], -1);
+    EXPECT_EQ(into.uvSets[1].faceVertexUvs[8], 0);
+    EXPECT_TRUE(into.validate().ok());
+}
+
+TEST(FaceShells, FacesJoinedThroughPointsShareAShell) {
+    Mesh m = uvQuad("map1");
+    appendMesh(m, uvQuad("map1"), glm::translate(glm::dmat4(1.0), glm::dvec3(5, 0, 0)));
+    m.addFace({1, 4, 2});  // touches the first quad only (point 4 is the second quad's first)
+    std::vector<uint32_t> shell;
+    EXPECT_EQ(faceShells(m, shell), 1u);  // the triangle joins both quads into one shell
+    Mesh apart = uvQuad("map1");
+    appendMesh(apart, uvQuad("map1"), glm::translate(glm::dmat4(1.0), glm::dvec3(5, 0, 0)));
+    EXPECT_EQ(faceShells(apart, shell), 2u);
+    EXPECT_EQ(shell, (std::vector<uint32_t>{0, 1}));
+}
+
 }  // namespace
 }  // namespace pushpin::geom
