@@ -243,4 +243,57 @@ DissolveResult removeWingedPoints(Mesh& mesh, const std::vector<bool>& points) {
     return rebuild(mesh, faces, {}, r);
 }
 
+size_t closeBorders(Mesh& mesh, const std::vector<bool>& edges) {
+    completeEdges(mesh, true);
+    // Border edges as the faces run them: a → b once, and never b → a.
+    std::unordered_map<uint64_t, int> uses;
+    std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> run;
+    for (size_t l = 0; l < mesh.loopCount(); ++l) {
+        const std::span<const uint32_t> lp = mesh.loop(l);
+        for (size_t k = 0; k < lp.size(); ++k) {
+            const uint32_t a = lp[k], b = lp[(k + 1) % lp.size()];
+            ++uses[edgeKey(a, b)];
+            run[edgeKey(a, b)] = {a, b};
+        }
+    }
+    // next[b] = a for every selected border edge a → b: the new face runs b → a.
+    std::unordered_map<uint32_t, std::pair<uint32_t, size_t>> next;  // point → (next point, edge index)
+    std::vector<size_t> border;
+    for (size_t e = 0; e < std::min(edges.size(), mesh.edges.size()); ++e) {
+        if (!edges[e]) continue;
+        const uint64_t key = edgeKey(mesh.edges[e].v0, mesh.edges[e].v1);
+        if (const auto it = uses.find(key); it == uses.end() || it->second != 1) continue;
+        const auto [a, b] = run[key];
+        if (next.count(b)) continue;  // a point where borders cross: left open
+        next[b] = {a, e};
+        border.push_back(e);
+    }
+    std::vector<bool> done(mesh.edges.size(), false);
+    size_t added = 0;
+    for (size_t e : border) {  // ascending edge index
+        if (done[e]) continue;
+        const auto [a, b] = run[edgeKey(mesh.edges[e].v0, mesh.edges[e].v1)];
+        std::vector<uint32_t> loop{b};
+        std::vector<size_t> used{e};
+        uint32_t at = a;
+        bool closed = false;
+        while (loop.size() <= next.size()) {
+            if (at == b) {
+                closed = true;
+                break;
+            }
+            loop.push_back(at);
+            const auto it = next.find(at);
+            if (it == next.end() || done[it->second.second]) break;
+            used.push_back(it->second.second);
+            at = it->second.first;
+        }
+        for (size_t u : used) done[u] = true;
+        if (!closed || loop.size() < 3) continue;
+        mesh.addFace(loop);
+        ++added;
+    }
+    return added;
+}
+
 }  // namespace pushpin::geom

@@ -28,6 +28,11 @@ struct DissolveResult {
 // removeWingedPoints takes them out).
 DissolveResult dissolveEdges(Mesh& mesh, const std::vector<bool>& edges, bool cleanPoints = false);
 
+// Closes each border loop made only of marked edges with a new face (Maya's polyCloseBorder),
+// wound against the faces along it so that it faces the same way they do. New faces follow the
+// existing ones, in the order of each loop's lowest edge. Returns the number of faces added.
+size_t closeBorders(Mesh& mesh, const std::vector<bool>& edges);
+
 // Takes the marked points that lie on exactly two edges out of every loop (the two edges become
 // one); other marked points stay and are counted.
 DissolveResult removeWingedPoints(Mesh& mesh, const std::vector<bool>& points);

@@ -659,6 +659,19 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
     if (type == "polySplitRing") return evaluateSplitRing(c, src.node, reason);
     if (type == "polySmoothFace") return evaluateSmoothFace(c, src.node, reason);
     if (type == "polyDelEdge") return evaluateDelEdge(c, src.node, reason);
+    if (type == "polyCloseBorder") {
+        std::optional<geom::Mesh> m = evaluateInput(c, src.node, {"inputPolymesh", "ip"}, reason);
+        if (!m) return m;
+        geom::completeEdges(*m, true);
+        std::vector<bool> edges(m->edges.size(), true);  // every border without a list
+        if (const ComponentList* list = componentListOf(g, src.node, "ics"); list && !list->items.empty()) {
+            std::string clip;
+            edges = componentMask(parseComponents(*list).ranges, ComponentKind::Edge, m->edges.size(), &clip);
+            if (!clip.empty()) c.out.notes.push_back(nodeLabel(node) + ": " + clip);
+        }
+        geom::closeBorders(*m, edges);
+        return m;
+    }
     if (type == "polySeparate") return evaluateSeparate(c, src.node, src.path, reason);
     if (type == "polyUnite") return evaluateUnite(c, src.node, reason);
     if (type == "polyTweakUV") {

@@ -112,5 +112,30 @@ TEST(RemoveWingedPoints, PointsOnMoreThanTwoEdgesStay) {
     EXPECT_EQ(m.faceCount(), 4u);
 }
 
+TEST(CloseBorders, ACubeWithoutItsTopIsClosedAgainFacingOut) {
+    PolyCubeParams cp;
+    Mesh m = *makePolyCube(cp);
+    std::vector<bool> top(m.faceCount(), false);
+    top[1] = true;
+    deleteFaces(m, top);
+    ASSERT_EQ(m.faceCount(), 5u);
+    completeEdges(m, true);
+    const size_t added = closeBorders(m, std::vector<bool>(m.edges.size(), true));
+    EXPECT_EQ(added, 1u);
+    ASSERT_EQ(m.faceCount(), 6u);
+    EXPECT_EQ(m.faceOuterLoop(5).size(), 4u);
+    EXPECT_NEAR(m.signedVolume(), 1.0, 1e-6);  // closed and outward-facing
+    EXPECT_GT(m.faceNormal(5).y, 0.99);
+    // Nothing left to close.
+    EXPECT_EQ(closeBorders(m, std::vector<bool>(m.edges.size(), true)), 0u);
+    // Only some of a border's edges selected: the loop stays open.
+    Mesh open = *makePolyCube(cp);
+    deleteFaces(open, top);
+    completeEdges(open, true);
+    std::vector<bool> some(open.edges.size(), false);
+    for (size_t e = 0; e < open.edges.size() && e < 2; ++e) some[e] = true;
+    EXPECT_EQ(closeBorders(open, some), 0u);
+}
+
 }  // namespace
 }  // namespace pushpin::geom
