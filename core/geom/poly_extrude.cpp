@@ -231,31 +231,32 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
     std::vector<int64_t> regionOfFace(faceCount, -1);
     size_t sideFaces = 0;
     const size_t oldEdgeCount = mesh.edges.size();
+    std::unordered_map<uint64_t, size_t> edgeIndexOf;
+    edgeIndexOf.reserve(oldEdgeCount);
+    for (size_t e = 0; e < oldEdgeCount; ++e) edgeIndexOf.emplace(edgeKey(mesh.edges[e].v0, mesh.edges[e].v1), e);
     for (size_t r = 0; r < regions.size(); ++r) {
         const Region& reg = regions[r];
         for (size_t i = 0; i < reg.points.size(); ++i) capOf[reg.points[i]] = ringIndex[r][size_t(divisions)][i];
-        for (uint32_t f : reg.faces) {
-            regionOfFace[f] = int64_t(r);
-            for (uint32_t fv = mesh.faceVertexBegin(f); fv < mesh.faceVertexEnd(f); ++fv) {
-                mesh.faceVertices[fv] = capOf[mesh.faceVertices[fv]];
-                if (!mesh.normals.empty()) mesh.normals[fv] = glm::vec3(0.0f);
-            }
-        }
-        // Edges used twice inside the region move onto the cap with it.
+        // Edges used twice inside the region move onto the cap with it (found before the faces move).
         std::unordered_map<uint64_t, int> uses;
         for (uint32_t f : reg.faces)
             for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
                 const std::span<const uint32_t> lp = mesh.loop(l);
                 for (size_t k = 0; k < lp.size(); ++k) ++uses[edgeKey(lp[k], lp[(k + 1) % lp.size()])];
             }
-        for (size_t e = 0; e < oldEdgeCount; ++e) {
-            MeshEdge& edge = mesh.edges[e];
-            if (edge.v0 >= original.size() || edge.v1 >= original.size()) continue;
-            const uint32_t c0 = capOf[edge.v0], c1 = capOf[edge.v1];
-            if (c0 == UINT32_MAX || c1 == UINT32_MAX) continue;
-            if (const auto it = uses.find(edgeKey(c0, c1)); it != uses.end() && it->second >= 2) {
-                edge.v0 = c0;
-                edge.v1 = c1;
+        for (const auto& [key, count] : uses) {
+            if (count < 2) continue;
+            const auto it = edgeIndexOf.find(key);
+            if (it == edgeIndexOf.end()) continue;
+            MeshEdge& edge = mesh.edges[it->second];
+            edge.v0 = capOf[edge.v0];
+            edge.v1 = capOf[edge.v1];
+        }
+        for (uint32_t f : reg.faces) {
+            regionOfFace[f] = int64_t(r);
+            for (uint32_t fv = mesh.faceVertexBegin(f); fv < mesh.faceVertexEnd(f); ++fv) {
+                mesh.faceVertices[fv] = capOf[mesh.faceVertices[fv]];
+                if (!mesh.normals.empty()) mesh.normals[fv] = glm::vec3(0.0f);
             }
         }
         for (size_t i = 0; i < reg.points.size(); ++i) capOf[reg.points[i]] = UINT32_MAX;
@@ -296,6 +297,7 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
     // Soft or hard new edges, by the angle between the faces they join.
     {
         std::unordered_map<uint64_t, size_t> newEdge;
+        newEdge.reserve(mesh.edges.size() - oldEdgeCount);
         for (size_t e = oldEdgeCount; e < mesh.edges.size(); ++e) newEdge[edgeKey(mesh.edges[e].v0, mesh.edges[e].v1)] = e;
         std::vector<glm::dvec3> firstNormal(mesh.edges.size() - oldEdgeCount, glm::dvec3(0.0));
         std::vector<uint8_t> seen(mesh.edges.size() - oldEdgeCount, 0);
