@@ -339,8 +339,10 @@ struct Membership {
 // Every shading-group membership by member shape, in the order of the sets in the scene.
 std::unordered_map<NodeId, std::vector<Membership>> membershipsByShape(const scene::RenderSetup& setup) {
     std::unordered_map<NodeId, std::vector<Membership>> out;
-    for (const scene::ShadingGroupInfo& sg : setup.shadingGroups)
+    for (const scene::ShadingGroupInfo& sg : setup.shadingGroups) {
+        if (!sg.inRenderPartition) continue;  // outside the render partition nothing renders
         for (const scene::SetMember& m : sg.members) out[m.shape].push_back({&sg, &m});
+    }
     return out;
 }
 
@@ -670,7 +672,9 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                 for (const Membership& m : it->second)
                     if (m.member->instance == int(instance)) groups.push_back(m);
             if (groups.empty()) {
-                skip("belongs to no shading group");
+                skip(scene::shadingGroupsOf(setup, node.id, int(instance)).empty()
+                         ? "belongs to no shading group"
+                         : "its shading groups are not in the renderPartition");
                 continue;
             }
 

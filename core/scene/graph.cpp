@@ -295,6 +295,7 @@ Graph::Graph() {
     m_unsupportedTypes.clear();
     connect({find("lambert1"), "outColor"}, {find("initialShadingGroup"), "surfaceShader"});
     connect({find("initialShadingGroup"), "partition"}, {find("renderPartition"), "sets"}, true);
+    connect({find("initialParticleSE"), "partition"}, {find("renderPartition"), "sets"}, true);
 }
 
 const Node* Graph::clashingNode(std::string_view type, std::string_view name, NodeId parent) const {

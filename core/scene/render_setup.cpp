@@ -74,6 +74,10 @@ RenderSetup extractRenderSetup(const Graph& g) {
         sg.surfaceShader = sourceNode(g, id, "surfaceShader");
         sg.volumeShader = sourceNode(g, id, "volumeShader");
         sg.displacementShader = sourceNode(g, id, "displacementShader");
+        for (const Connection* c : g.outputs(id))
+            if (c->dst.node < g.size() && g.node(c->dst.node).name == "renderPartition" &&
+                c->dst.path.rfind("sets", 0) == 0)
+                sg.inRenderPartition = true;
         for (const Connection* c : g.inputs(id)) {
             if (c->dst.path.rfind("dagSetMembers", 0) != 0) continue;
             SetMember m;

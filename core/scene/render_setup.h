@@ -43,6 +43,8 @@ struct ShadingGroupInfo {
     NodeId volumeShader = kNoNode;
     NodeId displacementShader = kNoNode;
     std::vector<SetMember> members;
+    // Wired into renderPartition.sets (partition → sets): only such groups render, as in Maya.
+    bool inRenderPartition = false;
 };
 
 // A light linked to (or, for shadowLink, casting shadows onto) an object, a set or a shading group.

@@ -122,7 +122,11 @@ SceneReport describeScene(const Graph& g, const RenderSetup& setup, double frame
             s.type = n.type;
             s.shape = n.id;
             s.instance = int(instance);
-            for (const ShadingGroupInfo* sg : shadingGroupsOf(setup, n.id, int(instance))) s.shadingGroups.push_back(sg->name);
+            bool inPartition = false;
+            for (const ShadingGroupInfo* sg : shadingGroupsOf(setup, n.id, int(instance))) {
+                s.shadingGroups.push_back(sg->name);
+                inPartition |= sg->inRenderPartition;
+            }
 
             if (ev.getBool(n.id, "intermediateObject", false)) {
                 s.reason = "intermediate object";
@@ -130,6 +134,8 @@ SceneReport describeScene(const Graph& g, const RenderSetup& setup, double frame
                 s.reason = why;
             } else if (s.shadingGroups.empty()) {
                 s.reason = "belongs to no shading group";
+            } else if (!inPartition) {
+                s.reason = "its shading groups are not in the renderPartition";
             }
             // Geometry is evaluated once per shape, whatever the number of instances.
             auto it = geometry.find(n.id);

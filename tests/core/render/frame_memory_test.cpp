@@ -43,6 +43,7 @@ createNode polyCube -n "boxCreator";
 connectAttr "boxCreator.out" "boxShape.i";
 createNode lambert -n "grey";
 createNode shadingEngine -n "greySG";
+connectAttr "greySG.pa" ":renderPartition.st" -na;
 connectAttr "grey.oc" "greySG.ss";
 connectAttr "boxShape.iog" "greySG.dsm" -na;
 createNode transform -n "bulb";

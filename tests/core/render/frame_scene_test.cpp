@@ -82,7 +82,7 @@ std::string cube(const std::string& name, const std::string& shapeLines = "", co
 
 std::string material(const std::string& name) {
     return "createNode lambert -n \"" + name + "\";\ncreateNode shadingEngine -n \"" + name + "SG\";\nconnectAttr \"" +
-           name + ".oc\" \"" + name + "SG.ss\";\n";
+           name + ".oc\" \"" + name + "SG.ss\";\nconnectAttr \"" + name + "SG.pa\" \":renderPartition.st\" -na;\n";
 }
 
 std::string assign(const std::string& shape, const std::string& sg) {
@@ -391,6 +391,18 @@ connectAttr "pCubeShape1.iog.og[1]" "greenSG.dsm" -na;
     ASSERT_EQ(o.geometry.triangleCount(), 12u);
     for (size_t t = 0; t < o.geometry.triangleCount(); ++t)
         EXPECT_EQ(groupOf(b->frame, o, t), o.geometry.face[t] == 1 ? "redSG" : "greenSG");
+}
+
+TEST(FrameScene, OnlyShadingGroupsOfTheRenderPartitionRender) {
+    // A group Maya would not render (not wired to renderPartition.sets) leaves its object out.
+    std::string unwired = material("red");
+    unwired.erase(unwired.find("connectAttr \"redSG.pa\""));
+    auto b = build(std::string(kHeader) + cube("pCube1") + unwired + assign("pCube1Shape", "redSG"));
+    EXPECT_TRUE(b->frame.objects.empty());
+    EXPECT_TRUE(hasNote(b->frame, "its shading groups are not in the renderPartition")) << allNotes(b->frame);
+    // Wired, it renders.
+    b = build(std::string(kHeader) + cube("pCube1") + material("red") + assign("pCube1Shape", "redSG"));
+    EXPECT_EQ(b->frame.objects.size(), 1u) << allNotes(b->frame);
 }
 
 TEST(FrameScene, ObjectInNoShadingGroupIsSkippedWithANote) {

@@ -46,6 +46,7 @@ std::string box(const std::string& transformLines = "") {
            "connectAttr \"boxCreator.out\" \"boxShape.i\";\n"
            "createNode lambert -n \"grey\";\n"
            "createNode shadingEngine -n \"greySG\";\n"
+           "connectAttr \"greySG.pa\" \":renderPartition.st\" -na;\n"
            "connectAttr \"grey.oc\" \"greySG.ss\";\n"
            "connectAttr \"boxShape.iog\" \"greySG.dsm\" -na;\n";
 }
@@ -266,6 +267,7 @@ TEST(HostileNumbers, VerticesOutOfRangeSkipTheShapeWithANote) {
                                             "\tsetAttr -s 1 \".fc[0]\" -type \"polyFaces\" f 3 0 1 2;\n"
                                             "createNode lambert -n \"grey\";\n"
                                             "createNode shadingEngine -n \"greySG\";\n"
+                                            "connectAttr \"greySG.pa\" \":renderPartition.st\" -na;\n"
                                             "connectAttr \"grey.oc\" \"greySG.ss\";\n"
                                             "connectAttr \"triShape.iog\" \"greySG.dsm\" -na;\n";
         Loaded scene(text);

@@ -305,6 +305,7 @@ TEST(Renderer, FlatSceneTakesNoAdaptiveSamples) {
                        "createNode surfaceShader -n \"flat\";\n"
                        "\tsetAttr \".oc\" -type \"float3\" 0.2 0.5 0.7;\n"
                        "createNode shadingEngine -n \"flatSG\";\n"
+                       "connectAttr \"flatSG.pa\" \":renderPartition.st\" -na;\n"
                        "connectAttr \"flat.oc\" \"flatSG.ss\";\n"
                        "connectAttr \"polyPlane1.out\" \"wallShape.i\";\n"
                        "connectAttr \"wallShape.iog\" \"flatSG.dsm\" -na;\n" +
@@ -335,6 +336,7 @@ std::string cardScene(const std::string& transform, const std::string& shapeAttr
            "createNode surfaceShader -n \"white\";\n"
            "\tsetAttr \".oc\" -type \"float3\" 1 1 1;\n"
            "createNode shadingEngine -n \"whiteSG\";\n"
+           "connectAttr \"whiteSG.pa\" \":renderPartition.st\" -na;\n"
            "connectAttr \"white.oc\" \"whiteSG.ss\";\n"
            "connectAttr \"polyPlane1.out\" \"cardShape.i\";\n"
            "connectAttr \"cardShape.iog\" \"whiteSG.dsm\" -na;\n" +
@@ -399,9 +401,11 @@ TEST(Renderer, TransparentSurfaceLetsTheOneBehindThrough) {
                        "\tsetAttr \".oc\" -type \"float3\" 0.5 0 0;\n"
                        "\tsetAttr \".ot\" -type \"float3\" 0.5 0.5 0.5;\n"
                        "createNode shadingEngine -n \"glassSG\";\n"
+                       "connectAttr \"glassSG.pa\" \":renderPartition.st\" -na;\n"
                        "createNode surfaceShader -n \"blue\";\n"
                        "\tsetAttr \".oc\" -type \"float3\" 0 0 1;\n"
                        "createNode shadingEngine -n \"blueSG\";\n"
+                       "connectAttr \"blueSG.pa\" \":renderPartition.st\" -na;\n"
                        "connectAttr \"glass.oc\" \"glassSG.ss\";\n"
                        "connectAttr \"blue.oc\" \"blueSG.ss\";\n"
                        "connectAttr \"polyPlane1.out\" \"frontShape.i\";\n"
