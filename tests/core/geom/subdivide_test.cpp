@@ -111,5 +111,32 @@ TEST(Subdivide, RefusesHolesAndRunawayLevelsAndLeavesTheMesh) {
     EXPECT_EQ(big.faceCount(), 6u);
 }
 
+// A 4×4 grid with its centre point raised by 1: Catmull-Clark's closed forms for a regular
+// (valence 4) point. One level: the point moves to (Q + 2R + V)/4 = (0.25 + 2·0.5 + 1)/4, an edge
+// point beside it to (v + w + f1 + f2)/4 = (1 + 0 + 0.25 + 0.25)/4; the limit is
+// (n²·V + 4·Σedges + Σcorners)/(n(n + 5)) = 16/36.
+double heightAt(const Mesh& m, float x, float z) {
+    for (const glm::vec3& p : m.points)
+        if (std::abs(p.x - x) < 1e-5f && std::abs(p.z - z) < 1e-5f) return p.y;
+    return std::nan("");
+}
+
+TEST(Subdivide, MatchesCatmullClarksClosedForms) {
+    Mesh base = plane(4, 4);
+    ASSERT_EQ(base.points.size(), 25u);
+    base.points[12].y = 1.0f;
+    ASSERT_NEAR(base.points[12].x, 0.0, 1e-6);
+    Mesh one = base;
+    ASSERT_TRUE(subdivideMesh(one, {}));
+    EXPECT_NEAR(heightAt(one, 0.0f, 0.0f), 0.5625, 1e-6);
+    EXPECT_NEAR(heightAt(one, 0.125f, 0.0f), 0.375, 1e-6);
+    EXPECT_NEAR(heightAt(one, 0.125f, 0.125f), 0.25, 1e-6);  // a face point: the average of its corners
+    Mesh deep = base;
+    SubdivideParams p;
+    p.levels = 6;
+    ASSERT_TRUE(subdivideMesh(deep, p));
+    EXPECT_NEAR(heightAt(deep, 0.0f, 0.0f), 16.0 / 36.0, 2e-3);
+}
+
 }  // namespace
 }  // namespace pushpin::geom
