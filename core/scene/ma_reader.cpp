@@ -171,6 +171,10 @@ constexpr FlagSpec kFileFlags[] = {
     {"-i", "-import", 0}, {"-o", "-open", 0}, {"-f", "-force", 0}, {"-pmt", "-prompt", kBoolArg},
     {"-lck", "-lockReference", 0}, {"-srf", "-sharedReferenceFile", 0}, {"-rnn", "-returnNewNodes", 0},
     {"-uc", "-usingNamespaces", kBoolArg}, {"-pr", "-preserveReferences", 0}, {"-rdi0", "-rdi0", 0}};
+// fileInfo [-q] [-rm keyword] keyword value; relationship [-b] [-q] type node plugs… (its flags
+// in Maya's files are query forms without arguments).
+constexpr FlagSpec kFileInfoFlags[] = {{"-q", "-query", 0}, {"-rm", "-remove", 1}};
+constexpr FlagSpec kRelationshipFlags[] = {{"-b", "-both", 0}, {"-q", "-query", 0}};
 constexpr FlagSpec kLockNodeFlags[] = {
     {"-l", "-lock", kBoolArg}, {"-lu", "-lockUnpublished", kBoolArg}, {"-ic", "-ignoreComponents", 0},
     {"-lockName", "-lockName", kBoolArg}};
@@ -791,8 +795,26 @@ void Parser::cmdCurrentUnit() {
 
 void Parser::cmdFileInfo() {
     collectArgs();
-    if (m_argc != 2) failAt(m_tok, "fileInfo: expected a key and a value, found " + std::to_string(m_argc) + " arguments");
-    if (m_depth == 0) m_g.fileInfo.emplace_back(m_args[0].text, m_args[1].text);
+    std::vector<const MaToken*> positional;
+    bool removes = false;
+    for (size_t i = 0; i < m_argc; ++i) {
+        const MaToken& a = m_args[i];
+        if (a.isFlag()) {
+            const size_t n = flagArgs(kFileInfoFlags, "fileInfo", i, positional.empty() ? 2 : 1);
+            if (a.text == "-rm" || a.text == "-remove") {
+                removes = true;
+                if (m_depth == 0 && n == 1)
+                    std::erase_if(m_g.fileInfo, [&](const auto& kv) { return kv.first == m_args[i + 1].text; });
+            }
+            i += n;
+            continue;
+        }
+        positional.push_back(&a);
+    }
+    if (removes && positional.empty()) return;
+    if (positional.size() != 2)
+        failAt(m_tok, "fileInfo: expected a key and a value, found " + std::to_string(positional.size()) + " arguments");
+    if (m_depth == 0) m_g.fileInfo.emplace_back(positional[0]->text, positional[1]->text);
 }
 
 void Parser::cmdCreateNode(uint32_t line) {
@@ -1157,16 +1179,24 @@ void Parser::cmdSelect() {
 
 void Parser::cmdRelationship() {
     collectArgs();
-    if (m_argc < 2) failAt(m_tok, "relationship: expected a type and plugs");
     Relationship r;
-    r.type = m_args[0].text;
-    for (size_t i = 1; i < m_argc; ++i) {
+    bool typed = false;
+    for (size_t i = 0; i < m_argc; ++i) {
         const MaToken& a = m_args[i];
-        if (a.isFlag()) continue;
+        if (a.isFlag()) {
+            i += flagArgs(kRelationshipFlags, "relationship", i, 0);
+            continue;
+        }
+        if (!typed) {
+            r.type = a.text;
+            typed = true;
+            continue;
+        }
         ResolvedPlug p;
         if (!resolvePlug(a, false, p)) return;
         r.plugs.push_back(Plug{p.node, p.segments.empty() ? std::string() : m_g.canonicalPath(p.node, p.segments)});
     }
+    if (!typed || r.plugs.empty()) failAt(m_tok, "relationship: expected a type and plugs");
     m_g.addRelationship(std::move(r));
 }
 

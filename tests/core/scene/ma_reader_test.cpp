@@ -92,6 +92,29 @@ fileInfo "osv" "Linux\n";
     EXPECT_TRUE(g.warnings().empty());
 }
 
+TEST(MaReader, FileInfoAndRelationshipFlagsTakeTheirArguments) {
+    Graph g = read(R"(fileInfo "application" "maya";
+fileInfo "product" "Maya 2024";
+fileInfo -rm "product";
+fileInfo -q "osv" "Linux";
+createNode shadingEngine -n "sg";
+relationship -b "link" ":lightLinker1" "sg.message" ":defaultLightSet.message";
+relationship "link" -zz 3 ":lightLinker1" "sg.message" ":defaultLightSet.message";
+)");
+    ASSERT_EQ(g.fileInfo.size(), 2u);
+    EXPECT_EQ(g.fileInfo[0].first, "application");
+    EXPECT_EQ(g.fileInfo[1].first, "osv");
+    ASSERT_EQ(g.relationships().size(), 2u);
+    for (const Relationship& r : g.relationships()) {
+        EXPECT_EQ(r.type, "link");
+        EXPECT_EQ(r.plugs.size(), 3u);
+    }
+    // The unknown -zz was skipped with its number, with one warning naming it.
+    size_t unknown = 0;
+    for (const Diagnostic& d : g.warnings()) unknown += d.message.find("-zz") != std::string::npos;
+    EXPECT_EQ(unknown, 1u);
+}
+
 TEST(MaReader, LongFlagFormsOfCurrentUnit) {
     Graph g = read("currentUnit -linear millimeter -angle degree -time pal;\n");
     EXPECT_DOUBLE_EQ(g.units.cmPerLinearUnit, 0.1);
