@@ -358,6 +358,9 @@ private:
     // ---- setAttr values
     double readNumber(UnitKind unit, double factor, const char* what);
     int64_t readInteger(const char* what, int64_t min, int64_t max);
+    int64_t readIntegerNoAdvance(const char* what, int64_t min, int64_t max);
+    size_t readPlainNumbers(std::vector<double>& out, size_t most, double factor);
+    size_t readNumberThenPlain(std::vector<double>& out, UnitKind unit, double factor, const char* what, size_t most);
     int64_t readCount(const char* what);
     bool readBoolWord(const char* what);
     void readNumbersUntilEnd(std::vector<double>& out, UnitKind unit, double factor);
@@ -1408,7 +1411,7 @@ double Parser::readNumber(UnitKind unit, double factor, const char* what) {
     return n.hasUnit ? n.value : n.value * factor;
 }
 
-int64_t Parser::readInteger(const char* what, int64_t min, int64_t max) {
+int64_t Parser::readIntegerNoAdvance(const char* what, int64_t min, int64_t max) {
     if (atCommandEnd()) failAt(m_tok, std::string(what) + ": missing value");
     int64_t v = 0;
     if (m_tok.kind != MaTokenKind::Word || !detail::parseMaInteger(m_tok.text, v))
@@ -1416,6 +1419,11 @@ int64_t Parser::readInteger(const char* what, int64_t min, int64_t max) {
     if (v < min || v > max)
         failAt(m_tok, std::string(what) + ": " + std::to_string(v) + " is outside [" + std::to_string(min) + ", " +
                           std::to_string(max) + "]");
+    return v;
+}
+
+int64_t Parser::readInteger(const char* what, int64_t min, int64_t max) {
+    const int64_t v = readIntegerNoAdvance(what, min, max);
     advance();
     return v;
 }
@@ -1431,25 +1439,77 @@ bool Parser::readBoolWord(const char* what) {
     return b;
 }
 
+// Long lists of plain numbers skip the token path: after the current token, the lexer reads each
+// following plain number in place (MaLexer::nextPlainNumber); anything else goes back to tokens.
+size_t Parser::readPlainNumbers(std::vector<double>& out, size_t most, double factor) {
+    if (m_hasPeek) return 0;
+    size_t n = 0;
+    double v = 0.0;
+    try {
+        while (n < most && m_lex.nextPlainNumber(v)) {
+            out.push_back(v * factor);
+            ++n;
+        }
+    } catch (const MaLexError& e) {
+        failSyntax(e.line, e.column, e.message);
+    }
+    return n;
+}
+
+size_t Parser::readNumberThenPlain(std::vector<double>& out, UnitKind unit, double factor, const char* what,
+                                   size_t most) {
+    // The current token by the full rules, then plain numbers straight from the lexer.
+    if (atCommandEnd()) failAt(m_tok, std::string(what) + ": missing value");
+    if (m_tok.kind != MaTokenKind::Word) failAt(m_tok, std::string(what) + ": expected a number, found " + describe(m_tok));
+    MaNumber n = detail::parseMaNumber(m_tok.text, unit, m_units);
+    if (n.status != MaNumberStatus::Ok) {
+        readNumber(unit, factor, what);  // fails with the token's own error
+        return 0;
+    }
+    out.push_back(n.hasUnit ? n.value : n.value * factor);
+    const size_t more = most > 1 ? readPlainNumbers(out, most - 1, factor) : 0;
+    advance();
+    return 1 + more;
+}
+
 void Parser::readNumbersUntilEnd(std::vector<double>& out, UnitKind unit, double factor) {
-    while (!atCommandEnd()) out.push_back(readNumber(unit, factor, "setAttr"));
+    while (!atCommandEnd()) readNumberThenPlain(out, unit, factor, "setAttr", SIZE_MAX);
 }
 
 void Parser::readExactNumbers(std::vector<double>& out, int64_t count, UnitKind unit, double factor, const char* what) {
     out.reserve(out.size() + plausibleCount(count));
-    for (int64_t i = 0; i < count; ++i) {
+    for (int64_t i = 0; i < count;) {
         if (atCommandEnd())
             failAt(m_tok, std::string(what) + ": expected " + std::to_string(count) + " numbers, found " + std::to_string(i));
-        out.push_back(readNumber(unit, factor, what));
+        i += int64_t(readNumberThenPlain(out, unit, factor, what, size_t(count - i)));
     }
 }
 
 void Parser::readInts(std::vector<int32_t>& out, int64_t count, const char* what) {
     out.reserve(std::min<size_t>(plausibleCount(count), 64));
-    for (int64_t i = 0; i < count; ++i) {
+    for (int64_t i = 0; i < count;) {
         if (atCommandEnd())
             failAt(m_tok, std::string(what) + ": expected " + std::to_string(count) + " values, found " + std::to_string(i));
-        out.push_back(int32_t(readInteger(what, INT32_MIN, INT32_MAX)));
+        out.push_back(int32_t(readIntegerNoAdvance(what, INT32_MIN, INT32_MAX)));
+        ++i;
+        // Plain integers straight from the lexer while they last.
+        if (!m_hasPeek) {
+            int64_t v = 0;
+            try {
+                while (i < count && m_lex.nextPlainInteger(v)) {
+                    if (v < INT32_MIN || v > INT32_MAX) {
+                        failSyntax(m_lex.line(), m_lex.column(), std::string(what) + ": " + std::to_string(v) +
+                                                                      " is outside [" + std::to_string(INT32_MIN) + ", " +
+                                                                      std::to_string(INT32_MAX) + "]");
+                    }
+                    out.push_back(int32_t(v));
+                    ++i;
+                }
+            } catch (const MaLexError& e) {
+                failSyntax(e.line, e.column, e.message);
+            }
+        }
+        advance();
     }
 }
 

@@ -57,6 +57,12 @@ public:
     // Throws MaLexError on an unterminated string or a byte that cannot occur in a text file
     // (NUL and other control characters).
     void next(MaToken& token);
+    // The fast path of long number lists: when the next token is a plain finite number (decimal,
+    // no unit suffix, no leading '+') lying wholly in the buffer, reads it into `value` and returns
+    // true; otherwise returns false having consumed at most whitespace and comments, and next()
+    // reads the token as usual. The integer form accepts what parseMaInteger accepts without '+'.
+    bool nextPlainNumber(double& value);
+    bool nextPlainInteger(int64_t& value);
 
     // Position just past the last character consumed (1-based line and column).
     uint32_t line() const { return m_line; }

@@ -1,11 +1,13 @@
 #include "core/scene/ma_reader.h"
 
 #include "core/scene/detail/ma_lexer.h"
+#include "core/scene/detail/ma_number.h"
 
 #include "tests/support/ma_corpus.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -113,6 +115,86 @@ relationship "link" -zz 3 ":lightLinker1" "sg.message" ":defaultLightSet.message
     size_t unknown = 0;
     for (const Diagnostic& d : g.warnings()) unknown += d.message.find("-zz") != std::string::npos;
     EXPECT_EQ(unknown, 1u);
+}
+
+TEST(MaLexer, PlainNumberFastPathReadsWhatTheTokenPathReads) {
+    const std::string text =
+        "1 -2.5 +3 4cm 5e3 /*c*/ 6 // x\n 7. .8 -0 1e400 1e-400 nan abc 123456789012 -7;\n"
+        "0.000125 99999.5 -3e-7 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30;";
+    using detail::MaLexer;
+    using detail::MaToken;
+    using detail::MaTokenKind;
+    // What each token means to a number list: a plain number's value, or the token itself.
+    auto plain = [](const MaToken& t, double& v) {
+        if (t.kind != MaTokenKind::Word || t.text.empty()) return false;
+        const char c = t.text.front();
+        if (!((c >= '0' && c <= '9') || c == '-' || c == '.')) return false;
+        const detail::MaNumber n = detail::parseMaNumber(t.text, UnitKind::None, Units{});
+        if (n.status != detail::MaNumberStatus::Ok || n.hasUnit) return false;
+        v = n.value;
+        return true;
+    };
+    auto describe = [&](MaLexer& lex, bool fast) {
+        std::vector<std::string> out;
+        for (;;) {
+            double v = 0;
+            if (fast && lex.nextPlainNumber(v)) {
+                out.push_back("N" + std::to_string(v));
+                continue;
+            }
+            MaToken t;
+            lex.next(t);
+            if (t.kind == MaTokenKind::End) break;
+            // 1e-400 underflows to zero on the token path; the fast path leaves it to tokens.
+            if (plain(t, v)) out.push_back("N" + std::to_string(v));
+            else out.push_back(std::to_string(int(t.kind)) + ":" + t.text);
+        }
+        return out;
+    };
+    MaLexer whole{std::string_view(text)};
+    const std::vector<std::string> expected = describe(whole, false);
+    ASSERT_GT(expected.size(), 30u);
+    {
+        MaLexer lex{std::string_view(text)};
+        EXPECT_EQ(describe(lex, true), expected);
+    }
+    for (size_t bufferBytes : {16, 17, 19, 23, 31, 64}) {
+        std::istringstream in(text);
+        MaLexer lex(in, bufferBytes);
+        EXPECT_EQ(describe(lex, true), expected) << "buffer " << bufferBytes;
+    }
+}
+
+TEST(MaReader, LongNumberListsKeepTheirValuesAndTheirErrorPlaces) {
+    // 30,000 points, one chunk; then the same with a non-finite value on line 7001.
+    std::string text = "createNode mesh -n \"m\";\n\tsetAttr -s 30000 \".vt[0:29999]\"";
+    for (int i = 0; i < 30000; ++i) {
+        if (i % 3 == 0) text += "\n\t\t";
+        text += " " + std::to_string(i) + ".25 " + std::to_string(-i) + " 1e-3";
+    }
+    text += ";\n";
+    Graph g = read(text);
+    std::vector<double> p;
+    ASSERT_TRUE(g.numbers(findNode(g, "m"), "vt[29999]", p));
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_DOUBLE_EQ(p[0], 29999.25);
+    EXPECT_DOUBLE_EQ(p[1], -29999.0);
+    EXPECT_DOUBLE_EQ(p[2], 1e-3);
+    const size_t at = text.find(" 21000.25 ");
+    ASSERT_NE(at, std::string::npos);
+    std::string bad = text;
+    bad.replace(at + 1, 8, "inf");
+    const size_t line = size_t(std::count(bad.begin(), bad.begin() + std::ptrdiff_t(at), '\n')) + 1;
+    // The statement is skipped with one warning at the value's own line; nothing of it is kept.
+    const Graph skipped = read(bad);
+    bool found = false;
+    for (const Diagnostic& d : skipped.warnings())
+        if (d.line == line && d.message.find("not finite") != std::string::npos) found = true;
+    EXPECT_TRUE(found);
+    if (skipped.numbers(findNode(skipped, "m"), "vt[29999]", p)) {
+        ASSERT_FALSE(p.empty());
+        EXPECT_NE(p[0], 29999.25);
+    }
 }
 
 TEST(MaReader, LongFlagFormsOfCurrentUnit) {
