@@ -226,6 +226,8 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
         }
     }
 
+    const std::vector<uint32_t> original_fv = mesh.faceVertices;
+    std::vector<bool> dropEdge(mesh.edges.size(), false);
     // The region faces move onto the cap; their stored normals no longer hold.
     std::vector<uint32_t> capOf(original.size(), UINT32_MAX);
     std::vector<int64_t> regionOfFace(faceCount, -1);
@@ -248,9 +250,8 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
             if (count < 2) continue;
             const auto it = edgeIndexOf.find(key);
             if (it == edgeIndexOf.end()) continue;
-            MeshEdge& edge = mesh.edges[it->second];
-            edge.v0 = capOf[edge.v0];
-            edge.v1 = capOf[edge.v1];
+            // Inner edges are made anew on the cap (below); the old ones go.
+            dropEdge[it->second] = true;
         }
         for (uint32_t f : reg.faces) {
             regionOfFace[f] = int64_t(r);
@@ -265,13 +266,46 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
         std::unordered_map<uint32_t, size_t> slot;
         for (size_t i = 0; i < reg.points.size(); ++i) slot[reg.points[i]] = i;
         const auto& rings = ringIndex[r];
+        std::vector<std::pair<uint32_t, uint32_t>> capEdges;
+        std::vector<bool> capIsBoundary;
+        {
+            std::unordered_map<uint64_t, bool> seenEdge, isBoundary;
+            for (const BoundaryEdge& be : reg.boundary) isBoundary[edgeKey(be.a, be.b)] = true;
+            for (uint32_t f : reg.faces)
+                for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
+                    const uint32_t b0 = mesh.loopStarts[l], b1 = mesh.loopStarts[l + 1];
+                    for (uint32_t fv = b0; fv < b1; ++fv) {
+                        const uint32_t a = original_fv[fv], b = original_fv[fv + 1 < b1 ? fv + 1 : b0];
+                        if (!seenEdge.emplace(edgeKey(a, b), true).second) continue;
+                        const bool bd = isBoundary.count(edgeKey(a, b)) != 0;
+                        capEdges.push_back({a, b});
+                        capIsBoundary.push_back(bd);
+                    }
+                }
+        }
         for (int k = 1; k <= divisions; ++k) {
-            for (uint32_t p : reg.boundaryPoints) {
+            std::vector<bool> verticalDone(reg.points.size(), false);
+            auto vertical = [&](uint32_t p) {
                 const size_t i = slot[p];
+                if (verticalDone[i]) return;
+                verticalDone[i] = true;
                 mesh.edges.push_back({rings[size_t(k - 1)][i], rings[size_t(k)][i], true});
-            }
-            for (const BoundaryEdge& be : reg.boundary)
-                mesh.edges.push_back({rings[size_t(k)][slot[be.a]], rings[size_t(k)][slot[be.b]], true});
+            };
+            auto capEdge = [&](size_t j) {
+                if (k < divisions && !capIsBoundary[j]) return;
+                mesh.edges.push_back({rings[size_t(k)][slot[capEdges[j].first]], rings[size_t(k)][slot[capEdges[j].second]], true});
+            };
+            // Per boundary edge: the edges up from its two points (those not made yet), then the
+            // edge along it; then the region's inner edges. Maya's numbering, as the split rings
+            // that later name these edges on real scenes show.
+            for (size_t j = 0; j < capEdges.size(); ++j)
+                if (capIsBoundary[j]) {
+                    vertical(capEdges[j].first);
+                    vertical(capEdges[j].second);
+                    capEdge(j);
+                }
+            for (size_t j = 0; j < capEdges.size(); ++j)
+                if (!capIsBoundary[j]) capEdge(j);
         }
         for (const BoundaryEdge& be : reg.boundary) {
             const size_t ia = slot[be.a], ib = slot[be.b];
@@ -323,6 +357,12 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
         for (size_t f = faceCount; f < mesh.faceCount(); ++f) visit(f);
     }
 
+    if (std::find(dropEdge.begin(), dropEdge.end(), true) != dropEdge.end()) {
+        std::vector<MeshEdge> keptEdges;
+        for (size_t e = 0; e < mesh.edges.size(); ++e)
+            if (e >= dropEdge.size() || !dropEdge[e]) keptEdges.push_back(mesh.edges[e]);
+        mesh.edges = std::move(keptEdges);
+    }
     // Region points no face uses any more go, and the later points move down.
     std::vector<uint32_t> useCount(mesh.points.size(), 0);
     for (uint32_t p : mesh.faceVertices) ++useCount[p];

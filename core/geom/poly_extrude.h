@@ -14,12 +14,15 @@
 //     face, so the walls face outward when the region does.
 //   - Points of a region that no face uses afterwards (a multi-face region's interior points) are
 //     removed and the later points renumbered, so a region's cap points end up as the last ones.
-//   - Edges inside a region move onto the cap; new edges are appended per division: one from each
-//     boundary point to its copy, then one along each boundary edge. New edges are soft where the
-//     two faces they join are within smoothingAngle of each other.
-// The first-use order of the cap points and the drop of interior points are pinned by Maya's own
-// component numbers on real scenes (tests/core/geom/poly_extrude_test.cpp); the order of the new
-// edges and of the side quads' first corner is Maya's as far as the files show it, not verified.
+//   - Edges inside a region are made anew on the cap and the old ones go (later edges move down).
+//     New edges are appended per division: for each boundary edge in turn, the edges from its two
+//     points up to their copies (those not made yet), then the edge along it; then the region's
+//     inner edges. New edges are soft where the two faces they join are within smoothingAngle of
+//     each other.
+// The first-use order of the cap points, the drop of interior points and the edge order are pinned
+// by Maya's own component numbers on real scenes: the face bounds Maya records on later
+// extrusions, and the edge rings later polySplitRing nodes name (tests/core/scene/corpus_test.cpp);
+// the side quads' first corner is not verified.
 #pragma once
 
 #include "core/geom/mesh.h"

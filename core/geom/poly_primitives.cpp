@@ -97,6 +97,34 @@ glm::dmat3 axisRotation(const glm::dvec3& axisIn) {
 }
 
 // ------------------------------------------------------------------------------------ polyCube
+namespace {
+
+// Puts the listed edges first, in that order and direction (flags kept), the others after them
+// in their order: how the primitives give their edges Maya's numbers.
+void orderEdges(Mesh& mesh, const std::vector<std::pair<uint32_t, uint32_t>>& order) {
+    std::vector<MeshEdge> ordered;
+    ordered.reserve(mesh.edges.size());
+    std::vector<bool> taken(mesh.edges.size(), false);
+    std::unordered_map<uint64_t, size_t> edgeIndex;
+    edgeIndex.reserve(mesh.edges.size());
+    auto key = [](uint32_t a, uint32_t c) { return a < c ? (uint64_t(a) << 32) | c : (uint64_t(c) << 32) | a; };
+    for (size_t e = 0; e < mesh.edges.size(); ++e) edgeIndex.emplace(key(mesh.edges[e].v0, mesh.edges[e].v1), e);
+    for (const auto& [a, c] : order) {
+        const auto it = edgeIndex.find(key(a, c));
+        if (it == edgeIndex.end() || taken[it->second]) continue;
+        taken[it->second] = true;
+        MeshEdge edge = mesh.edges[it->second];
+        edge.v0 = a;
+        edge.v1 = c;
+        ordered.push_back(edge);
+    }
+    for (size_t e = 0; e < mesh.edges.size(); ++e)
+        if (!taken[e]) ordered.push_back(mesh.edges[e]);
+    mesh.edges = std::move(ordered);
+}
+
+}  // namespace
+
 std::optional<Mesh> makePolyCube(const PolyCubeParams& pIn, std::string* error) {
     PolyCubeParams p = pIn;
     if (!checkSize("polyCube", "width", p.width, error) || !checkSize("polyCube", "height", p.height, error) ||
@@ -179,29 +207,12 @@ std::optional<Mesh> makePolyCube(const PolyCubeParams& pIn, std::string* error) 
     // Maya's edge order: along X row by row round the belt, then round the belt row by row and
     // column by column, then the edges inside the ±X sides (for 1×1×1 exactly Maya's
     // "0 1, 2 3, 4 5, 6 7, 0 2, 1 3, 2 4, 3 5, 4 6, 5 7, 6 0, 7 1").
-    std::vector<MeshEdge> ordered;
-    ordered.reserve(mesh.edges.size());
-    std::vector<bool> taken(mesh.edges.size(), false);
-    std::unordered_map<uint64_t, size_t> edgeIndex;
-    edgeIndex.reserve(mesh.edges.size());
-    auto key = [](uint32_t a, uint32_t c) { return a < c ? (uint64_t(a) << 32) | c : (uint64_t(c) << 32) | a; };
-    for (size_t e = 0; e < mesh.edges.size(); ++e) edgeIndex.emplace(key(mesh.edges[e].v0, mesh.edges[e].v1), e);
-    auto take = [&](uint32_t a, uint32_t c) {
-        const auto it = edgeIndex.find(key(a, c));
-        if (it == edgeIndex.end() || taken[it->second]) return;
-        taken[it->second] = true;
-        MeshEdge edge = mesh.edges[it->second];
-        edge.v0 = a;
-        edge.v1 = c;
-        ordered.push_back(edge);
-    };
+    std::vector<std::pair<uint32_t, uint32_t>> order;
     for (int k = 0; k < K; ++k)
-        for (int i = 0; i < sw; ++i) take(beltPoint(k, i), beltPoint(k, i + 1));
+        for (int i = 0; i < sw; ++i) order.push_back({beltPoint(k, i), beltPoint(k, i + 1)});
     for (int k = 0; k < K; ++k)
-        for (int i = 0; i <= sw; ++i) take(beltPoint(k, i), beltPoint(k + 1, i));
-    for (size_t e = 0; e < mesh.edges.size(); ++e)
-        if (!taken[e]) ordered.push_back(mesh.edges[e]);
-    mesh.edges = std::move(ordered);
+        for (int i = 0; i <= sw; ++i) order.push_back({beltPoint(k, i), beltPoint(k + 1, i)});
+    orderEdges(mesh, order);
     return mesh;
 }
 
@@ -366,6 +377,14 @@ std::optional<Mesh> makePolyCylinder(const PolyCylinderParams& pIn, std::string*
     Mesh mesh = b.finish(p.axis, true);
     hardenRing(mesh, 0, uint32_t(sa));
     hardenRing(mesh, uint32_t(sh * sa), uint32_t(sa));
+    // Maya's edge order: round each ring bottom to top, then up each band, then the caps' edges
+    // (a later polySplitRing on a real scene names the side edges e[16:23] of an 8-sided cylinder).
+    std::vector<std::pair<uint32_t, uint32_t>> order;
+    for (int k = 0; k <= sh; ++k)
+        for (int j = 0; j < sa; ++j) order.push_back({pt(k, j), pt(k, j + 1)});
+    for (int k = 0; k < sh; ++k)
+        for (int j = 0; j < sa; ++j) order.push_back({pt(k, j), pt(k + 1, j)});
+    orderEdges(mesh, order);
     return mesh;
 }
 

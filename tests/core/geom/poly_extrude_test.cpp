@@ -73,6 +73,13 @@ TEST(ExtrudeFaces, OneCubeFaceGrowsACubeOnTop) {
     ASSERT_TRUE(m.validate().ok());
     expectClosed(m);
     EXPECT_NEAR(m.signedVolume(), 2.0, 1e-6);
+    // New edges in Maya's order: per boundary edge, the edges up from its points not made yet,
+    // then the edge along it (2→8, 3→9, 8–9, 5→10, 9–10, 4→11, 10–11, 11–8).
+    const uint32_t order[8][2] = {{top[0], 8}, {top[1], 9}, {8, 9}, {top[2], 10}, {9, 10}, {top[3], 11}, {10, 11}, {11, 8}};
+    for (size_t k = 0; k < 8; ++k) {
+        EXPECT_EQ(std::min(m.edges[12 + k].v0, m.edges[12 + k].v1), std::min(order[k][0], order[k][1])) << k;
+        EXPECT_EQ(std::max(m.edges[12 + k].v0, m.edges[12 + k].v1), std::max(order[k][0], order[k][1])) << k;
+    }
     // The walls meet the cap and each other at right angles: hard under the 30 degree default.
     for (size_t e = 12; e < m.edges.size(); ++e) EXPECT_FALSE(m.edges[e].smooth) << e;
     // Every wall has UVs.

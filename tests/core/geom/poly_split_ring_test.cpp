@@ -36,6 +36,20 @@ TEST(PolyCube, EdgesAreNumberedAsMayaNumbersThem) {
     }
 }
 
+TEST(PolyCylinder, EdgesGoRoundEachRingThenUpEachBand) {
+    PolyCylinderParams p;
+    p.subdivisionsAxis = 8;
+    const Mesh m = *makePolyCylinder(p);
+    ASSERT_EQ(m.edges.size(), 40u);
+    for (uint32_t j = 0; j < 8; ++j) {
+        EXPECT_EQ(m.edges[j].v0, j);                 // bottom ring
+        EXPECT_EQ(m.edges[j].v1, (j + 1) % 8);
+        EXPECT_EQ(m.edges[8 + j].v0, 8 + j);         // top ring
+        EXPECT_EQ(m.edges[16 + j].v0, j);            // up the side
+        EXPECT_EQ(m.edges[16 + j].v1, 8 + j);
+    }
+}
+
 TEST(SplitRing, AClosedRingRoundACubeAddsALoop) {
     // The four edges along Z (e6 2→4, e7 3→5, e10 6→0, e11 7→1), from e7 at 0.25 of its length.
     Mesh m = cube(8.0);
