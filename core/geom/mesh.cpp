@@ -1,6 +1,8 @@
 // core/geom/mesh.cpp: queries and edits on geom::Mesh.
 #include "core/geom/mesh.h"
 
+#include "core/geom/union_find.h"
+
 #include <array>
 
 #include <glm/geometric.hpp>
@@ -10,17 +12,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
 #include <unordered_map>
 
 namespace pushpin::geom {
 
 namespace {
-
-uint64_t edgeKey(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(a) << 32) | b;
-}
 
 glm::dvec3 toD(const glm::vec3& v) { return glm::dvec3(v); }
 
@@ -221,20 +217,7 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
 
     // Union-find over face-vertices: corners at the same point of two faces sharing a soft edge
     // belong to one smoothing group.
-    std::vector<uint32_t> parent(fvCount);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto findRoot = [&](uint32_t x) {
-        while (parent[x] != x) {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        return x;
-    };
-    auto unite = [&](uint32_t a, uint32_t b) {
-        a = findRoot(a);
-        b = findRoot(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    };
+    LowestRootSets groups(fvCount);
     struct HalfEdge {
         uint64_t key;
         uint32_t startCorner, endCorner;
@@ -261,8 +244,8 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
             for (size_t k = i + 1; k < j; ++k) {
                 const HalfEdge& other = halfEdges[k];
                 for (uint32_t c : {other.startCorner, other.endCorner}) {
-                    if (faceVertices[c] == faceVertices[first.startCorner]) unite(c, first.startCorner);
-                    if (faceVertices[c] == faceVertices[first.endCorner]) unite(c, first.endCorner);
+                    if (faceVertices[c] == faceVertices[first.startCorner]) groups.join(c, first.startCorner);
+                    if (faceVertices[c] == faceVertices[first.endCorner]) groups.join(c, first.endCorner);
                 }
             }
         }
@@ -270,7 +253,7 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
     }
 
     std::vector<glm::dvec3> groupSum(fvCount, glm::dvec3(0.0));
-    for (uint32_t c = 0; c < fvCount; ++c) groupSum[findRoot(c)] += faceArea[cornerFace[c]];
+    for (uint32_t c = 0; c < fvCount; ++c) groupSum[groups.find(c)] += faceArea[cornerFace[c]];
     std::vector<glm::vec3> out(fvCount);
     for (uint32_t c = 0; c < fvCount; ++c) {
         if (!normals.empty()) {
@@ -280,7 +263,7 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
                 continue;
             }
         }
-        glm::dvec3 s = groupSum[findRoot(c)];
+        glm::dvec3 s = groupSum[groups.find(c)];
         double len = glm::length(s);
         if (!(len > 0.0)) {
             s = faceArea[cornerFace[c]];
@@ -504,25 +487,17 @@ size_t removeUnusedPoints(Mesh& mesh) {
 }
 
 size_t faceShells(const Mesh& mesh, std::vector<uint32_t>& shellOfFace) {
-    // Union-find over points, then faces take the shell of their first point.
-    std::vector<uint32_t> parent(mesh.points.size());
-    for (size_t i = 0; i < parent.size(); ++i) parent[i] = uint32_t(i);
-    auto find = [&](uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
+    // Points joined through faces, then faces take the shell of their first point.
+    LowestRootSets points(mesh.points.size());
     for (size_t f = 0; f < mesh.faceCount(); ++f) {
         const uint32_t first = mesh.faceVertices[mesh.faceVertexBegin(f)];
-        for (uint32_t fv = mesh.faceVertexBegin(f); fv < mesh.faceVertexEnd(f); ++fv) {
-            const uint32_t a = find(first), b = find(mesh.faceVertices[fv]);
-            if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        }
+        for (uint32_t fv = mesh.faceVertexBegin(f); fv < mesh.faceVertexEnd(f); ++fv) points.join(first, mesh.faceVertices[fv]);
     }
     shellOfFace.assign(mesh.faceCount(), 0);
     std::vector<uint32_t> number(mesh.points.size(), ~uint32_t(0));
     uint32_t shells = 0;
     for (size_t f = 0; f < mesh.faceCount(); ++f) {
-        const uint32_t root = find(mesh.faceVertices[mesh.faceVertexBegin(f)]);
+        const uint32_t root = points.find(mesh.faceVertices[mesh.faceVertexBegin(f)]);
         if (number[root] == ~uint32_t(0)) number[root] = shells++;
         shellOfFace[f] = number[root];
     }

@@ -118,6 +118,12 @@ struct Mesh {
     std::vector<glm::vec3> shadingNormals() const;
 };
 
+// The key of the undirected edge between points a and b (either order): the lower index in the
+// high 32 bits. For hash maps of edges.
+inline uint64_t edgeKey(uint32_t a, uint32_t b) {
+    return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
+}
+
 // Unique edges of the mesh's loops in first-use order, every edge with the given smoothness.
 std::vector<MeshEdge> deriveEdges(const Mesh& mesh, bool smooth);
 // Makes `mesh.edges` cover every loop edge: keeps the existing entries (and their flags) and

@@ -4,13 +4,13 @@
 
 #include "core/geom/finite.h"
 #include "core/geom/nurbs_primitives.h"
+#include "core/geom/union_find.h"
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 namespace pushpin::geom {
 
@@ -591,16 +591,8 @@ Mesh gridMesh(const std::vector<glm::dvec3>& pts, const std::vector<glm::dvec2>&
     const double tol = 1e-7 * std::max({size.x, size.y, size.z, 1e-30});
     auto idx = [m](size_t i, size_t j) { return j * m + i; };
     auto same = [&](size_t a, size_t b) { return glm::length(pts[a] - pts[b]) <= tol; };
-    std::vector<uint32_t> parent(pts.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto root = [&](uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
-    auto weld = [&](size_t a, size_t b) {
-        const uint32_t ra = root(uint32_t(a)), rb = root(uint32_t(b));
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-    };
+    LowestRootSets welded(pts.size());
+    auto weld = [&](size_t a, size_t b) { welded.join(uint32_t(a), uint32_t(b)); };
     bool seamU = m > 2, seamV = n > 2;
     for (size_t j = 0; j < n && seamU; ++j) seamU = same(idx(0, j), idx(m - 1, j));
     for (size_t i = 0; i < m && seamV; ++i) seamV = same(idx(i, 0), idx(i, n - 1));
@@ -624,7 +616,7 @@ Mesh gridMesh(const std::vector<glm::dvec3>& pts, const std::vector<glm::dvec2>&
     Mesh mesh;
     std::vector<uint32_t> vertexOf(pts.size());
     for (size_t g = 0; g < pts.size(); ++g) {
-        const uint32_t r = root(uint32_t(g));
+        const uint32_t r = welded.find(uint32_t(g));
         if (r == g) {
             vertexOf[g] = uint32_t(mesh.points.size());
             mesh.points.push_back(glm::vec3(pts[g]));

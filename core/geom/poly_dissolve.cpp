@@ -9,11 +9,6 @@ namespace pushpin::geom {
 
 namespace {
 
-uint64_t edgeKey(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(a) << 32) | b;
-}
-
 // Editable faces: loops of face-vertex indices into the original mesh (their data is copied on
 // the rebuild).
 struct Faces {

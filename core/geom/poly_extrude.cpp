@@ -2,37 +2,18 @@
 #include "core/geom/poly_extrude.h"
 
 #include "core/geom/finite.h"
+#include "core/geom/union_find.h"
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <unordered_map>
 
 namespace pushpin::geom {
 
 namespace {
-
-uint64_t edgeKey(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(a) << 32) | b;
-}
-
-// Union-find over the selected faces, joined through shared edges.
-struct Regions {
-    std::vector<uint32_t> parent;
-    uint32_t find(uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    void join(uint32_t a, uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-};
 
 // A directed boundary edge a→b of a region face, with the face-vertices it runs between.
 struct BoundaryEdge {
@@ -61,9 +42,7 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
     // Regions.
     std::vector<int64_t> slotOf(faceCount, -1);
     for (size_t i = 0; i < selected.size(); ++i) slotOf[selected[i]] = int64_t(i);
-    Regions uf;
-    uf.parent.resize(selected.size());
-    std::iota(uf.parent.begin(), uf.parent.end(), 0u);
+    LowestRootSets uf(selected.size());  // selected faces joined through shared edges
     if (params.keepFacesTogether) {
         std::unordered_map<uint64_t, uint32_t> firstUse;  // edge → slot of the first selected face on it
         for (size_t i = 0; i < selected.size(); ++i) {

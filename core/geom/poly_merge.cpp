@@ -1,35 +1,16 @@
 // core/geom/poly_merge.cpp: polyMergeVert on a geom::Mesh.
 #include "core/geom/poly_merge.h"
 
+#include "core/geom/union_find.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <string>
 #include <unordered_map>
 
 namespace pushpin::geom {
-
-namespace {
-
-uint64_t edgeKey(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(a) << 32) | b;
-}
-
-uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-}
-
-void join(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
-    a = findRoot(parent, a);
-    b = findRoot(parent, b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the lowest index is the root
-}
-
-}  // namespace
 
 bool mergeVertices(Mesh& mesh, const MergeVerticesParams& params, MergeVerticesResult* result, std::string* error) {
     if (result) *result = {};
@@ -45,17 +26,16 @@ bool mergeVertices(Mesh& mesh, const MergeVerticesParams& params, MergeVerticesR
         if (error) *error = "the merge distance is not finite";
         return false;
     }
-    std::vector<uint32_t> parent(n);
-    std::iota(parent.begin(), parent.end(), 0u);
+    LowestRootSets groups(n);  // a group's root is its lowest index: the point that stays
     std::vector<glm::dvec3> position(n);
     for (size_t p = 0; p < n; ++p) position[p] = glm::dvec3(mesh.points[p]);
     bool atTarget = false;
     if (params.target) {
         if (selected.empty()) return true;
-        for (uint32_t p : selected) join(parent, p, *params.target);
+        for (uint32_t p : selected) groups.join(p, *params.target);
         atTarget = true;
     } else if (params.alwaysMergeTwo && selected.size() == 2) {
-        join(parent, selected[0], selected[1]);
+        groups.join(selected[0], selected[1]);
     } else if (selected.size() >= 2) {
         // Hash grid of cell size `distance` in the move space: near points are in adjacent cells.
         const double d = std::max(params.distance, 0.0);
@@ -83,7 +63,7 @@ bool mergeVertices(Mesh& mesh, const MergeVerticesParams& params, MergeVerticesR
                         for (auto it = range.first; it != range.second; ++it) {
                             const size_t j = it->second;
                             if (j <= i) continue;
-                            if (glm::length(at[j] - at[i]) <= d) join(parent, selected[i], selected[j]);
+                            if (glm::length(at[j] - at[i]) <= d) groups.join(selected[i], selected[j]);
                         }
                     }
         }
@@ -95,16 +75,16 @@ bool mergeVertices(Mesh& mesh, const MergeVerticesParams& params, MergeVerticesR
     std::vector<uint32_t> count(n, 0);
     uint32_t next = 0;
     for (size_t p = 0; p < n; ++p) {
-        const uint32_t root = findRoot(parent, uint32_t(p));
+        const uint32_t root = groups.find(uint32_t(p));
         sum[root] += position[p];
         ++count[root];
         if (root == p) remap[p] = next++;
     }
     if (next == n) return true;
-    for (size_t p = 0; p < n; ++p) remap[p] = remap[findRoot(parent, uint32_t(p))];
+    for (size_t p = 0; p < n; ++p) remap[p] = remap[groups.find(uint32_t(p))];
     std::vector<glm::vec3> points(next);
     for (size_t p = 0; p < n; ++p)
-        if (findRoot(parent, uint32_t(p)) == p)
+        if (groups.find(uint32_t(p)) == p)
             points[remap[p]] = glm::vec3(atTarget && count[p] > 1 ? position[*params.target] : sum[p] / double(count[p]));
 
     // Faces without repeated corners; per-face-vertex data follows the corners kept.

@@ -107,10 +107,9 @@ void orderEdges(Mesh& mesh, const std::vector<std::pair<uint32_t, uint32_t>>& or
     std::vector<bool> taken(mesh.edges.size(), false);
     std::unordered_map<uint64_t, size_t> edgeIndex;
     edgeIndex.reserve(mesh.edges.size());
-    auto key = [](uint32_t a, uint32_t c) { return a < c ? (uint64_t(a) << 32) | c : (uint64_t(c) << 32) | a; };
-    for (size_t e = 0; e < mesh.edges.size(); ++e) edgeIndex.emplace(key(mesh.edges[e].v0, mesh.edges[e].v1), e);
+    for (size_t e = 0; e < mesh.edges.size(); ++e) edgeIndex.emplace(edgeKey(mesh.edges[e].v0, mesh.edges[e].v1), e);
     for (const auto& [a, c] : order) {
-        const auto it = edgeIndex.find(key(a, c));
+        const auto it = edgeIndex.find(edgeKey(a, c));
         if (it == edgeIndex.end() || taken[it->second]) continue;
         taken[it->second] = true;
         MeshEdge edge = mesh.edges[it->second];

@@ -14,11 +14,6 @@ namespace pushpin::geom {
 
 namespace {
 
-uint64_t edgeKey(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(a) << 32) | b;
-}
-
 // One step of the walk: the ring edge, its end the fraction is measured from, and the fraction.
 struct RingPoint {
     uint32_t edge;

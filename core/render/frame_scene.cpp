@@ -29,11 +29,6 @@ using scene::kNoNode;
 
 namespace {
 
-uint64_t edgeKey(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(a) << 32) | b;
-}
-
 // Why a world matrix cannot place anything the renderer can project, or empty when it can: an
 // entry that is not finite or beyond kMaxSceneCoordinate (camera.h says why that limit).
 std::string matrixProblem(const glm::dmat4& m) {
@@ -72,7 +67,7 @@ void buildNeighbors(RenderGeometry& geo, const std::vector<uint32_t>& cornerVert
     for (size_t t = 0; t < triangles; ++t)
         for (uint32_t k = 0; k < 3; ++k) {
             const uint32_t a = cornerVertex[3 * t + k], b = cornerVertex[3 * t + (k + 1) % 3];
-            if (a != b) uses.push_back({edgeKey(a, b), uint32_t(3 * t + k)});
+            if (a != b) uses.push_back({geom::edgeKey(a, b), uint32_t(3 * t + k)});
         }
     std::sort(uses.begin(), uses.end(),
               [](const EdgeUse& x, const EdgeUse& y) { return x.key != y.key ? x.key < y.key : x.slot < y.slot; });
@@ -164,12 +159,12 @@ RenderGeometry triangulateValidMesh(const geom::Mesh& mesh, const std::vector<ui
 
     std::unordered_map<uint64_t, bool> smoothByEdge;
     smoothByEdge.reserve(mesh.edges.size());
-    for (const geom::MeshEdge& e : mesh.edges) smoothByEdge[edgeKey(e.v0, e.v1)] = e.smooth;
+    for (const geom::MeshEdge& e : mesh.edges) smoothByEdge[geom::edgeKey(e.v0, e.v1)] = e.smooth;
     buildNeighbors(geo, cornerVertex, [&](uint32_t t0, uint32_t t1, uint32_t a, uint32_t b) {
         if (geo.face[t0] == geo.face[t1]) return false;  // a diagonal inside one face
         if (geo.material[t0] != geo.material[t1]) return true;
         if (!smoothShading) return true;
-        const auto it = smoothByEdge.find(edgeKey(a, b));
+        const auto it = smoothByEdge.find(geom::edgeKey(a, b));
         return it != smoothByEdge.end() && !it->second;
     });
     return geo;

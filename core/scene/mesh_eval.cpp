@@ -256,11 +256,7 @@ void softenEdges(geom::Mesh& mesh, const ComponentList* list, double angleRadian
     if (list && !list->items.empty())
         selected = componentMask(parseComponents(*list).ranges, ComponentKind::Edge, mesh.edges.size());
     std::unordered_map<uint64_t, size_t> edgeIndex;
-    for (size_t e = 0; e < mesh.edges.size(); ++e) {
-        uint32_t a = mesh.edges[e].v0, b = mesh.edges[e].v1;
-        if (a > b) std::swap(a, b);
-        edgeIndex[(uint64_t(a) << 32) | b] = e;
-    }
+    for (size_t e = 0; e < mesh.edges.size(); ++e) edgeIndex[geom::edgeKey(mesh.edges[e].v0, mesh.edges[e].v1)] = e;
     std::vector<glm::dvec3> firstNormal(mesh.edges.size(), glm::dvec3(0.0));
     std::vector<double> maxAngle(mesh.edges.size(), 0.0);
     std::vector<int> faceCount(mesh.edges.size(), 0);
@@ -269,9 +265,7 @@ void softenEdges(geom::Mesh& mesh, const ComponentList* list, double angleRadian
         for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
             const std::span<const uint32_t> lp = mesh.loop(l);
             for (size_t i = 0; i < lp.size(); ++i) {
-                uint32_t a = lp[i], b = lp[(i + 1) % lp.size()];
-                if (a > b) std::swap(a, b);
-                const auto it = edgeIndex.find((uint64_t(a) << 32) | b);
+                const auto it = edgeIndex.find(geom::edgeKey(lp[i], lp[(i + 1) % lp.size()]));
                 if (it == edgeIndex.end()) continue;
                 const size_t e = it->second;
                 if (faceCount[e]++ == 0) firstNormal[e] = n;
