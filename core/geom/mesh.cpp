@@ -358,24 +358,29 @@ void earClip(const std::vector<glm::dvec2>& p, std::vector<std::array<uint32_t, 
 
 }  // namespace
 
-size_t triangulateFaces(Mesh& mesh, const std::vector<bool>* only) {
+Mesh facelessCopy(const Mesh& source, std::vector<glm::vec3> points) {
     Mesh out;
-    out.points = mesh.points;
-    out.currentUvSet = mesh.currentUvSet;
+    out.points = std::move(points);
+    out.currentUvSet = source.currentUvSet;
+    for (const UvSet& set : source.uvSets) out.uvSets.push_back({set.name, set.uvs, {}});
+    for (const ColorSet& set : source.colorSets) out.colorSets.push_back({set.name, set.colors, {}});
+    return out;
+}
+
+void copyFaceVertex(Mesh& out, const Mesh& source, uint32_t fv, uint32_t point) {
+    out.faceVertices.push_back(point);
+    if (!source.normals.empty()) out.normals.push_back(source.normals[fv]);
+    for (size_t s = 0; s < source.uvSets.size(); ++s)
+        if (!source.uvSets[s].faceVertexUvs.empty()) out.uvSets[s].faceVertexUvs.push_back(source.uvSets[s].faceVertexUvs[fv]);
+    for (size_t s = 0; s < source.colorSets.size(); ++s)
+        if (!source.colorSets[s].faceVertexColors.empty())
+            out.colorSets[s].faceVertexColors.push_back(source.colorSets[s].faceVertexColors[fv]);
+}
+
+size_t triangulateFaces(Mesh& mesh, const std::vector<bool>* only) {
+    Mesh out = facelessCopy(mesh, mesh.points);
     out.edges = mesh.edges;
-    const bool hasNormals = !mesh.normals.empty();
-    for (const UvSet& set : mesh.uvSets) out.uvSets.push_back({set.name, set.uvs, {}});
-    for (const ColorSet& set : mesh.colorSets) out.colorSets.push_back({set.name, set.colors, {}});
-    // Copies face-vertex `fv` of `mesh` as the next face-vertex of `out`.
-    auto corner = [&](uint32_t fv) {
-        out.faceVertices.push_back(mesh.faceVertices[fv]);
-        if (hasNormals) out.normals.push_back(mesh.normals[fv]);
-        for (size_t s = 0; s < mesh.uvSets.size(); ++s)
-            if (!mesh.uvSets[s].faceVertexUvs.empty()) out.uvSets[s].faceVertexUvs.push_back(mesh.uvSets[s].faceVertexUvs[fv]);
-        for (size_t s = 0; s < mesh.colorSets.size(); ++s)
-            if (!mesh.colorSets[s].faceVertexColors.empty())
-                out.colorSets[s].faceVertexColors.push_back(mesh.colorSets[s].faceVertexColors[fv]);
-    };
+    auto corner = [&](uint32_t fv) { copyFaceVertex(out, mesh, fv); };
     auto endLoop = [&](bool endFace) {
         out.loopStarts.push_back(uint32_t(out.faceVertices.size()));
         if (endFace) out.faceLoopStarts.push_back(uint32_t(out.loopCount()));
@@ -421,12 +426,8 @@ size_t triangulateFaces(Mesh& mesh, const std::vector<bool>* only) {
 }
 
 void deleteFaces(Mesh& mesh, const std::vector<bool>& removeFace) {
-    Mesh out;
-    out.points = std::move(mesh.points);
-    out.currentUvSet = mesh.currentUvSet;
+    Mesh out = facelessCopy(mesh, std::move(mesh.points));
     const bool hasNormals = !mesh.normals.empty();
-    for (const UvSet& set : mesh.uvSets) out.uvSets.push_back({set.name, set.uvs, {}});
-    for (const ColorSet& set : mesh.colorSets) out.colorSets.push_back({set.name, set.colors, {}});
     out.faceVertices.reserve(mesh.faceVertices.size());
     for (size_t f = 0; f < mesh.faceCount(); ++f) {
         if (f < removeFace.size() && removeFace[f]) continue;

@@ -124,6 +124,17 @@ inline uint64_t edgeKey(uint32_t a, uint32_t b) {
     return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
 
+// The start of a mesh rebuilt from `source`'s face-vertices: `points`, `source`'s UV and colour
+// values, set names and current UV set, and no faces, edges or normals yet.
+Mesh facelessCopy(const Mesh& source, std::vector<glm::vec3> points);
+// Appends face-vertex `fv` of `source` to `out` (begun by facelessCopy(source, …)) at `point`: its
+// normal and its UV and colour ids, for the per-face-vertex arrays `source` has. Loops and faces
+// are closed by the caller (loopStarts, faceLoopStarts).
+void copyFaceVertex(Mesh& out, const Mesh& source, uint32_t fv, uint32_t point);
+inline void copyFaceVertex(Mesh& out, const Mesh& source, uint32_t fv) {
+    copyFaceVertex(out, source, fv, source.faceVertices[fv]);
+}
+
 // Unique edges of the mesh's loops in first-use order, every edge with the given smoothness.
 std::vector<MeshEdge> deriveEdges(const Mesh& mesh, bool smooth);
 // Makes `mesh.edges` cover every loop edge: keeps the existing entries (and their flags) and

@@ -47,27 +47,14 @@ void cutSpikes(const Mesh& m, std::vector<uint32_t>& loop) {
 // the points no face uses any more (only those in `mayDrop`, when given).
 DissolveResult rebuild(Mesh& mesh, const Faces& faces, const std::unordered_set<uint64_t>& dropEdges,
                        DissolveResult r) {
-    Mesh out;
-    out.points = mesh.points;
-    out.currentUvSet = mesh.currentUvSet;
-    const bool hasNormals = !mesh.normals.empty();
-    for (const UvSet& set : mesh.uvSets) out.uvSets.push_back({set.name, set.uvs, {}});
-    for (const ColorSet& set : mesh.colorSets) out.colorSets.push_back({set.name, set.colors, {}});
+    Mesh out = facelessCopy(mesh, mesh.points);
     for (size_t f = 0; f < faces.loops.size(); ++f) {
         if (faces.gone[f]) continue;
         bool any = false;
         for (const std::vector<uint32_t>& loop : faces.loops[f]) {
             if (loop.size() < 3) continue;
             any = true;
-            for (uint32_t fv : loop) {
-                out.faceVertices.push_back(mesh.faceVertices[fv]);
-                if (hasNormals) out.normals.push_back(mesh.normals[fv]);
-                for (size_t s = 0; s < mesh.uvSets.size(); ++s)
-                    if (!mesh.uvSets[s].faceVertexUvs.empty()) out.uvSets[s].faceVertexUvs.push_back(mesh.uvSets[s].faceVertexUvs[fv]);
-                for (size_t s = 0; s < mesh.colorSets.size(); ++s)
-                    if (!mesh.colorSets[s].faceVertexColors.empty())
-                        out.colorSets[s].faceVertexColors.push_back(mesh.colorSets[s].faceVertexColors[fv]);
-            }
+            for (uint32_t fv : loop) copyFaceVertex(out, mesh, fv);
             out.loopStarts.push_back(uint32_t(out.faceVertices.size()));
         }
         if (!any) {

@@ -88,12 +88,7 @@ bool mergeVertices(Mesh& mesh, const MergeVerticesParams& params, MergeVerticesR
             points[remap[p]] = glm::vec3(atTarget && count[p] > 1 ? position[*params.target] : sum[p] / double(count[p]));
 
     // Faces without repeated corners; per-face-vertex data follows the corners kept.
-    Mesh out;
-    out.points = std::move(points);
-    out.currentUvSet = mesh.currentUvSet;
-    const bool hasNormals = !mesh.normals.empty();
-    for (const UvSet& set : mesh.uvSets) out.uvSets.push_back({set.name, set.uvs, {}});
-    for (const ColorSet& set : mesh.colorSets) out.colorSets.push_back({set.name, set.colors, {}});
+    Mesh out = facelessCopy(mesh, std::move(points));
     size_t removedFaces = 0;
     std::vector<uint32_t> kept;
     for (size_t f = 0; f < mesh.faceCount(); ++f) {
@@ -112,16 +107,7 @@ bool mergeVertices(Mesh& mesh, const MergeVerticesParams& params, MergeVerticesR
                 if (l == mesh.faceLoopStarts[f]) break;  // the outer loop collapsed: the face goes
                 continue;
             }
-            for (uint32_t fv : kept) {
-                out.faceVertices.push_back(remap[mesh.faceVertices[fv]]);
-                if (hasNormals) out.normals.push_back(mesh.normals[fv]);
-                for (size_t s = 0; s < mesh.uvSets.size(); ++s)
-                    if (!mesh.uvSets[s].faceVertexUvs.empty())
-                        out.uvSets[s].faceVertexUvs.push_back(mesh.uvSets[s].faceVertexUvs[fv]);
-                for (size_t s = 0; s < mesh.colorSets.size(); ++s)
-                    if (!mesh.colorSets[s].faceVertexColors.empty())
-                        out.colorSets[s].faceVertexColors.push_back(mesh.colorSets[s].faceVertexColors[fv]);
-            }
+            for (uint32_t fv : kept) copyFaceVertex(out, mesh, fv, remap[mesh.faceVertices[fv]]);
             out.loopStarts.push_back(uint32_t(out.faceVertices.size()));
         }
         if (out.loopCount() == loopsBefore) {

@@ -265,12 +265,8 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
     if (closed && chain.front().faceBefore >= 0) cutFace(uint32_t(chain.front().faceBefore), newPoint.back(), newPoint.front());
 
     // Rebuild: faces in order (edited ones from their copies), then the appended parts.
-    Mesh out;
-    out.points = std::move(work.points);
-    out.currentUvSet = work.currentUvSet;
+    Mesh out = facelessCopy(work, std::move(work.points));
     const bool hasNormals = !work.normals.empty();
-    for (const UvSet& set : work.uvSets) out.uvSets.push_back({set.name, set.uvs, {}});
-    for (const ColorSet& set : work.colorSets) out.colorSets.push_back({set.name, set.colors, {}});
     auto emitLoop = [&](const std::vector<Corner>& loop) {
         for (const Corner& c : loop) {
             out.faceVertices.push_back(c.point);
