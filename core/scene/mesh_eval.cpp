@@ -277,15 +277,15 @@ void softenEdges(geom::Mesh& mesh, const ComponentList* list, double angleRadian
         if (e < selected.size() && selected[e]) mesh.edges[e].smooth = maxAngle[e] <= angleRadians + 1e-9;
 }
 
-// The selection of a component list as a face mask, with what did not parse or fit as notes.
-std::vector<bool> faceSelection(const geom::Mesh& mesh, const ComponentList& list, const Node& node,
-                                std::vector<std::string>& notes) {
+// The selection of a component list as a mask of one kind, with what did not parse or fit as notes.
+std::vector<bool> componentSelection(const ComponentList& list, ComponentKind kind, size_t count, const Node& node,
+                                     std::vector<std::string>& notes) {
     const ParsedComponents parsed = parseComponents(list);
     for (const std::string& e : parsed.errors) notes.push_back(nodeLabel(node) + ": " + e);
     std::string clip;
-    std::vector<bool> faces = componentMask(parsed.ranges, ComponentKind::Face, mesh.faceCount(), &clip);
+    std::vector<bool> mask = componentMask(parsed.ranges, kind, count, &clip);
     if (!clip.empty()) notes.push_back(nodeLabel(node) + ": " + clip);
-    return faces;
+    return mask;
 }
 
 // The space polyMoveVertex and its descendants move points in: world space through inputMatrix
@@ -323,7 +323,7 @@ std::optional<geom::Mesh> evaluateExtrudeFace(Context& c, NodeId n, std::string&
     const ComponentList* list = componentListOf(g, n, "ics");
     if (!list || list->items.empty()) return m;
     geom::ExtrudeFacesParams p;
-    p.faces = faceSelection(*m, *list, node, c.out.notes);
+    p.faces = componentSelection(*list, ComponentKind::Face, m->faceCount(), node, c.out.notes);
     p.keepFacesTogether = ev.getBool(n, "kft", true);
     p.divisions = ev.getInt(n, "dv", 1);
     std::optional<glm::dmat4> transform = moveTransform(ev, n);
@@ -379,13 +379,7 @@ std::optional<geom::Mesh> evaluateMergeVert(Context& c, NodeId n, std::string& r
     const ComponentList* list = componentListOf(g, n, "ics");
     if (!list || list->items.empty()) return m;
     geom::MergeVerticesParams p;
-    {
-        const ParsedComponents parsed = parseComponents(*list);
-        for (const std::string& e : parsed.errors) c.out.notes.push_back(nodeLabel(node) + ": " + e);
-        std::string clip;
-        p.points = componentMask(parsed.ranges, ComponentKind::Vertex, m->points.size(), &clip);
-        if (!clip.empty()) c.out.notes.push_back(nodeLabel(node) + ": " + clip);
-    }
+    p.points = componentSelection(*list, ComponentKind::Vertex, m->points.size(), node, c.out.notes);
     if (const ComponentList* to = componentListOf(g, n, "mtc"); to && !to->items.empty()) {
         const std::vector<bool> target =
             componentMask(parseComponents(*to).ranges, ComponentKind::Vertex, m->points.size());
@@ -431,13 +425,7 @@ std::optional<geom::Mesh> evaluateSplitRing(Context& c, NodeId n, std::string& r
     if (!list || list->items.empty()) return m;
     geom::completeEdges(*m, true);
     geom::SplitRingParams p;
-    {
-        const ParsedComponents parsed = parseComponents(*list);
-        for (const std::string& e : parsed.errors) c.out.notes.push_back(nodeLabel(node) + ": " + e);
-        std::string clip;
-        p.edges = componentMask(parsed.ranges, ComponentKind::Edge, m->edges.size(), &clip);
-        if (!clip.empty()) c.out.notes.push_back(nodeLabel(node) + ": " + clip);
-    }
+    p.edges = componentSelection(*list, ComponentKind::Edge, m->edges.size(), node, c.out.notes);
     p.rootEdge = ev.getInt(n, "re", -1);
     p.weight = ev.getDouble(n, "wt", 0.5);
     // The weight runs from the root edge's first point whatever `direction` says: Maya's recorded
@@ -483,7 +471,7 @@ std::optional<geom::Mesh> evaluateSmoothFace(Context& c, NodeId n, std::string& 
     std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
     if (!m) return m;
     if (const ComponentList* list = componentListOf(g, n, "ics"); list && !list->items.empty()) {
-        const std::vector<bool> faces = faceSelection(*m, *list, node, c.out.notes);
+        const std::vector<bool> faces = componentSelection(*list, ComponentKind::Face, m->faceCount(), node, c.out.notes);
         if (std::find(faces.begin(), faces.end(), false) != faces.end()) {
             reason = nodeLabel(node) + ": smoothing only some of the faces is not evaluated";
             return std::nullopt;
@@ -594,11 +582,7 @@ std::optional<geom::Mesh> evaluateDelEdge(Context& c, NodeId n, std::string& rea
     const ComponentList* list = componentListOf(g, n, "ics");
     if (!list || list->items.empty()) return m;
     geom::completeEdges(*m, true);
-    const ParsedComponents parsed = parseComponents(*list);
-    for (const std::string& e : parsed.errors) c.out.notes.push_back(nodeLabel(node) + ": " + e);
-    std::string clip;
-    const std::vector<bool> edges = componentMask(parsed.ranges, ComponentKind::Edge, m->edges.size(), &clip);
-    if (!clip.empty()) c.out.notes.push_back(nodeLabel(node) + ": " + clip);
+    const std::vector<bool> edges = componentSelection(*list, ComponentKind::Edge, m->edges.size(), node, c.out.notes);
     geom::dissolveEdges(*m, edges, c.ev.getBool(n, "cv", false));
     return m;
 }
@@ -658,11 +642,8 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
         if (!m) return m;
         geom::completeEdges(*m, true);
         std::vector<bool> edges(m->edges.size(), true);  // every border without a list
-        if (const ComponentList* list = componentListOf(g, src.node, "ics"); list && !list->items.empty()) {
-            std::string clip;
-            edges = componentMask(parseComponents(*list).ranges, ComponentKind::Edge, m->edges.size(), &clip);
-            if (!clip.empty()) c.out.notes.push_back(nodeLabel(node) + ": " + clip);
-        }
+        if (const ComponentList* list = componentListOf(g, src.node, "ics"); list && !list->items.empty())
+            edges = componentSelection(*list, ComponentKind::Edge, m->edges.size(), node, c.out.notes);
         geom::closeBorders(*m, edges);
         return m;
     }
@@ -863,6 +844,28 @@ void applySmoothPreview(Evaluator& ev, NodeId shape, MeshEvaluation& out) {
     }
     out.faceOrigin = std::move(origin);
     out.sourceFaceCount = sourceFaces;
+}
+
+// Runs one evaluation so that scene content never aborts a render: an exception or a mesh that
+// fails validation becomes a skip, its reason in out.skipReason (`label` prefixes a validation
+// error). `evaluate(reason)` returns the mesh or nullopt with its reason.
+template <class Evaluate>
+void guardedEvaluation(MeshEvaluation& out, const std::string& label, Evaluate&& evaluate) {
+    std::string reason;
+    try {
+        out.mesh = evaluate(reason);
+    } catch (const std::exception& e) {
+        out.mesh.reset();
+        reason = std::string("evaluation failed: ") + e.what();
+    }
+    if (out.mesh) {
+        const geom::MeshValidation v = out.mesh->validate();
+        if (!v.ok()) {
+            out.mesh.reset();
+            reason = label + v.errors.front();
+        }
+    }
+    if (!out.mesh) out.skipReason = reason;
 }
 
 }  // namespace
@@ -1091,44 +1094,17 @@ MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape) {
         return out;
     }
     Context c{ev, g, out, {meshShape}};
-    std::string reason;
-    try {
-        out.mesh = evaluateShape(c, meshShape, reason);
-    } catch (const std::exception& e) {
-        // Scene content must never abort a render; anything unexpected becomes a skip.
-        out.mesh.reset();
-        reason = std::string("evaluation failed: ") + e.what();
-    }
-    if (out.mesh) {
-        const geom::MeshValidation v = out.mesh->validate();
-        if (!v.ok()) {
-            out.mesh.reset();
-            reason = "mesh " + node.name + ": " + v.errors.front();
-        }
-    }
+    guardedEvaluation(out, "mesh " + node.name + ": ", [&](std::string& reason) { return evaluateShape(c, meshShape, reason); });
     if (out.mesh && ev.getInt(meshShape, "dsm", 0) != 0) applySmoothPreview(ev, meshShape, out);
-    if (!out.mesh) out.skipReason = reason.empty() ? "mesh " + node.name + " could not be evaluated" : reason;
+    if (!out.mesh && out.skipReason.empty()) out.skipReason = "mesh " + node.name + " could not be evaluated";
     return out;
 }
 
 MeshEvaluation evaluateMeshPlug(Evaluator& ev, const Plug& output) {
     MeshEvaluation out;
     Context c{ev, ev.graph(), out, {}};
-    std::string reason;
-    try {
-        out.mesh = evaluatePlug(c, output, reason);
-    } catch (const std::exception& e) {
-        out.mesh.reset();
-        reason = std::string("evaluation failed: ") + e.what();
-    }
-    if (out.mesh) {
-        const geom::MeshValidation v = out.mesh->validate();
-        if (!v.ok()) {
-            out.mesh.reset();
-            reason = v.errors.front();
-        }
-    }
-    if (!out.mesh) out.skipReason = reason.empty() ? "the plug's mesh could not be evaluated" : reason;
+    guardedEvaluation(out, "", [&](std::string& reason) { return evaluatePlug(c, output, reason); });
+    if (!out.mesh && out.skipReason.empty()) out.skipReason = "the plug's mesh could not be evaluated";
     return out;
 }
 
