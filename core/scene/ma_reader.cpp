@@ -360,6 +360,7 @@ private:
     int64_t readInteger(const char* what, int64_t min, int64_t max);
     int64_t readIntegerNoAdvance(const char* what, int64_t min, int64_t max);
     size_t readPlainNumbers(std::vector<double>& out, size_t most, double factor);
+    size_t readPlainIntegers(std::vector<int32_t>& out, size_t most, const char* what);
     size_t readNumberThenPlain(std::vector<double>& out, UnitKind unit, double factor, const char* what, size_t most);
     int64_t readCount(const char* what);
     bool readBoolWord(const char* what);
@@ -1456,6 +1457,24 @@ size_t Parser::readPlainNumbers(std::vector<double>& out, size_t most, double fa
     return n;
 }
 
+size_t Parser::readPlainIntegers(std::vector<int32_t>& out, size_t most, const char* what) {
+    if (m_hasPeek) return 0;
+    size_t n = 0;
+    int64_t v = 0;
+    try {
+        while (n < most && m_lex.nextPlainInteger(v)) {
+            if (v < INT32_MIN || v > INT32_MAX)
+                failSyntax(m_lex.line(), m_lex.column(), std::string(what) + ": " + std::to_string(v) + " is outside [" +
+                                                              std::to_string(INT32_MIN) + ", " + std::to_string(INT32_MAX) + "]");
+            out.push_back(int32_t(v));
+            ++n;
+        }
+    } catch (const MaLexError& e) {
+        failSyntax(e.line, e.column, e.message);
+    }
+    return n;
+}
+
 size_t Parser::readNumberThenPlain(std::vector<double>& out, UnitKind unit, double factor, const char* what,
                                    size_t most) {
     // The current token by the full rules, then plain numbers straight from the lexer.
@@ -1492,23 +1511,7 @@ void Parser::readInts(std::vector<int32_t>& out, int64_t count, const char* what
             failAt(m_tok, std::string(what) + ": expected " + std::to_string(count) + " values, found " + std::to_string(i));
         out.push_back(int32_t(readIntegerNoAdvance(what, INT32_MIN, INT32_MAX)));
         ++i;
-        // Plain integers straight from the lexer while they last.
-        if (!m_hasPeek) {
-            int64_t v = 0;
-            try {
-                while (i < count && m_lex.nextPlainInteger(v)) {
-                    if (v < INT32_MIN || v > INT32_MAX) {
-                        failSyntax(m_lex.line(), m_lex.column(), std::string(what) + ": " + std::to_string(v) +
-                                                                      " is outside [" + std::to_string(INT32_MIN) + ", " +
-                                                                      std::to_string(INT32_MAX) + "]");
-                    }
-                    out.push_back(int32_t(v));
-                    ++i;
-                }
-            } catch (const MaLexError& e) {
-                failSyntax(e.line, e.column, e.message);
-            }
-        }
+        i += int64_t(readPlainIntegers(out, size_t(count - i), what));
         advance();
     }
 }

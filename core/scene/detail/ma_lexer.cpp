@@ -271,44 +271,36 @@ void MaLexer::next(MaToken& token) {
     }
 }
 
-namespace {
-
-// The end of the word starting at p, or nullptr when the word may go on past the buffer.
-const char* wordEnd(const char* p, const char* end, bool eof) {
-    const char* q = p;
-    while (q < end && classOf(*q) == kWord) ++q;
-    if (q == end && !eof) return nullptr;
+const char* MaLexer::nextWholeWord() {
+    if (m_pendingSlash) return nullptr;
+    skipSpaceAndComments();
+    if (m_pendingSlash || m_cur >= m_end) return nullptr;
+    const char* q = m_cur;
+    while (q < m_end && classOf(*q) == kWord) ++q;
+    if (q == m_cur || (q == m_end && !m_eof)) return nullptr;
     return q;
 }
 
-}  // namespace
-
 bool MaLexer::nextPlainNumber(double& value) {
-    if (m_pendingSlash) return false;
-    skipSpaceAndComments();
-    if (m_pendingSlash || m_cur >= m_end) return false;
-    const char* q = wordEnd(m_cur, m_end, m_eof);
-    if (!q || q == m_cur) return false;
+    const char* end = nextWholeWord();
+    if (!end) return false;
     const char first = *m_cur;
     if (!((first >= '0' && first <= '9') || first == '-' || first == '.')) return false;
-    const auto [ptr, ec] = std::from_chars(m_cur, q, value);
-    if (ec != std::errc() || ptr != q || !std::isfinite(value)) return false;
-    m_cur = q;
+    const auto [ptr, ec] = std::from_chars(m_cur, end, value);
+    if (ec != std::errc() || ptr != end || !std::isfinite(value)) return false;
+    m_cur = end;
     m_lastIsLineComment = false;
     return true;
 }
 
 bool MaLexer::nextPlainInteger(int64_t& value) {
-    if (m_pendingSlash) return false;
-    skipSpaceAndComments();
-    if (m_pendingSlash || m_cur >= m_end) return false;
-    const char* q = wordEnd(m_cur, m_end, m_eof);
-    if (!q || q == m_cur) return false;
+    const char* end = nextWholeWord();
+    if (!end) return false;
     const char first = *m_cur;
     if (!((first >= '0' && first <= '9') || first == '-')) return false;
-    const auto [ptr, ec] = std::from_chars(m_cur, q, value);
-    if (ec != std::errc() || ptr != q) return false;
-    m_cur = q;
+    const auto [ptr, ec] = std::from_chars(m_cur, end, value);
+    if (ec != std::errc() || ptr != end) return false;
+    m_cur = end;
     m_lastIsLineComment = false;
     return true;
 }

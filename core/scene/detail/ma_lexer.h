@@ -77,6 +77,9 @@ public:
     bool endsWithEndComment() const { return m_lastIsLineComment && m_lastComment.rfind("End of", 0) == 0; }
 
 private:
+    // After whitespace and comments, the end of the next word when it lies wholly in the buffer
+    // (nullptr when there is none, or it may go on past the buffer); the fast paths' common start.
+    const char* nextWholeWord();
     bool refill();  // false at end of input; invalidates pointers into the old buffer
     int peekChar() {
         if (m_cur == m_end && !refill()) return -1;
