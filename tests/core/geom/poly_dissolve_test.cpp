@@ -1,7 +1,7 @@
 // Tests for core/geom/poly_dissolve.h.
 #include "core/geom/poly_dissolve.h"
 
-#include "core/geom/poly_primitives.h"
+#include "tests/support/primitive_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -9,10 +9,7 @@ namespace pushpin::geom {
 namespace {
 
 Mesh plane(int sw, int sh) {
-    PolyPlaneParams p;
-    p.subdivisionsWidth = sw;
-    p.subdivisionsHeight = sh;
-    Mesh m = *makePolyPlane(p);
+    Mesh m = test::unitPlane(sw, sh);
     completeEdges(m, true);
     return m;
 }

@@ -1,7 +1,7 @@
 // Tests for core/geom/poly_extrude.h.
 #include "core/geom/poly_extrude.h"
 
-#include "core/geom/poly_primitives.h"
+#include "tests/support/primitive_meshes.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -14,17 +14,8 @@
 namespace pushpin::geom {
 namespace {
 
-Mesh cube() {
-    PolyCubeParams p;
-    return *makePolyCube(p);
-}
-
-Mesh plane(int sw, int sh) {
-    PolyPlaneParams p;
-    p.subdivisionsWidth = sw;
-    p.subdivisionsHeight = sh;
-    return *makePolyPlane(p);
-}
+Mesh cube() { return test::unitCube(); }
+Mesh plane(int sw, int sh) { return test::unitPlane(sw, sh); }
 
 std::vector<bool> select(const Mesh& m, std::initializer_list<uint32_t> faces) {
     std::vector<bool> mask(m.faceCount(), false);

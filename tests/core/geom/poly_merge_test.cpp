@@ -1,7 +1,7 @@
 // Tests for core/geom/poly_merge.h.
 #include "core/geom/poly_merge.h"
 
-#include "core/geom/poly_primitives.h"
+#include "tests/support/primitive_meshes.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -12,12 +12,7 @@
 namespace pushpin::geom {
 namespace {
 
-Mesh plane(int sw, int sh) {
-    PolyPlaneParams p;
-    p.subdivisionsWidth = sw;
-    p.subdivisionsHeight = sh;
-    return *makePolyPlane(p);
-}
+Mesh plane(int sw, int sh) { return test::unitPlane(sw, sh); }
 
 std::vector<bool> pick(size_t n, std::initializer_list<uint32_t> points) {
     std::vector<bool> mask(n, false);

@@ -1,7 +1,7 @@
 // Tests for core/geom/poly_split_ring.h.
 #include "core/geom/poly_split_ring.h"
 
-#include "core/geom/poly_primitives.h"
+#include "tests/support/primitive_meshes.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -13,11 +13,7 @@
 namespace pushpin::geom {
 namespace {
 
-Mesh cube(double depth = 1.0) {
-    PolyCubeParams p;
-    p.depth = depth;
-    return *makePolyCube(p);
-}
+Mesh cube(double depth = 1.0) { return test::unitCube(depth); }
 
 std::vector<bool> ring(const Mesh& m, std::initializer_list<uint32_t> edges) {
     std::vector<bool> mask(m.edges.size(), false);

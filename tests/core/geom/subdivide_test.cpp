@@ -1,7 +1,7 @@
 // Tests for core/geom/subdivide.h.
 #include "core/geom/subdivide.h"
 
-#include "core/geom/poly_primitives.h"
+#include "tests/support/primitive_meshes.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -11,17 +11,8 @@
 namespace pushpin::geom {
 namespace {
 
-Mesh cube() {
-    PolyCubeParams p;
-    return *makePolyCube(p);
-}
-
-Mesh plane(int sw, int sh) {
-    PolyPlaneParams p;
-    p.subdivisionsWidth = sw;
-    p.subdivisionsHeight = sh;
-    return *makePolyPlane(p);
-}
+Mesh cube() { return test::unitCube(); }
+Mesh plane(int sw, int sh) { return test::unitPlane(sw, sh); }
 
 TEST(Subdivide, OneLevelOfACubeHasCatmullClarksCounts) {
     Mesh m = cube();
