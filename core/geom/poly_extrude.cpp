@@ -21,11 +21,19 @@ struct BoundaryEdge {
     uint32_t fvA, fvB;
 };
 
+// An edge of a region's faces, as the first face to use it runs it.
+struct RegionEdge {
+    uint32_t a, b;
+    bool boundary;  // used by only one face of the region
+};
+
 struct Region {
     std::vector<uint32_t> faces;            // ascending
     std::vector<uint32_t> points;           // first-use order
+    std::unordered_map<uint32_t, size_t> slot;  // point → its index in `points`
     std::vector<uint32_t> boundaryPoints;   // first-use order
     std::vector<BoundaryEdge> boundary;     // face order, loop order
+    std::vector<RegionEdge> edges;          // every edge once, face order, loop order
 };
 
 }  // namespace
@@ -80,6 +88,7 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
                     ++uses[edgeKey(lp[k], lp[(k + 1) % lp.size()])];
                     if (mark[lp[k]] != uint32_t(r)) {
                         mark[lp[k]] = uint32_t(r);
+                        reg.slot.emplace(lp[k], reg.points.size());
                         reg.points.push_back(lp[k]);
                     }
                 }
@@ -91,7 +100,11 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
                 const uint32_t start = mesh.loopStarts[l];
                 for (size_t k = 0; k < lp.size(); ++k) {
                     const size_t k1 = (k + 1) % lp.size();
-                    if (uses[edgeKey(lp[k], lp[k1])] != 1) continue;
+                    int& count = uses[edgeKey(lp[k], lp[k1])];
+                    const bool boundary = count == 1;
+                    if (count > 0) reg.edges.push_back({lp[k], lp[k1], boundary});
+                    count = 0;  // listed: later uses of the edge are not listed again
+                    if (!boundary) continue;
                     reg.boundary.push_back({lp[k], lp[k1], start + uint32_t(k), start + uint32_t(k1)});
                     onBoundary[lp[k]] = true;
                     onBoundary[lp[k1]] = true;
@@ -185,15 +198,11 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
         const Region& reg = regions[r];
         auto& rings = ringIndex[r];
         rings.assign(size_t(divisions) + 1, std::vector<uint32_t>(reg.points.size(), UINT32_MAX));
-        std::unordered_map<uint32_t, size_t> slot;
-        for (size_t i = 0; i < reg.points.size(); ++i) {
-            slot[reg.points[i]] = i;
-            rings[0][i] = reg.points[i];
-        }
+        for (size_t i = 0; i < reg.points.size(); ++i) rings[0][i] = reg.points[i];
         for (int k = 1; k < divisions; ++k) {
             const double t = double(k) / double(divisions);
             for (uint32_t p : reg.boundaryPoints) {
-                const size_t i = slot[p];
+                const size_t i = reg.slot.at(p);
                 const glm::dvec3 pos = glm::mix(glm::dvec3(original[p]), capPositions[r][i], t);
                 rings[size_t(k)][i] = uint32_t(mesh.points.size());
                 mesh.points.emplace_back(pos);
@@ -205,11 +214,9 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
         }
     }
 
-    const std::vector<uint32_t> original_fv = mesh.faceVertices;
     std::vector<bool> dropEdge(mesh.edges.size(), false);
     // The region faces move onto the cap; their stored normals no longer hold.
     std::vector<uint32_t> capOf(original.size(), UINT32_MAX);
-    std::vector<int64_t> regionOfFace(faceCount, -1);
     size_t sideFaces = 0;
     const size_t oldEdgeCount = mesh.edges.size();
     std::unordered_map<uint64_t, size_t> edgeIndexOf;
@@ -218,22 +225,11 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
     for (size_t r = 0; r < regions.size(); ++r) {
         const Region& reg = regions[r];
         for (size_t i = 0; i < reg.points.size(); ++i) capOf[reg.points[i]] = ringIndex[r][size_t(divisions)][i];
-        // Edges used twice inside the region move onto the cap with it (found before the faces move).
-        std::unordered_map<uint64_t, int> uses;
-        for (uint32_t f : reg.faces)
-            for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
-                const std::span<const uint32_t> lp = mesh.loop(l);
-                for (size_t k = 0; k < lp.size(); ++k) ++uses[edgeKey(lp[k], lp[(k + 1) % lp.size()])];
-            }
-        for (const auto& [key, count] : uses) {
-            if (count < 2) continue;
-            const auto it = edgeIndexOf.find(key);
-            if (it == edgeIndexOf.end()) continue;
-            // Inner edges are made anew on the cap (below); the old ones go.
-            dropEdge[it->second] = true;
-        }
+        // Inner edges are made anew on the cap (below); the old ones go.
+        for (const RegionEdge& e : reg.edges)
+            if (!e.boundary)
+                if (const auto it = edgeIndexOf.find(edgeKey(e.a, e.b)); it != edgeIndexOf.end()) dropEdge[it->second] = true;
         for (uint32_t f : reg.faces) {
-            regionOfFace[f] = int64_t(r);
             for (uint32_t fv = mesh.faceVertexBegin(f); fv < mesh.faceVertexEnd(f); ++fv) {
                 mesh.faceVertices[fv] = capOf[mesh.faceVertices[fv]];
                 if (!mesh.normals.empty()) mesh.normals[fv] = glm::vec3(0.0f);
@@ -242,52 +238,33 @@ bool extrudeFaces(Mesh& mesh, const ExtrudeFacesParams& params, ExtrudeFacesResu
         for (size_t i = 0; i < reg.points.size(); ++i) capOf[reg.points[i]] = UINT32_MAX;
 
         // Side faces and new edges, division by division.
-        std::unordered_map<uint32_t, size_t> slot;
-        for (size_t i = 0; i < reg.points.size(); ++i) slot[reg.points[i]] = i;
         const auto& rings = ringIndex[r];
-        std::vector<std::pair<uint32_t, uint32_t>> capEdges;
-        std::vector<bool> capIsBoundary;
-        {
-            std::unordered_map<uint64_t, bool> seenEdge, isBoundary;
-            for (const BoundaryEdge& be : reg.boundary) isBoundary[edgeKey(be.a, be.b)] = true;
-            for (uint32_t f : reg.faces)
-                for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
-                    const uint32_t b0 = mesh.loopStarts[l], b1 = mesh.loopStarts[l + 1];
-                    for (uint32_t fv = b0; fv < b1; ++fv) {
-                        const uint32_t a = original_fv[fv], b = original_fv[fv + 1 < b1 ? fv + 1 : b0];
-                        if (!seenEdge.emplace(edgeKey(a, b), true).second) continue;
-                        const bool bd = isBoundary.count(edgeKey(a, b)) != 0;
-                        capEdges.push_back({a, b});
-                        capIsBoundary.push_back(bd);
-                    }
-                }
-        }
         for (int k = 1; k <= divisions; ++k) {
             std::vector<bool> verticalDone(reg.points.size(), false);
             auto vertical = [&](uint32_t p) {
-                const size_t i = slot[p];
+                const size_t i = reg.slot.at(p);
                 if (verticalDone[i]) return;
                 verticalDone[i] = true;
                 mesh.edges.push_back({rings[size_t(k - 1)][i], rings[size_t(k)][i], true});
             };
-            auto capEdge = [&](size_t j) {
-                if (k < divisions && !capIsBoundary[j]) return;
-                mesh.edges.push_back({rings[size_t(k)][slot[capEdges[j].first]], rings[size_t(k)][slot[capEdges[j].second]], true});
+            auto along = [&](const RegionEdge& e) {
+                mesh.edges.push_back({rings[size_t(k)][reg.slot.at(e.a)], rings[size_t(k)][reg.slot.at(e.b)], true});
             };
             // Per boundary edge: the edges up from its two points (those not made yet), then the
-            // edge along it; then the region's inner edges. Maya's numbering, as the split rings
-            // that later name these edges on real scenes show.
-            for (size_t j = 0; j < capEdges.size(); ++j)
-                if (capIsBoundary[j]) {
-                    vertical(capEdges[j].first);
-                    vertical(capEdges[j].second);
-                    capEdge(j);
+            // edge along it; then, on the cap, the region's inner edges. Maya's numbering, as the
+            // split rings that later name these edges on real scenes show.
+            for (const RegionEdge& e : reg.edges)
+                if (e.boundary) {
+                    vertical(e.a);
+                    vertical(e.b);
+                    along(e);
                 }
-            for (size_t j = 0; j < capEdges.size(); ++j)
-                if (!capIsBoundary[j]) capEdge(j);
+            if (k == divisions)
+                for (const RegionEdge& e : reg.edges)
+                    if (!e.boundary) along(e);
         }
         for (const BoundaryEdge& be : reg.boundary) {
-            const size_t ia = slot[be.a], ib = slot[be.b];
+            const size_t ia = reg.slot.at(be.a), ib = reg.slot.at(be.b);
             for (int k = 1; k <= divisions; ++k) {
                 const uint32_t quad[4] = {rings[size_t(k - 1)][ia], rings[size_t(k - 1)][ib], rings[size_t(k)][ib],
                                           rings[size_t(k)][ia]};
