@@ -54,7 +54,8 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
 
     std::unordered_map<uint64_t, uint32_t> edgeOf;
     for (size_t e = 0; e < work.edges.size(); ++e) edgeOf.emplace(edgeKey(work.edges[e].v0, work.edges[e].v1), uint32_t(e));
-    // Faces on each ring edge (outer loops only: the walk crosses quads without holes).
+    // Faces on each ring edge, by any of their loops (the walk itself crosses only quads without
+    // holes; a split edge's point goes into every loop along it).
     std::unordered_map<uint32_t, std::vector<uint32_t>> facesOn;
     for (size_t f = 0; f < work.faceCount(); ++f)
         for (uint32_t l = work.faceLoopStarts[f]; l < work.faceLoopStarts[f + 1]; ++l) {
@@ -168,20 +169,6 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
             }
         return it->second;
     };
-    // Faces on every split edge (all loops, not only quads).
-    std::unordered_map<uint64_t, std::vector<uint32_t>> facesOnSplit;
-    {
-        std::unordered_map<uint64_t, bool> split;
-        for (const RingPoint& p : chain) split.emplace(edgeKey(p.from, p.to), true);
-        for (size_t f = 0; f < work.faceCount(); ++f)
-            for (uint32_t l = work.faceLoopStarts[f]; l < work.faceLoopStarts[f + 1]; ++l) {
-                const std::span<const uint32_t> lp = work.loop(l);
-                for (size_t k = 0; k < lp.size(); ++k) {
-                    const uint64_t key = edgeKey(lp[k], lp[(k + 1) % lp.size()]);
-                    if (split.count(key)) facesOnSplit[key].push_back(uint32_t(f));
-                }
-            }
-    }
 
     // New UVs: one per (UV set, pair of UVs, fraction), shared by the faces that agree.
     std::map<std::tuple<size_t, int32_t, int32_t, double>, int32_t> uvMade;
@@ -212,7 +199,7 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
         addedEdges.push_back({np, v1, e.smooth});
         e.v1 = np;
         // Insert the point into every loop that runs along the edge.
-        for (uint32_t f : facesOnSplit[edgeKey(p.from, p.to)])
+        for (uint32_t f : facesOn[p.edge])
             for (std::vector<Corner>& loop : editable(f))
                 for (size_t i = 0; i < loop.size(); ++i) {
                     Corner& a = loop[i];
