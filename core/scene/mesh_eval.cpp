@@ -546,20 +546,16 @@ std::optional<geom::Mesh> evaluateUnite(Context& c, NodeId n, std::string& reaso
             reason = nodeLabel(node) + ": inputPoly[" + std::to_string(k) + "]: " + why;
             return std::nullopt;
         }
+        // A shape's worldMatrix wired in is that instance's world matrix; otherwise the plug's value.
         glm::dmat4 m(1.0);
-        if (const auto it = matrices.find(k); it != matrices.end()) {
-            const Plug& mp = it->second;
-            std::vector<double> v;
-            if (mp.node < g.size() && mp.path.rfind("worldMatrix", 0) == 0) {
-                const uint32_t instance = firstIndexOf(mp.path);
-                const std::vector<std::vector<NodeId>> paths = g.dagPaths(mp.node);
-                if (instance < paths.size()) m = ev.worldMatrix(paths[instance]);
-            } else if (ev.numbers(n, "im[" + std::to_string(k) + "]", v) && v.size() == 16) {
-                m = glm::make_mat4(v.data());
-            }
-        } else {
-            std::vector<double> v;
-            if (ev.numbers(n, "im[" + std::to_string(k) + "]", v) && v.size() == 16) m = glm::make_mat4(v.data());
+        const auto it = matrices.find(k);
+        std::vector<double> v;
+        if (it != matrices.end() && it->second.node < g.size() && it->second.path.rfind("worldMatrix", 0) == 0) {
+            const uint32_t instance = firstIndexOf(it->second.path);
+            const std::vector<std::vector<NodeId>> paths = g.dagPaths(it->second.node);
+            if (instance < paths.size()) m = ev.worldMatrix(paths[instance]);
+        } else if (ev.numbers(n, "im[" + std::to_string(k) + "]", v) && v.size() == 16) {
+            m = glm::make_mat4(v.data());
         }
         if (!geom::isFinite(m)) {
             reason = nodeLabel(node) + ": inputMat[" + std::to_string(k) + "] is not finite";
