@@ -30,6 +30,14 @@ struct Values {
 
 }  // namespace
 
+double subdividedFaceCount(const Mesh& mesh, int levels) {
+    if (levels <= 0) return double(mesh.faceCount());
+    double faces = 0.0;
+    for (size_t f = 0; f < mesh.faceCount(); ++f) faces += double(mesh.faceOuterLoop(f).size());
+    for (int l = 1; l < levels; ++l) faces *= 4.0;
+    return faces;
+}
+
 bool subdivideMesh(Mesh& mesh, const SubdivideParams& params, std::vector<uint32_t>* faceOrigin, std::string* error) {
     auto fail = [&](std::string message) {
         if (error) *error = std::move(message);
@@ -41,14 +49,9 @@ bool subdivideMesh(Mesh& mesh, const SubdivideParams& params, std::vector<uint32
         for (size_t f = 0; f < mesh.faceCount(); ++f) (*faceOrigin)[f] = uint32_t(f);
     }
     if (levels == 0 || mesh.faceCount() == 0) return true;
-    // The size of the result: n quads per n-gon, then four per quad per level.
-    double faces = 0.0;
-    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+    for (size_t f = 0; f < mesh.faceCount(); ++f)
         if (mesh.holeCount(f) != 0) return fail("a face with holes cannot be subdivided");
-        faces += double(mesh.faceOuterLoop(f).size());
-    }
-    for (int l = 1; l < levels; ++l) faces *= 4.0;
-    if (faces > double(kMaxSubdividedFaces))
+    if (subdividedFaceCount(mesh, levels) > double(kMaxSubdividedFaces))
         return fail("subdividing " + std::to_string(levels) + " levels would make more than " +
                     std::to_string(kMaxSubdividedFaces) + " faces");
 

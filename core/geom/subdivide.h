@@ -26,6 +26,10 @@ struct SubdivideParams {
 
 inline constexpr size_t kMaxSubdividedFaces = size_t(1) << 22;
 
+// The number of faces `levels` of uniform refinement make of `mesh` (n quads per n-gon, then four
+// per quad per level), as a double so that any request can be compared with the bound.
+double subdividedFaceCount(const Mesh& mesh, int levels);
+
 // Subdivides a valid mesh in place. `faceOrigin` (when given) receives, per new face, the index of
 // the face it came from. Returns false with `error` set, leaving the mesh unchanged, for a face
 // with holes (OpenSubdiv has no holes in faces), a result beyond kMaxSubdividedFaces, or a

@@ -821,9 +821,7 @@ void applySmoothPreview(Evaluator& ev, NodeId shape, MeshEvaluation& out) {
     p.keepHardEdges = ev.getBool(shape, "khe", false);
     p.smoothUvs = ev.getBool(shape, "suv", true);
     const int asked = p.levels;
-    double faces = 0.0;
-    for (size_t f = 0; f < out.mesh->faceCount(); ++f) faces += double(out.mesh->faceOuterLoop(f).size());
-    while (p.levels > 0 && faces * std::pow(4.0, p.levels - 1) > double(geom::kMaxSubdividedFaces)) --p.levels;
+    while (p.levels > 0 && geom::subdividedFaceCount(*out.mesh, p.levels) > double(geom::kMaxSubdividedFaces)) --p.levels;
     if (p.levels == 0) {
         if (asked > 0) out.notes.push_back("mesh " + node.name + ": the smooth mesh preview is too large to render; the cage renders");
         return;
