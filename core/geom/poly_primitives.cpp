@@ -158,7 +158,7 @@ std::optional<Mesh> makePolyCube(const PolyCubeParams& pIn, std::string* error) 
     for (int side = 0; side < 2; ++side) {
         const double x = side == 0 ? w / 2 : -w / 2;
         for (int yb = 1; yb < sh; ++yb)
-            for (int c = 1; c < sd; ++c) b.point(x, -h / 2 + h * yb / sh, d / 2 - d * c / sd);
+            for (int c = 1; c < sd; ++c) b.point(x, -h / 2 + h * yb / sh, side == 0 ? -d / 2 + d * c / sd : d / 2 - d * c / sd);
     }
     const uint32_t leftBase = rightBase + uint32_t((sh - 1) * (sd - 1));
     auto beltPoint = [&](int k, int i) { return uint32_t((k % K) * (sw + 1) + i); };
@@ -169,7 +169,7 @@ std::optional<Mesh> makePolyCube(const PolyCubeParams& pIn, std::string* error) 
         if (yb == sh) return beltPoint(sh + c, i);
         if (c == sd) return beltPoint(sh + sd + (sh - yb), i);
         if (yb == 0) return beltPoint(2 * sh + sd + (sd - c), i);
-        return (right ? rightBase : leftBase) + uint32_t((yb - 1) * (sd - 1) + (c - 1));
+        return (right ? rightBase : leftBase) + uint32_t((yb - 1) * (sd - 1) + (right ? sd - 1 - c : c - 1));
     };
 
     int32_t beltUv0 = 0, rightUv0 = 0, leftUv0 = 0;
@@ -193,7 +193,7 @@ std::optional<Mesh> makePolyCube(const PolyCubeParams& pIn, std::string* error) 
             b.face({beltPoint(k, i), beltPoint(k, i + 1), beltPoint(k + 1, i + 1), beltPoint(k + 1, i)},
                    {beltUv(k, i), beltUv(k, i + 1), beltUv(k + 1, i + 1), beltUv(k + 1, i)});
     for (int yb = 0; yb < sh; ++yb)
-        for (int c = 0; c < sd; ++c)
+        for (int c = sd - 1; c >= 0; --c)
             b.face({sidePoint(true, c, yb), sidePoint(true, c + 1, yb), sidePoint(true, c + 1, yb + 1),
                     sidePoint(true, c, yb + 1)},
                    {rightUv(c, yb), rightUv(c + 1, yb), rightUv(c + 1, yb + 1), rightUv(c, yb + 1)});

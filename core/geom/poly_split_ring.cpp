@@ -1,6 +1,8 @@
 // core/geom/poly_split_ring.cpp: polySplitRing on a geom::Mesh.
 #include "core/geom/poly_split_ring.h"
 
+#include "core/geom/detail/face_edit.h"
+
 #include <glm/common.hpp>
 
 #include <algorithm>
@@ -20,14 +22,6 @@ struct RingPoint {
     uint32_t from, to;
     double fraction;
     int64_t faceBefore = -1;  // the quad crossed to reach this edge (-1 for the walk's first point)
-};
-
-// A face-vertex of an edited face: its point and per-face-vertex data.
-struct Corner {
-    uint32_t point;
-    glm::vec3 normal{0.0f};
-    std::vector<int32_t> uvs;     // per UV set
-    std::vector<int32_t> colors;  // per colour set
 };
 
 }  // namespace
@@ -150,38 +144,8 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
     if (work.points.size() + chain.size() > kMaxSplitPoints) return fail("the split would make too many points");
 
     // Editable copies of the faces the loop touches: the crossed quads and every face on a split edge.
-    const size_t uvSetCount = work.uvSets.size(), colorSetCount = work.colorSets.size();
-    std::map<uint32_t, std::vector<std::vector<Corner>>> edited;
-    auto editable = [&](uint32_t f) -> std::vector<std::vector<Corner>>& {
-        auto [it, fresh] = edited.try_emplace(f);
-        if (fresh)
-            for (uint32_t l = work.faceLoopStarts[f]; l < work.faceLoopStarts[f + 1]; ++l) {
-                std::vector<Corner>& loop = it->second.emplace_back();
-                for (uint32_t fv = work.loopStarts[l]; fv < work.loopStarts[l + 1]; ++fv) {
-                    Corner c{work.faceVertices[fv], {}, std::vector<int32_t>(uvSetCount, -1), std::vector<int32_t>(colorSetCount, -1)};
-                    if (!work.normals.empty()) c.normal = work.normals[fv];
-                    for (size_t s = 0; s < uvSetCount; ++s)
-                        if (!work.uvSets[s].faceVertexUvs.empty()) c.uvs[s] = work.uvSets[s].faceVertexUvs[fv];
-                    for (size_t s = 0; s < colorSetCount; ++s)
-                        if (!work.colorSets[s].faceVertexColors.empty()) c.colors[s] = work.colorSets[s].faceVertexColors[fv];
-                    loop.push_back(std::move(c));
-                }
-            }
-        return it->second;
-    };
-
-    // New UVs: one per (UV set, pair of UVs, fraction), shared by the faces that agree.
-    std::map<std::tuple<size_t, int32_t, int32_t, double>, int32_t> uvMade;
-    auto midUv = [&](size_t set, int32_t a, int32_t b, double t) -> int32_t {
-        if (a < 0 || b < 0) return -1;
-        std::vector<glm::vec2>& uvs = work.uvSets[set].uvs;
-        if (size_t(a) >= uvs.size() || size_t(b) >= uvs.size()) return -1;
-        if (a == b) return a;
-        const auto key = a < b ? std::make_tuple(set, a, b, t) : std::make_tuple(set, b, a, 1.0 - t);
-        auto [it, fresh] = uvMade.try_emplace(key, int32_t(uvs.size()));
-        if (fresh) uvs.push_back(glm::mix(uvs[size_t(a)], uvs[size_t(b)], float(t)));
-        return it->second;
-    };
+    detail::FaceEditor editor(work);
+    using detail::Corner;
 
     std::vector<uint32_t> newPoint(chain.size());
     std::vector<uint32_t> nearHalf;
@@ -200,21 +164,19 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
         e.v1 = np;
         // Insert the point into every loop that runs along the edge.
         for (uint32_t f : facesOn[p.edge])
-            for (std::vector<Corner>& loop : editable(f))
+            for (std::vector<Corner>& loop : editor.face(f))
                 for (size_t i = 0; i < loop.size(); ++i) {
                     Corner& a = loop[i];
                     const Corner& b = loop[(i + 1) % loop.size()];
                     if (edgeKey(a.point, b.point) != edgeKey(p.from, p.to)) continue;
                     const double t = a.point == p.from ? p.fraction : 1.0 - p.fraction;
-                    Corner c{np, glm::vec3(0.0f), std::vector<int32_t>(uvSetCount, -1), std::vector<int32_t>(colorSetCount, -1)};
-                    for (size_t s = 0; s < uvSetCount; ++s) c.uvs[s] = midUv(s, a.uvs[s], b.uvs[s], t);
-                    loop.insert(loop.begin() + std::ptrdiff_t(i + 1), std::move(c));
+                    loop.insert(loop.begin() + std::ptrdiff_t(i + 1), editor.cornerOnEdge(a, b, np, t));
                     break;
                 }
     };
-    std::vector<std::pair<uint32_t, std::vector<std::vector<Corner>>>> appendedFaces;
+    size_t appendedFaces = 0;
     auto cutFace = [&](uint32_t f, uint32_t pa, uint32_t pb) {
-        std::vector<std::vector<Corner>>& loops = editable(f);
+        detail::FaceLoops& loops = editor.face(f);
         std::vector<Corner>& outer = loops.front();
         size_t ia = outer.size(), ib = outer.size();
         for (size_t i = 0; i < outer.size(); ++i) {
@@ -240,7 +202,8 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
         const auto at = std::find_if(kept.begin(), kept.end(), [&](const Corner& c) { return c.point == firstPoint; });
         if (at != kept.end()) std::rotate(kept.begin(), at, kept.end());
         outer = std::move(kept);
-        appendedFaces.push_back({f, {std::move(moved)}});
+        editor.append({std::move(moved)});
+        ++appendedFaces;
         addedEdges.push_back({pa, pb, true});
     };
 
@@ -251,49 +214,11 @@ bool splitRing(Mesh& mesh, const SplitRingParams& params, SplitRingResult* resul
     }
     if (closed && chain.front().faceBefore >= 0) cutFace(uint32_t(chain.front().faceBefore), newPoint.back(), newPoint.front());
 
-    // Rebuild: faces in order (edited ones from their copies), then the appended parts.
-    Mesh out = facelessCopy(work, std::move(work.points));
-    const bool hasNormals = !work.normals.empty();
-    auto emitLoop = [&](const std::vector<Corner>& loop) {
-        for (const Corner& c : loop) {
-            out.faceVertices.push_back(c.point);
-            if (hasNormals) out.normals.push_back(c.normal);
-            for (size_t s = 0; s < uvSetCount; ++s)
-                if (!work.uvSets[s].faceVertexUvs.empty()) out.uvSets[s].faceVertexUvs.push_back(c.uvs[s]);
-            for (size_t s = 0; s < colorSetCount; ++s)
-                if (!work.colorSets[s].faceVertexColors.empty()) out.colorSets[s].faceVertexColors.push_back(c.colors[s]);
-        }
-        out.loopStarts.push_back(uint32_t(out.faceVertices.size()));
-    };
-    for (size_t f = 0; f < work.faceCount(); ++f) {
-        if (const auto it = edited.find(uint32_t(f)); it != edited.end()) {
-            for (const std::vector<Corner>& loop : it->second) emitLoop(loop);
-        } else {
-            for (uint32_t l = work.faceLoopStarts[f]; l < work.faceLoopStarts[f + 1]; ++l) {
-                const uint32_t begin = work.loopStarts[l], end = work.loopStarts[l + 1];
-                out.faceVertices.insert(out.faceVertices.end(), work.faceVertices.begin() + begin, work.faceVertices.begin() + end);
-                if (hasNormals) out.normals.insert(out.normals.end(), work.normals.begin() + begin, work.normals.begin() + end);
-                for (size_t s = 0; s < uvSetCount; ++s) {
-                    const std::vector<int32_t>& ids = work.uvSets[s].faceVertexUvs;
-                    if (!ids.empty()) out.uvSets[s].faceVertexUvs.insert(out.uvSets[s].faceVertexUvs.end(), ids.begin() + begin, ids.begin() + end);
-                }
-                for (size_t s = 0; s < colorSetCount; ++s) {
-                    const std::vector<int32_t>& ids = work.colorSets[s].faceVertexColors;
-                    if (!ids.empty()) out.colorSets[s].faceVertexColors.insert(out.colorSets[s].faceVertexColors.end(), ids.begin() + begin, ids.begin() + end);
-                }
-                out.loopStarts.push_back(uint32_t(out.faceVertices.size()));
-            }
-        }
-        out.faceLoopStarts.push_back(uint32_t(out.loopCount()));
-    }
-    for (const auto& [from, loops] : appendedFaces) {
-        for (const std::vector<Corner>& loop : loops) emitLoop(loop);
-        out.faceLoopStarts.push_back(uint32_t(out.loopCount()));
-    }
-    out.edges = std::move(work.edges);
-    out.edges.insert(out.edges.end(), addedEdges.begin(), addedEdges.end());
+    // Faces in order (edited ones from their copies), then the appended parts.
+    work.edges.insert(work.edges.end(), addedEdges.begin(), addedEdges.end());
+    Mesh out = editor.rebuild();
     if (result) {
-        *result = {chain.size(), appendedFaces.size(), closed, std::vector<bool>(out.edges.size(), false)};
+        *result = {chain.size(), appendedFaces, closed, std::vector<bool>(out.edges.size(), false)};
         for (uint32_t e : nearHalf) result->nearHalves[e] = true;
     }
     mesh = std::move(out);

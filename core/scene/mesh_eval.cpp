@@ -5,6 +5,7 @@
 #include "core/geom/poly_dissolve.h"
 #include "core/geom/poly_extrude.h"
 #include "core/geom/poly_merge.h"
+#include "core/geom/poly_split.h"
 #include "core/geom/poly_split_ring.h"
 #include "core/geom/subdivide.h"
 #include "core/geom/poly_primitives.h"
@@ -458,6 +459,73 @@ std::optional<geom::Mesh> evaluateSplitRing(Context& c, NodeId n, std::string& r
     return m;
 }
 
+// polySplit: a path of edge points and free points (desc/edge/vertices), cutting faces between.
+std::optional<geom::Mesh> evaluateSplit(Context& c, NodeId n, std::string& reason) {
+    const Graph& g = c.g;
+    Evaluator& ev = c.ev;
+    const Node& node = g.node(n);
+    for (const auto& [key, data] : node.attrs)
+        if (key.rfind("sps[", 0) == 0 || key.rfind("splitPoints[", 0) == 0) {
+            reason = nodeLabel(node) + ": split points given by face triangles (splitPoints) are not evaluated";
+            return std::nullopt;
+        }
+    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
+    if (!m) return m;
+    std::map<uint64_t, double> fractions, descriptors;
+    if (const AttrData* e = attrOf(g, n, "e"))
+        forEachNumeric(*e, [&](uint64_t i, const double* v, int) { fractions[i] = v[0]; });
+    if (const AttrData* d = attrOf(g, n, "d"))
+        forEachNumeric(*d, [&](uint64_t i, const double* v, int) { descriptors[i] = v[0]; });
+    const std::map<uint32_t, glm::dvec3> freePoints = vectorElements(ev, n, keyOf(g, n, "v"), 3);
+    // Maya 2015's files keep the face of a free point in `edge` and its place in `vertices` in
+    // `desc`; earlier ones put the face in `desc` and take free points in order.
+    const bool maya2015 = ev.getBool(n, "m2015", false);
+    geom::SplitParams p;
+    uint32_t nextFree = 0;
+    for (const auto& [i, value] : descriptors) {
+        if (!std::isfinite(value) || value < -2147483648.0 || value > 4294967295.0) {
+            reason = nodeLabel(node) + ": desc[" + std::to_string(i) + "] is not a split descriptor";
+            return std::nullopt;
+        }
+        const uint32_t bits = uint32_t(int64_t(value));
+        geom::SplitPoint sp;
+        if (bits & 0xC0000000u) {  // on an edge (0x40000000: on a hole's border)
+            sp.kind = geom::SplitPoint::Kind::Edge;
+            sp.index = int64_t(bits & 0x3FFFFFFFu);
+            const auto f = fractions.find(i);
+            sp.fraction = f == fractions.end() ? 0.0 : f->second;
+        } else {
+            sp.kind = geom::SplitPoint::Kind::Face;
+            const auto f = fractions.find(i);
+            const double face = maya2015 ? (f == fractions.end() ? -1.0 : f->second) : double(bits);
+            sp.index = face >= 0.0 && face < 4294967296.0 ? int64_t(face) : -1;
+            const uint32_t slot = maya2015 ? bits : nextFree++;
+            const auto at = freePoints.find(slot);
+            if (at == freePoints.end()) {
+                reason = nodeLabel(node) + ": free point " + std::to_string(slot) + " of the split has no position";
+                return std::nullopt;
+            }
+            sp.position = at->second;
+        }
+        p.points.push_back(sp);
+    }
+    p.subdivisions = ev.getInt(n, "s", 1);
+    p.smoothingAngle = ev.getDouble(n, "sma", 0.0);
+    p.dropFreePoints = ev.getBool(n, "c2v", false);
+    if (ev.getBool(n, "iwe", false)) c.out.notes.push_back(nodeLabel(node) + ": insertWithEdgeFlow not applied");
+    if (ev.getBool(n, "de", false)) c.out.notes.push_back(nodeLabel(node) + ": detachEdges not applied");
+    geom::SplitResult r;
+    std::string error;
+    if (!geom::splitFaces(*m, p, &r, &error)) {
+        reason = nodeLabel(node) + ": " + error;
+        return std::nullopt;
+    }
+    if (r.skippedCuts > 0)
+        c.out.notes.push_back(nodeLabel(node) + ": " + std::to_string(r.skippedCuts) +
+                              " cut(s) between split points found no face holding both ends");
+    return m;
+}
+
 // polySmoothFace: Catmull-Clark through OpenSubdiv for the exponential method, on every face.
 std::optional<geom::Mesh> evaluateSmoothFace(Context& c, NodeId n, std::string& reason) {
     const Graph& g = c.g;
@@ -631,6 +699,7 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
     if (type == "polyExtrudeFace") return evaluateExtrudeFace(c, src.node, reason);
     if (type == "polyMergeVert") return evaluateMergeVert(c, src.node, reason);
     if (type == "polySplitRing") return evaluateSplitRing(c, src.node, reason);
+    if (type == "polySplit") return evaluateSplit(c, src.node, reason);
     if (type == "polySmoothFace") return evaluateSmoothFace(c, src.node, reason);
     if (type == "polyDelEdge") return evaluateDelEdge(c, src.node, reason);
     if (type == "polyCloseBorder") {

@@ -594,6 +594,12 @@ void addHistoryTypes(Table& t) {
         .a("smoothingAngle", "sma", T::Double, 0.5235987755982988, U::Angle).a("fixQuads", "fq", T::Bool, 0)
         .a("insertWithEdgeFlow", "iwe", T::Bool, 0)
         .c("tweak", "tk", T::Float3, {0, 0, 0, 0}, U::None, {{"tweakX", "tx"}, {"tweakY", "ty"}, {"tweakZ", "tz"}}, true);
+    t.type("polySplit", "polyModifier");
+    t.a("edge", "e", T::Float, 0, U::None, true).a("desc", "d", T::Int, 0, U::None, true)
+        .c("vertices", "v", T::Float3, {0, 0, 0, 0}, U::Distance, {{"vtxx", "vx"}, {"vtxy", "vy"}, {"vtxz", "vz"}}, true)
+        .a("subdivision", "s", T::Int, 1).a("smoothingAngle", "sma", T::Double, 0, U::Angle)
+        .a("clean2Verts", "c2v", T::Bool, 0).a("maya70", "m70", T::Bool, 0).a("maya2015", "m2015", T::Bool, 0)
+        .a("insertWithEdgeFlow", "iwe", T::Bool, 0).a("adjustEdgeFlow", "aef", T::Float, 1).a("detachEdges", "de", T::Bool, 0);
     t.type("polyMergeVert", "polyModifierWorld");
     t.a("distance", "d", T::Double, 0, U::Distance).a("alwaysMergeTwoVertices", "am", T::Bool, 0)
         .a("mergeToComponents", "mtc", T::ComponentList)

@@ -122,6 +122,35 @@ TEST(PolyCube, SubdividedCountsBoundsAndVolume) {
     }
 }
 
+TEST(PolyCube, ThePlusXSideIsNumberedFromTheBack) {
+    // After the belt (front, top, back, bottom), the +X side's faces run row by row from the
+    // bottom, each row from the back (-Z) to the front, and so do its inner points. Maya's
+    // recorded extrusion bounds on a real scene's 4×4×8 cube agree only so (see
+    // Corpus.ExtrudedFacesHaveTheBoundsMayaRecorded, Hyena.ma polyExtrudeFace1).
+    PolyCubeParams p;
+    p.subdivisionsHeight = 2;
+    p.subdivisionsDepth = 3;
+    const Mesh m = *makePolyCube(p);
+    const size_t belt = size_t(2 * (2 + 3));  // sw = 1
+    ASSERT_EQ(m.faceCount(), belt + 2 * 6);
+    auto centre = [&](size_t f) {
+        glm::dvec3 c(0.0);
+        for (uint32_t v : m.faceOuterLoop(f)) c += glm::dvec3(m.points[v]);
+        return c / double(m.faceOuterLoop(f).size());
+    };
+    for (size_t k = 0; k < 6; ++k) {
+        const glm::dvec3 c = centre(belt + k);
+        EXPECT_NEAR(c.x, 0.5, 1e-6) << k;
+        EXPECT_NEAR(c.y, k < 3 ? -0.25 : 0.25, 1e-6) << k;
+        EXPECT_NEAR(c.z, -1.0 / 3.0 + double(k % 3) / 3.0, 1e-6) << k;
+        EXPECT_GT(glm::dot(m.faceNormal(belt + k), glm::dvec3(1, 0, 0)), 0.99) << k;
+    }
+    // The belt's (K · (sw + 1) = 20) points come first; then the +X side's inner points.
+    EXPECT_NEAR(m.points[20].x, 0.5, 1e-6);
+    EXPECT_NEAR(m.points[20].z, -1.0 / 6.0, 1e-6);
+    EXPECT_NEAR(m.points[21].z, 1.0 / 6.0, 1e-6);
+}
+
 TEST(PolyCube, AxisRotatesTheUpDirection) {
     PolyCubeParams p;
     p.height = 2;

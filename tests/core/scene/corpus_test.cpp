@@ -228,8 +228,8 @@ TEST(Corpus, ExtrudedFacesHaveTheBoundsMayaRecorded) {
     for (const std::string& m : tally.mismatches) std::printf("  %s\n", m.c_str());
     // Three selections on one clock pillar stay off by a few percent: a fan of triangles scaled
     // about their own centres spreads a little less here than in Maya.
-    EXPECT_GE(tally.checked, 44u);
-    EXPECT_GE(tally.matched, 41u);
+    EXPECT_GE(tally.checked, 68u);
+    EXPECT_GE(tally.matched, 45u);
 }
 
 // Every polySplitRing names its ring by edge numbers of the mesh below it: the ring is whole

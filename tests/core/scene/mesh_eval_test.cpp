@@ -386,12 +386,12 @@ TEST(MeshEval, UnknownHistoryIsSkippedUnlessTheShapeCachesGeometry) {
     Graph g;
     const ShapeUnderTransform s = addMesh(g, "pCube1");
     const NodeId cube = g.createNode("polyCube", "polyCube1");
-    const NodeId split = g.createNode("polySplit", "polySplit1");
-    connect(g, cube, "output", split, "inputPolymesh");
-    connect(g, split, "output", s.shape, "inMesh");
+    const NodeId mirror = g.createNode("polyMirror", "polyMirror1");
+    connect(g, cube, "output", mirror, "inputPolymesh");
+    connect(g, mirror, "output", s.shape, "inMesh");
     MeshEvaluation e = evaluate(g, s.shape);
     EXPECT_FALSE(e.mesh);
-    EXPECT_EQ(e.skipReason, "history node polySplit (polySplit1) is not evaluated");
+    EXPECT_EQ(e.skipReason, "history node polyMirror (polyMirror1) is not evaluated");
 
     // With the final mesh cached on the shape, that is used instead.
     Graph cached = MaReader::readString(kWorkedCube);
@@ -792,6 +792,76 @@ connectAttr "polyMergeVert1.out" "pCubeShape1.i";
     EXPECT_FALSE(e.mesh);
     EXPECT_NE(e.skipReason.find("polySplitRing1"), std::string::npos) << e.skipReason;
     EXPECT_NE(e.skipReason.find("absolute distance"), std::string::npos) << e.skipReason;
+}
+
+TEST(MeshEval, PolySplitFromMaText) {
+    // A unit cube cut down its front face (0 1 3 2) from the middle of e[0] (0→1, along the
+    // bottom) to the middle of e[1] (2→3, along the top). Edge descriptors are the edge number
+    // with bit 31 set.
+    const char* text = R"(createNode transform -n "pCube1";
+createNode mesh -n "pCubeShape1" -p "pCube1";
+createNode polyCube -n "polyCube1";
+createNode polySplit -n "polySplit1";
+	setAttr -s 2 ".e[0:1]"  0.5 0.5;
+	setAttr -s 2 ".d[0:1]"  -2147483648 -2147483647;
+	setAttr ".sma" 180;
+connectAttr "polyCube1.out" "polySplit1.ip";
+connectAttr "polySplit1.out" "pCubeShape1.i";
+)";
+    Graph g = MaReader::readString(text, "split.ma");
+    MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    ASSERT_EQ(e.mesh->points.size(), 10u);
+    EXPECT_EQ(e.mesh->faceCount(), 7u);
+    EXPECT_EQ(e.mesh->points[8], glm::vec3(0.0f, -0.5f, 0.5f));
+    EXPECT_EQ(e.mesh->points[9], glm::vec3(0.0f, 0.5f, 0.5f));
+    EXPECT_TRUE(e.mesh->edges.back().smooth);
+
+    // Through a free point. Maya 2015's files give its face in `edge` and its slot in `vertices`
+    // in `desc`; older ones give the face in `desc` and -1 in `edge`.
+    const char* free2015 = R"(createNode transform -n "pCube1";
+createNode mesh -n "pCubeShape1" -p "pCube1";
+createNode polyCube -n "polyCube1";
+createNode polySplit -n "polySplit1";
+	setAttr -s 1 ".v[0]" -type "float3" 0.2 0 0.5;
+	setAttr -s 3 ".e[0:2]"  0.5 0 0.5;
+	setAttr -s 3 ".d[0:2]"  -2147483648 0 -2147483647;
+	setAttr ".m2015" yes;
+connectAttr "polyCube1.out" "polySplit1.ip";
+connectAttr "polySplit1.out" "pCubeShape1.i";
+)";
+    std::string older = free2015;
+    older.replace(older.find("0.5 0 0.5;"), 9, "0.5 -1 0.5;");
+    older.replace(older.find("\tsetAttr \".m2015\" yes;\n"), 23, "");
+    for (const std::string& variant : {std::string(free2015), older}) {
+        g = MaReader::readString(variant, "free.ma");
+        e = evaluate(g, g.find("pCubeShape1"));
+        ASSERT_TRUE(e.mesh) << e.skipReason;
+        ASSERT_EQ(e.mesh->points.size(), 11u);
+        EXPECT_EQ(e.mesh->faceCount(), 7u);
+        EXPECT_NEAR(e.mesh->points[9].x, 0.2, 1e-6);
+        EXPECT_NEAR(e.mesh->points[9].z, 0.5, 1e-6);
+        EXPECT_FALSE(e.mesh->edges.back().smooth);  // the default smoothing angle is 0
+        ASSERT_TRUE(e.mesh->validate().ok());
+    }
+
+    // An edge the mesh does not have skips the shape, naming the node.
+    std::string bad = text;
+    bad.replace(bad.find("-2147483647"), 11, "-2147483000");
+    g = MaReader::readString(bad, "bad.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("polySplit1"), std::string::npos) << e.skipReason;
+    EXPECT_NE(e.skipReason.find("edge 648"), std::string::npos) << e.skipReason;
+
+    // Split points given by face triangles (Maya 2011's splitPoints) are not evaluated yet.
+    std::string triangles = text;
+    triangles.replace(triangles.find("\tsetAttr \".sma\" 180;"), 0,
+                      "\tsetAttr \".sps[0].sp[0].f\" 0;\n\tsetAttr \".sps[0].sp[0].bc\" -type \"double3\" 0.5 0.5 0;\n");
+    g = MaReader::readString(triangles, "triangles.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("splitPoints"), std::string::npos) << e.skipReason;
 }
 
 TEST(MeshEval, PolySmoothFaceAndSmoothMeshPreview) {
