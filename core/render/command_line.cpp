@@ -110,7 +110,13 @@ const NotAppliedSpec kNotAppliedFlags[] = {
     {"-test", ArgKind::None, "MEL scripts"},
     {"-keepMel", ArgKind::None, "MEL scripts"},
     {"-preRender", ArgKind::Word, "MEL scripts"},
+    {"-postRender", ArgKind::Word, "MEL scripts"},
+    {"-preLayer", ArgKind::Word, "MEL scripts"},
+    {"-postLayer", ArgKind::Word, "MEL scripts"},
+    {"-preFrame", ArgKind::Word, "MEL scripts"},
+    {"-postFrame", ArgKind::Word, "MEL scripts"},
     {"-pre", ArgKind::Word, "MEL scripts"},
+    {"-post", ArgKind::Word, "MEL scripts"},
     {"-listRenderers", ArgKind::None, "listing renderers"},
     {"-rst", ArgKind::Word, "render-setup templates"},
     {"-rsp", ArgKind::Word, "render-setup templates"},
@@ -528,8 +534,10 @@ accepted, not rendered yet (each is reported once and listed under notRendered i
   other features      -pss -vs -udb -rl -rp -rs -l -sel -field -pal -ntsc -ifg -par -ar
                       -percentRes -xl -xr -yl -yh -uf -oi -premulthr
   output and runs     -rfs -rfb -se -be -me -mf -skipExistingFrames -rep -amt -ipr
-                      -keepPreImage -log FILE -verb -test -keepMel -preRender -pre
-                      -listRenderers -rst -rsp -rsa -cont -verbose
+                      -keepPreImage -log FILE -verb -test -keepMel -listRenderers -rst
+                      -rsp -rsa -cont -verbose
+  MEL callbacks       -preRender -postRender -preLayer -postLayer -preFrame -postFrame
+                      -pre -post (never run)
   -iw N, -ih N        the old names of -x and -y (applied)
 
 exit status:
