@@ -366,7 +366,13 @@ private:
     bool readBoolWord(const char* what);
     void readNumbersUntilEnd(std::vector<double>& out, UnitKind unit, double factor);
     void readExactNumbers(std::vector<double>& out, int64_t count, UnitKind unit, double factor, const char* what);
-    void readInts(std::vector<int32_t>& out, int64_t count, const char* what);
+    // `done` values of the list were read already (for the count in messages).
+    void readInts(std::vector<int32_t>& out, int64_t count, const char* what, int64_t done = 0);
+    // Just after the current token: the next value when it is a plain integer in [min, max] (the
+    // current token is then stale until advanceAfterPlain()); false leaves it to the token path.
+    bool plainIntegerAfterToken(int64_t& v, int64_t min, int64_t max, const char* what);
+    // After plainIntegerAfterToken(): `count` integers, then the token after them is current.
+    void readIntsAfterPlain(std::vector<int32_t>& out, int64_t count, const char* what);
     std::string readStringValue(const char* what);
     size_t plausibleCount(int64_t n) const;
     Value readPolyFaces(int64_t elements);
@@ -1504,16 +1510,37 @@ void Parser::readExactNumbers(std::vector<double>& out, int64_t count, UnitKind 
     }
 }
 
-void Parser::readInts(std::vector<int32_t>& out, int64_t count, const char* what) {
+void Parser::readInts(std::vector<int32_t>& out, int64_t count, const char* what, int64_t done) {
     out.reserve(std::min<size_t>(plausibleCount(count), 64));
     for (int64_t i = 0; i < count;) {
         if (atCommandEnd())
-            failAt(m_tok, std::string(what) + ": expected " + std::to_string(count) + " values, found " + std::to_string(i));
+            failAt(m_tok, std::string(what) + ": expected " + std::to_string(done + count) + " values, found " +
+                              std::to_string(done + i));
         out.push_back(int32_t(readIntegerNoAdvance(what, INT32_MIN, INT32_MAX)));
         ++i;
         i += int64_t(readPlainIntegers(out, size_t(count - i), what));
         advance();
     }
+}
+
+bool Parser::plainIntegerAfterToken(int64_t& v, int64_t min, int64_t max, const char* what) {
+    if (m_hasPeek) return false;
+    try {
+        if (!m_lex.nextPlainInteger(v)) return false;
+    } catch (const MaLexError& e) {
+        failSyntax(e.line, e.column, e.message);
+    }
+    if (v < min || v > max)
+        failSyntax(m_lex.line(), m_lex.column(), std::string(what) + ": " + std::to_string(v) + " is outside [" +
+                                                      std::to_string(min) + ", " + std::to_string(max) + "]");
+    return true;
+}
+
+void Parser::readIntsAfterPlain(std::vector<int32_t>& out, int64_t count, const char* what) {
+    out.reserve(std::min<size_t>(plausibleCount(count), 64));
+    const int64_t got = int64_t(readPlainIntegers(out, size_t(count), what));
+    advance();
+    if (got < count) readInts(out, count - got, what, got);
 }
 
 std::string Parser::readStringValue(const char* what) {
@@ -1534,10 +1561,15 @@ Value Parser::readPolyFaces(int64_t elements) {
             failAt(m_tok, "polyFaces: expected f, h, mu, mf, mh or fc, found " + describe(m_tok));
         const uint32_t line = m_tok.line, column = m_tok.column;
         const std::string key = m_tok.text;
-        advance();
+        // Counts and ids are read straight from the lexer while they are plain integers.
         if (key == "f" || key == "h") {
             if (key == "h" && faces->faces.empty()) fail(line, column, "polyFaces: hole 'h' before any face 'f'");
-            const int64_t n = readInteger("polyFaces: edge count", 1, kMaxIndex);
+            int64_t n = 0;
+            const bool plain = plainIntegerAfterToken(n, 1, kMaxIndex, "polyFaces: edge count");
+            if (!plain) {
+                advance();
+                n = readInteger("polyFaces: edge count", 1, kMaxIndex);
+            }
             if (key == "f") {
                 faces->faces.emplace_back();
                 last = &faces->faces.back().outer;
@@ -1545,25 +1577,40 @@ Value Parser::readPolyFaces(int64_t elements) {
                 faces->faces.back().holes.emplace_back();
                 last = &faces->faces.back().holes.back();
             }
-            readInts(last->edges, n, key == "f" ? "polyFaces: face edges" : "polyFaces: hole edges");
+            const char* what = key == "f" ? "polyFaces: face edges" : "polyFaces: hole edges";
+            if (plain) readIntsAfterPlain(last->edges, n, what);
+            else readInts(last->edges, n, what);
         } else if (key == "mu" || key == "mf" || key == "mh" || key == "fc") {
             PolyFaceLoop* loop = last;
             if (key == "mf") loop = faces->faces.empty() ? nullptr : &faces->faces.back().outer;
             if (key == "mh") loop = faces->faces.empty() || faces->faces.back().holes.empty()
                                         ? nullptr : &faces->faces.back().holes.back();
             if (!loop) fail(line, column, "polyFaces: '" + key + "' before the loop it belongs to");
-            const int64_t uvSet = key == "mu" ? readInteger("polyFaces: uv set", 0, kMaxIndex) : 0;
-            const int64_t n = readCount(("polyFaces: " + key + " count").c_str());
+            const char* countWhat = key == "mu" ? "polyFaces: mu count" : key == "mf" ? "polyFaces: mf count"
+                                    : key == "mh" ? "polyFaces: mh count" : "polyFaces: fc count";
+            int64_t uvSet = 0, n = 0;
+            const bool setPlain = key != "mu" || plainIntegerAfterToken(uvSet, 0, kMaxIndex, "polyFaces: uv set");
+            const bool plain = setPlain && plainIntegerAfterToken(n, 0, kMaxIndex, countWhat);
+            if (!plain) {
+                // The token path from wherever the plain reads stopped.
+                advance();
+                if (!setPlain) uvSet = readInteger("polyFaces: uv set", 0, kMaxIndex);
+                n = readCount(countWhat);
+            }
             if (n != int64_t(loop->edges.size()))
                 fail(line, column, "polyFaces: '" + key + "' has " + std::to_string(n) + " values for a loop of " +
                                        std::to_string(loop->edges.size()) + " edges");
+            std::vector<int32_t>* ids = nullptr;
             if (key == "fc") {
                 if (!loop->colors.empty()) fail(line, column, "polyFaces: second 'fc' for the same loop");
-                readInts(loop->colors, n, "polyFaces: colour ids");
+                ids = &loop->colors;
             } else {
                 loop->uvs.emplace_back(int32_t(uvSet), std::vector<int32_t>());
-                readInts(loop->uvs.back().second, n, "polyFaces: uv ids");
+                ids = &loop->uvs.back().second;
             }
+            const char* what = key == "fc" ? "polyFaces: colour ids" : "polyFaces: uv ids";
+            if (plain) readIntsAfterPlain(*ids, n, what);
+            else readInts(*ids, n, what);
         } else {
             fail(line, column, "polyFaces: unknown keyword '" + key.substr(0, 40) + "'");
         }

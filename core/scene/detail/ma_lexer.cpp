@@ -100,6 +100,24 @@ void MaLexer::failBadByte(unsigned char c) const {
     fail(m_line, column(), std::string("invalid character ") + hex + " (binary data in a text file?)");
 }
 
+void MaLexer::skipBlanks() {
+    // The common case between the numbers of a list: spaces and tabs, maybe a newline, in the buffer.
+    while (m_cur < m_end) {
+        const unsigned char cls = classOf(*m_cur);
+        if (cls == kSpace) {
+            ++m_cur;
+        } else if (cls == kNewline) {
+            ++m_cur;
+            ++m_line;
+            m_lineStart = offset();
+        } else {
+            if (*m_cur == '/') skipSpaceAndComments();
+            return;
+        }
+    }
+    skipSpaceAndComments();  // at the end of the buffer
+}
+
 void MaLexer::skipSpaceAndComments() {
     for (;;) {
         while (m_cur < m_end) {
@@ -271,36 +289,39 @@ void MaLexer::next(MaToken& token) {
     }
 }
 
-const char* MaLexer::nextWholeWord() {
-    if (m_pendingSlash) return nullptr;
-    skipSpaceAndComments();
-    if (m_pendingSlash || m_cur >= m_end) return nullptr;
-    const char* q = m_cur;
-    while (q < m_end && classOf(*q) == kWord) ++q;
-    if (q == m_cur || (q == m_end && !m_eof)) return nullptr;
-    return q;
-}
-
 bool MaLexer::nextPlainNumber(double& value) {
-    const char* end = nextWholeWord();
-    if (!end) return false;
+    if (m_pendingSlash) return false;
+    skipBlanks();
+    if (m_pendingSlash || m_cur >= m_end) return false;
     const char first = *m_cur;
     if (!((first >= '0' && first <= '9') || first == '-' || first == '.')) return false;
-    const auto [ptr, ec] = std::from_chars(m_cur, end, value);
-    if (ec != std::errc() || ptr != end || !std::isfinite(value)) return false;
-    m_cur = end;
+    // One pass: the number ends where from_chars stops, which must be the end of the word. A
+    // number that runs to the end of the buffer is left to the token path (it may go on).
+    const auto [ptr, ec] = std::from_chars(m_cur, m_end, value);
+    if (ec != std::errc() || ptr == m_cur) return false;
+    if (ptr == m_end ? !m_eof : classOf(*ptr) == kWord) return false;
+    if (!std::isfinite(value)) return false;
+    m_cur = ptr;
     m_lastIsLineComment = false;
     return true;
 }
 
 bool MaLexer::nextPlainInteger(int64_t& value) {
-    const char* end = nextWholeWord();
-    if (!end) return false;
-    const char first = *m_cur;
-    if (!((first >= '0' && first <= '9') || first == '-')) return false;
-    const auto [ptr, ec] = std::from_chars(m_cur, end, value);
-    if (ec != std::errc() || ptr != end) return false;
-    m_cur = end;
+    if (m_pendingSlash) return false;
+    skipBlanks();
+    if (m_pendingSlash || m_cur >= m_end) return false;
+    // One pass over an optional '-' and at most 18 digits (which cannot overflow); anything
+    // longer, or a word that goes on past the digits, is left to the token path.
+    const char* q = m_cur;
+    const bool negative = *q == '-';
+    if (negative) ++q;
+    const char* digits = q;
+    uint64_t v = 0;
+    while (q < m_end && q - digits < 19 && *q >= '0' && *q <= '9') v = v * 10 + uint64_t(*q++ - '0');
+    if (q == digits || q - digits > 18) return false;
+    if (q == m_end ? !m_eof : classOf(*q) == kWord) return false;
+    value = negative ? -int64_t(v) : int64_t(v);
+    m_cur = q;
     m_lastIsLineComment = false;
     return true;
 }

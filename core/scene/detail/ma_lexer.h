@@ -60,7 +60,7 @@ public:
     // The fast path of long number lists: when the next token is a plain finite number (decimal,
     // no unit suffix, no leading '+') lying wholly in the buffer, reads it into `value` and returns
     // true; otherwise returns false having consumed at most whitespace and comments, and next()
-    // reads the token as usual. The integer form accepts what parseMaInteger accepts without '+'.
+    // reads the token as usual. The integer form takes a plain `-`? and up to 18 digits.
     bool nextPlainNumber(double& value);
     bool nextPlainInteger(int64_t& value);
 
@@ -77,15 +77,13 @@ public:
     bool endsWithEndComment() const { return m_lastIsLineComment && m_lastComment.rfind("End of", 0) == 0; }
 
 private:
-    // After whitespace and comments, the end of the next word when it lies wholly in the buffer
-    // (nullptr when there is none, or it may go on past the buffer); the fast paths' common start.
-    const char* nextWholeWord();
     bool refill();  // false at end of input; invalidates pointers into the old buffer
     int peekChar() {
         if (m_cur == m_end && !refill()) return -1;
         return static_cast<unsigned char>(*m_cur);
     }
     void skipSpaceAndComments();
+    void skipBlanks();  // skipSpaceAndComments() with the plain case inline
     void checkHeader();
     void readWord(MaToken& token);
     void readString(MaToken& token);
