@@ -48,6 +48,7 @@ class Splitter {
 public:
     Splitter(Mesh& work, const SplitParams& params) : m_work(work), m_params(params), m_editor(work) {
         m_inputEdges = work.edges;
+        m_inputPoints = work.points.size();
         m_facesOf.resize(work.points.size());
         for (size_t f = 0; f < work.faceCount(); ++f) {
             m_origin.push_back(uint32_t(f));
@@ -66,26 +67,18 @@ public:
                     ++r.skippedCuts;
                     continue;
                 }
-                FreePoint fp{sp.position, sp.index, 0};
-                if (!m_params.dropFreePoints) fp.point = newPoint(glm::vec3(sp.position));
-                pending.push_back(fp);
+                pending.push_back({sp.position, sp.index, 0});
                 continue;
             }
             const uint32_t at = edgePoint(uint32_t(sp.index), std::clamp(sp.fraction, 0.0, 1.0));
-            if (previous >= 0 && !cut(uint32_t(previous), pending, at)) {
-                ++r.skippedCuts;
-                orphan(pending);
-            }
+            if (previous >= 0 && !cut(uint32_t(previous), pending, at)) ++r.skippedCuts;
             pending.clear();
             previous = at;
         }
         if (!pending.empty()) ++r.skippedCuts;
-        orphan(pending);
     }
 
     detail::FaceEditor& editor() { return m_editor; }
-    // Free points made for cuts that were not made, in increasing order.
-    const std::vector<uint32_t>& orphans() const { return m_orphans; }
 
 private:
     struct FreePoint {
@@ -94,10 +87,6 @@ private:
         uint32_t point;
     };
 
-    void orphan(const std::vector<FreePoint>& points) {
-        if (!m_params.dropFreePoints)
-            for (const FreePoint& p : points) m_orphans.push_back(p.point);
-    }
     void addFaceOf(uint32_t point, uint32_t f) {
         std::vector<uint32_t>& list = m_facesOf[point];
         if (std::find(list.begin(), list.end(), f) == list.end()) list.push_back(f);
@@ -194,6 +183,8 @@ private:
         }
         std::vector<FreePoint> inner = m_params.dropFreePoints ? std::vector<FreePoint>{} : free;
         if (inner.empty() && ((ia + 1) % n == ib || (ib + 1) % n == ia)) return true;  // already an edge
+        // The free points are made once the cut is known, from its far end back.
+        for (size_t i = inner.size(); i-- > 0;) inner[i].point = newPoint(glm::vec3(inner[i].position));
         const std::vector<Corner> corners = outer;
         const glm::dvec3 normal = loopNormal(corners, m_work.points);
         // Sections of a straight cut.
@@ -221,21 +212,34 @@ private:
         }
         one.insert(one.end(), path.rbegin(), path.rend());
         two.insert(two.end(), path.begin(), path.end());
+        // The part with more of the input mesh's corners keeps the face; on a tie, the part from A
+        // forward to B is appended. (Maya's recorded extrusion bounds after real scenes' splits
+        // agree: a pocket cut off one edge through free points is appended, whichever way the
+        // face runs along that edge, and so is the A-to-B part of a cut across a quad.)
+        const auto inOne = [&](size_t i) { return (i + n - ia) % n <= (ib + n - ia) % n; };
+        size_t inputInOne = 0, inputInTwo = 0;
+        for (size_t i = 0; i < n; ++i)
+            if (i != ia && i != ib && corners[i].point < m_inputPoints) ++(inOne(i) ? inputInOne : inputInTwo);
+        const bool oneKept = inputInOne > inputInTwo;
+        std::vector<Corner>& keptLoop = oneKept ? one : two;
+        std::vector<Corner>& movedLoop = oneKept ? two : one;
         const uint32_t firstPoint = corners.front().point;
-        if (const auto at = std::find_if(two.begin(), two.end(), [&](const Corner& c) { return c.point == firstPoint; }); at != two.end())
-            std::rotate(two.begin(), at, two.end());
-        // Holes go with the part they lie in.
-        FaceLoops kept{two}, moved{one};
+        if (const auto at = std::find_if(keptLoop.begin(), keptLoop.end(), [&](const Corner& c) { return c.point == firstPoint; });
+            at != keptLoop.end())
+            std::rotate(keptLoop.begin(), at, keptLoop.end());
         const glm::dvec3 nOne = loopNormal(one, m_work.points), nTwo = loopNormal(two, m_work.points);
+        // Holes go with the part they lie in.
+        FaceLoops kept{keptLoop}, moved{movedLoop};
         for (size_t h = 1; h < loops.size(); ++h) {
             const glm::dvec3 p(m_work.points[loops[h].front().point]);
-            (insideLoop(one, m_work.points, p, normal) ? moved : kept).push_back(std::move(loops[h]));
+            (insideLoop(movedLoop, m_work.points, p, normal) ? moved : kept).push_back(std::move(loops[h]));
         }
         const uint32_t appended = m_editor.append(std::move(moved));
         m_origin.push_back(m_origin[size_t(f)]);
         m_editor.face(uint32_t(f)) = std::move(kept);
-        // Incidence: the corners strictly between A and B left f for the new face.
-        for (size_t i = (ia + 1) % n; i != ib; i = (i + 1) % n) removeFaceOf(corners[i].point, uint32_t(f));
+        // Incidence: the corners of the appended part that are not on the kept one left f.
+        for (size_t i = 0; i < n; ++i)
+            if (i != ia && i != ib && inOne(i) == !oneKept) removeFaceOf(corners[i].point, uint32_t(f));
         for (const std::vector<Corner>& loop : m_editor.face(appended))
             for (const Corner& c : loop) addFaceOf(c.point, appended);
         for (const Corner& c : path) addFaceOf(c.point, uint32_t(f));
@@ -256,12 +260,12 @@ private:
     const SplitParams& m_params;
     detail::FaceEditor m_editor;
     std::vector<MeshEdge> m_inputEdges;
+    size_t m_inputPoints = 0;
     std::vector<std::vector<uint32_t>> m_facesOf;  // per point, the faces using it
     std::vector<uint32_t> m_origin;                // per face, the input face it came from
     std::unordered_map<uint64_t, uint32_t> m_edgeOf;
     std::unordered_map<uint32_t, std::vector<std::pair<double, uint32_t>>> m_stops;  // per input edge
     double m_smoothCos = 1.0;
-    std::vector<uint32_t> m_orphans;
 };
 
 }  // namespace
@@ -304,25 +308,6 @@ bool splitFaces(Mesh& mesh, const SplitParams& params, SplitResult* result, std:
     SplitResult r;
     splitter.run(r);
     Mesh out = splitter.editor().rebuild();
-    if (const std::vector<uint32_t>& gone = splitter.orphans(); !gone.empty()) {
-        // Only new points go, so the input's keep their numbers; no face or edge uses them.
-        std::vector<uint32_t> renumber(out.points.size());
-        size_t kept = 0;
-        for (size_t i = 0, k = 0; i < out.points.size(); ++i) {
-            if (k < gone.size() && gone[k] == i) {
-                ++k;
-                continue;
-            }
-            renumber[i] = uint32_t(kept);
-            out.points[kept++] = out.points[i];
-        }
-        out.points.resize(kept);
-        for (uint32_t& v : out.faceVertices) v = renumber[v];
-        for (MeshEdge& e : out.edges) {
-            e.v0 = renumber[e.v0];
-            e.v1 = renumber[e.v1];
-        }
-    }
     r.newPoints = out.points.size() - points0;
     r.newEdges = out.edges.size() - edges0;
     r.newFaces = out.faceCount() - faces0;

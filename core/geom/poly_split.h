@@ -5,14 +5,17 @@
 // The path is a sequence of points, each on an edge of the input mesh (at a fraction from the
 // edge's first point; 0 and 1 are its end points) or free inside a face. Between two consecutive
 // edge points, with the free points met in between, the face holding both is cut in two. How the
-// result is numbered (the order later history nodes on real scenes rely on):
-//   - New points in path order: each edge point strictly inside its edge, each free point.
-//     Several points on one input edge split it in order of their fractions.
+// result is numbered (pinned by the face bounds Maya records on the extrusions that follow splits
+// in real scenes; see Corpus.ExtrudedFacesHaveTheBoundsMayaRecorded):
+//   - New points: each edge point strictly inside its edge, in path order; a cut's free points are
+//     made once the cut is made, after its far end B, from B's side back to A. Several points on
+//     one input edge split it in order of their fractions.
 //   - An edge a→b split at p keeps its index for a→p; p→b is appended. Every loop along the edge
 //     gains p, with UVs interpolated along the edge.
 //   - A cut between edge points A and B appends its new edges in path order (A to the first free
-//     point … to B), after B's edge split. The part of the face from A forward to B (then back
-//     along the cut) is appended as a new face; the rest keeps the face's index.
+//     point … to B), after B's edge split. Of the two parts of the face, the one holding more of
+//     the input mesh's corners keeps the face's index and the other is appended; on a tie, the
+//     part from A forward to B (then back along the cut) is appended.
 //   - Free points take UVs interpolated over the face (mean value weights in its plane).
 #pragma once
 

@@ -4,6 +4,7 @@
 #include "core/geom/finite.h"
 #include "core/geom/poly_dissolve.h"
 #include "core/geom/poly_extrude.h"
+#include "core/geom/poly_extrude_edge.h"
 #include "core/geom/poly_merge.h"
 #include "core/geom/poly_split.h"
 #include "core/geom/poly_split_ring.h"
@@ -315,6 +316,51 @@ std::optional<glm::dmat4> moveTransform(Evaluator& ev, NodeId n) {
     return m;
 }
 
+// How an extrusion (of faces or edges) moves what it makes; nothing, with `reason`, when a value
+// is not finite.
+struct ExtrusionMove {
+    glm::dmat4 transform{1.0}, space{1.0};
+    glm::dvec3 localTranslate{0.0}, localScale{1.0};
+};
+std::optional<ExtrusionMove> extrusionMove(Context& c, NodeId n, std::string& reason) {
+    Evaluator& ev = c.ev;
+    const std::optional<glm::dmat4> transform = moveTransform(ev, n);
+    if (!transform) {
+        reason = nodeLabel(c.g.node(n)) + ": its translate, rotate, scale or pivot is not finite";
+        return std::nullopt;
+    }
+    ExtrusionMove m{*transform, moveSpace(ev, n), ev.getDouble3(n, "lt"), ev.getDouble3(n, "ls", glm::dvec3(1.0))};
+    if (!geom::isFinite(m.localTranslate) || !geom::isFinite(m.localScale)) {
+        reason = nodeLabel(c.g.node(n)) + ": its local translate or local scale is not finite";
+        return std::nullopt;
+    }
+    return m;
+}
+
+// What an extrusion (of faces or edges) does not apply yet, said rather than dropped.
+void noteMovesNotApplied(Context& c, NodeId n) {
+    Evaluator& ev = c.ev;
+    std::vector<std::string> ignored;
+    if (ev.getDouble3(n, "lr") != glm::dvec3(0.0)) ignored.push_back("localRotate");
+    if (ev.getDouble(n, "off") != 0.0) ignored.push_back("offset");
+    if (ev.getDouble(n, "tk") != 0.0) ignored.push_back("thickness");
+    if (ev.getDouble(n, "twt") != 0.0) ignored.push_back("twist");
+    if (ev.getDouble(n, "tp", 1.0) != 1.0) ignored.push_back("taper");
+    if (ev.getDouble(n, "ran") != 0.0) ignored.push_back("random");
+    if (ev.getDouble(n, "att") != 0.0 || ev.getDouble(n, "w") != 0.0) ignored.push_back("attraction and weight");
+    if (ev.getBool(n, "raf", false)) ignored.push_back("reverseAllFaces");
+    for (const auto& [index, point] : vectorElements(ev, n, keyOf(c.g, n, "c"), 3))
+        if (point.y != 1.0) {
+            ignored.push_back("taperCurve");
+            break;
+        }
+    if (!ignored.empty()) {
+        std::string names;
+        for (const std::string& a : ignored) names += (names.empty() ? "" : ", ") + a;
+        c.out.notes.push_back(nodeLabel(c.g.node(n)) + ": " + names + " not applied");
+    }
+}
+
 std::optional<geom::Mesh> evaluateExtrudeFace(Context& c, NodeId n, std::string& reason) {
     std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
     if (!m) return m;
@@ -327,42 +373,49 @@ std::optional<geom::Mesh> evaluateExtrudeFace(Context& c, NodeId n, std::string&
     p.faces = componentSelection(*list, ComponentKind::Face, m->faceCount(), node, c.out.notes);
     p.keepFacesTogether = ev.getBool(n, "kft", true);
     p.divisions = ev.getInt(n, "dv", 1);
-    std::optional<glm::dmat4> transform = moveTransform(ev, n);
-    if (!transform) {
-        reason = nodeLabel(node) + ": its translate, rotate, scale or pivot is not finite";
-        return std::nullopt;
-    }
-    p.transform = *transform;
-    p.space = moveSpace(ev, n);
-    p.localTranslate = ev.getDouble3(n, "lt");
-    p.localScale = ev.getDouble3(n, "ls", glm::dvec3(1.0));
+    const std::optional<ExtrusionMove> move = extrusionMove(c, n, reason);
+    if (!move) return std::nullopt;
+    p.transform = move->transform;
+    p.space = move->space;
+    p.localTranslate = move->localTranslate;
+    p.localScale = move->localScale;
     p.smoothingAngle = ev.getDouble(n, "sma", p.smoothingAngle);
-    if (!geom::isFinite(p.localTranslate) || !geom::isFinite(p.localScale) || !std::isfinite(p.smoothingAngle)) {
-        reason = nodeLabel(node) + ": its local translate, local scale or smoothing angle is not finite";
+    if (!std::isfinite(p.smoothingAngle)) {
+        reason = nodeLabel(node) + ": its smoothing angle is not finite";
         return std::nullopt;
     }
-    // What the extrusion does not apply yet, said rather than dropped.
-    std::vector<std::string> ignored;
-    if (ev.getDouble3(n, "lr") != glm::dvec3(0.0)) ignored.push_back("localRotate");
-    if (ev.getDouble(n, "off") != 0.0) ignored.push_back("offset");
-    if (ev.getDouble(n, "tk") != 0.0) ignored.push_back("thickness");
-    if (ev.getDouble(n, "twt") != 0.0) ignored.push_back("twist");
-    if (ev.getDouble(n, "tp", 1.0) != 1.0) ignored.push_back("taper");
-    if (ev.getDouble(n, "ran") != 0.0) ignored.push_back("random");
-    if (ev.getDouble(n, "att") != 0.0 || ev.getDouble(n, "w") != 0.0) ignored.push_back("attraction and weight");
-    if (ev.getBool(n, "raf", false)) ignored.push_back("reverseAllFaces");
-    for (const auto& [index, point] : vectorElements(ev, n, keyOf(g, n, "c"), 3))
-        if (point.y != 1.0) {
-            ignored.push_back("taperCurve");
-            break;
-        }
-    if (!ignored.empty()) {
-        std::string names;
-        for (const std::string& a : ignored) names += (names.empty() ? "" : ", ") + a;
-        c.out.notes.push_back(nodeLabel(node) + ": " + names + " not applied");
-    }
+    noteMovesNotApplied(c, n);
     std::string error;
     if (!geom::extrudeFaces(*m, p, nullptr, &error)) {
+        reason = nodeLabel(node) + ": " + error;
+        return std::nullopt;
+    }
+    return m;
+}
+
+// polyExtrudeEdge: walls on the selected edges, moved as polyExtrudeFace moves its faces.
+std::optional<geom::Mesh> evaluateExtrudeEdge(Context& c, NodeId n, std::string& reason) {
+    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
+    if (!m) return m;
+    const Graph& g = c.g;
+    Evaluator& ev = c.ev;
+    const Node& node = g.node(n);
+    const ComponentList* list = componentListOf(g, n, "ics");
+    if (!list || list->items.empty()) return m;
+    geom::completeEdges(*m, true);
+    geom::ExtrudeEdgesParams p;
+    p.edges = componentSelection(*list, ComponentKind::Edge, m->edges.size(), node, c.out.notes);
+    p.keepFacesTogether = ev.getBool(n, "kft", true);
+    p.divisions = ev.getInt(n, "dv", 1);
+    const std::optional<ExtrusionMove> move = extrusionMove(c, n, reason);
+    if (!move) return std::nullopt;
+    p.transform = move->transform;
+    p.space = move->space;
+    p.localTranslate = move->localTranslate;
+    p.localScale = move->localScale;
+    noteMovesNotApplied(c, n);
+    std::string error;
+    if (!geom::extrudeEdges(*m, p, nullptr, &error)) {
         reason = nodeLabel(node) + ": " + error;
         return std::nullopt;
     }
@@ -697,6 +750,7 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
         return m;
     }
     if (type == "polyExtrudeFace") return evaluateExtrudeFace(c, src.node, reason);
+    if (type == "polyExtrudeEdge") return evaluateExtrudeEdge(c, src.node, reason);
     if (type == "polyMergeVert") return evaluateMergeVert(c, src.node, reason);
     if (type == "polySplitRing") return evaluateSplitRing(c, src.node, reason);
     if (type == "polySplit") return evaluateSplit(c, src.node, reason);

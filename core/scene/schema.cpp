@@ -588,6 +588,16 @@ void addHistoryTypes(Table& t) {
            {{"compBoundingBoxMinX", "cnx"}, {"compBoundingBoxMinY", "cny"}, {"compBoundingBoxMinZ", "cnz"}})
         .c("compBoundingBoxMax", "cbx", T::Double3, {1, 1, 1, 0}, U::Distance,
            {{"compBoundingBoxMaxX", "cxx"}, {"compBoundingBoxMaxY", "cxy"}, {"compBoundingBoxMaxZ", "cxz"}});
+    t.type("polyExtrudeEdge", "polyMoveEdge");
+    t.a("keepFacesTogether", "kft", T::Bool, 1).a("divisions", "dv", T::Int, 1).a("twist", "twt", T::Double, 0, U::Angle)
+        .a("taper", "tp", T::Double, 1).a("thickness", "tk", T::Double, 0, U::Distance).a("offset", "off", T::Double, 0)
+        .a("smoothingAngle", "sma", T::Double, 0.5235987755982988, U::Angle)
+        .c("taperCurve", "c", T::Float3, {0, 1, 1, 0}, U::None,
+           {{"taperCurve_Position", "cp"}, {"taperCurve_FloatValue", "cfv"}, {"taperCurve_Interp", "ci"}}, true)
+        .c("compBoundingBoxMin", "cbn", T::Double3, {0, 0, 0, 0}, U::Distance,
+           {{"compBoundingBoxMinX", "cnx"}, {"compBoundingBoxMinY", "cny"}, {"compBoundingBoxMinZ", "cnz"}})
+        .c("compBoundingBoxMax", "cbx", T::Double3, {1, 1, 1, 0}, U::Distance,
+           {{"compBoundingBoxMaxX", "cxx"}, {"compBoundingBoxMaxY", "cxy"}, {"compBoundingBoxMaxZ", "cxz"}});
     t.type("polySplitRing", "polyModifierWorld");
     t.a("weight", "wt", T::Double, 0.5).a("direction", "dr", T::Bool, 1).a("rootEdge", "re", T::Int, -1)
         .a("splitType", "stp", T::Enum, 0).a("divisions", "div", T::Int, 2)

@@ -123,7 +123,8 @@ TEST(Split, AlongAnExistingEdgeChangesNothing) {
 
 TEST(Split, FreePointsMakeAPocketOffOneEdge) {
     // From e0 at 0.25 up to a free point at (0.5, 0.5) and back down to e0 at 0.75: a triangle
-    // cut out of the quad along one edge. Points in path order: A 4, the free point 5, B 6.
+    // cut out of the quad along one edge. The edge points come first (A 4, B 5); the free points
+    // of a cut are made after them, from B's end back (here just 6).
     Mesh m = unitQuad();
     SplitParams p;
     p.points = {onEdge(0, 0.25), inFace(0, {0.5, 0.5, 0.0}), onEdge(0, 0.75)};
@@ -132,22 +133,40 @@ TEST(Split, FreePointsMakeAPocketOffOneEdge) {
     EXPECT_EQ(r.newPoints, 3u);
     EXPECT_EQ(r.newFaces, 1u);
     ASSERT_TRUE(m.validate().ok());
-    EXPECT_EQ(m.points[5], glm::vec3(0.5f, 0.5f, 0.0f));
-    EXPECT_EQ(m.points[6], glm::vec3(0.75f, 0.0f, 0.0f));
-    EXPECT_EQ(loopOf(m, 0), (std::vector<uint32_t>{0, 4, 5, 6, 1, 2, 3}));
-    EXPECT_EQ(loopOf(m, 1), (std::vector<uint32_t>{4, 6, 5}));
-    // e0 0→4, then the piece 4→1 (e4) split again at 6: e4 4→6, e5 6→1; then the cut 4→5, 5→6.
+    EXPECT_EQ(m.points[5], glm::vec3(0.75f, 0.0f, 0.0f));
+    EXPECT_EQ(m.points[6], glm::vec3(0.5f, 0.5f, 0.0f));
+    // The pocket holds none of the quad's corners: it is the part appended.
+    EXPECT_EQ(loopOf(m, 0), (std::vector<uint32_t>{0, 4, 6, 5, 1, 2, 3}));
+    EXPECT_EQ(loopOf(m, 1), (std::vector<uint32_t>{4, 5, 6}));
+    // e0 0→4, then the piece 4→1 (e4) split again at 5: e4 4→5, e5 5→1; then the cut 4→6, 6→5.
     ASSERT_EQ(m.edges.size(), 8u);
-    expectEdge(m, 4, 4, 6);
-    expectEdge(m, 5, 6, 1);
-    expectEdge(m, 6, 4, 5);
-    expectEdge(m, 7, 5, 6);
+    expectEdge(m, 4, 4, 5);
+    expectEdge(m, 5, 5, 1);
+    expectEdge(m, 6, 4, 6);
+    expectEdge(m, 7, 6, 5);
     // The free point's UV is its place in the face.
     const glm::vec2 uv = uvAt(m, 0, 2);
     EXPECT_NEAR(uv.x, 0.5, 1e-6);
     EXPECT_NEAR(uv.y, 0.5, 1e-6);
     EXPECT_NEAR(glm::length(m.faceAreaVector(1)), 0.125, 1e-6);
     EXPECT_NEAR(totalArea(m), 1.0, 1e-6);
+}
+
+TEST(Split, ThePartWithMoreOfTheFacesCornersKeepsIt) {
+    // A cut across a quad from e3 (3→0) at 0.5 to e0 (0→1) at 0.5 cuts the corner 0 off: the
+    // part with corners 1, 2, 3 keeps the face.
+    Mesh m = unitQuad();
+    SplitParams p;
+    p.points = {onEdge(3, 0.5), onEdge(0, 0.5)};
+    ASSERT_TRUE(splitFaces(m, p));
+    EXPECT_EQ(loopOf(m, 0), (std::vector<uint32_t>{5, 1, 2, 3, 4}));
+    EXPECT_EQ(loopOf(m, 1), (std::vector<uint32_t>{4, 0, 5}));
+    // The other way round, from e0 to e3, A forward to B is the big part; it still keeps the face.
+    Mesh back = unitQuad();
+    p.points = {onEdge(0, 0.5), onEdge(3, 0.5)};
+    ASSERT_TRUE(splitFaces(back, p));
+    EXPECT_EQ(back.faceOuterLoop(1).size(), 3u);
+    EXPECT_NEAR(glm::length(back.faceAreaVector(1)), 0.125, 1e-6);
 }
 
 TEST(Split, CleanTwoVerticesDropsTheFreePoints) {

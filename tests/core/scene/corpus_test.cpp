@@ -229,7 +229,7 @@ TEST(Corpus, ExtrudedFacesHaveTheBoundsMayaRecorded) {
     // Three selections on one clock pillar stay off by a few percent: a fan of triangles scaled
     // about their own centres spreads a little less here than in Maya.
     EXPECT_GE(tally.checked, 68u);
-    EXPECT_GE(tally.matched, 45u);
+    EXPECT_GE(tally.matched, 46u);
 }
 
 // Every polySplitRing names its ring by edge numbers of the mesh below it: the ring is whole

@@ -839,8 +839,9 @@ connectAttr "polySplit1.out" "pCubeShape1.i";
         ASSERT_TRUE(e.mesh) << e.skipReason;
         ASSERT_EQ(e.mesh->points.size(), 11u);
         EXPECT_EQ(e.mesh->faceCount(), 7u);
-        EXPECT_NEAR(e.mesh->points[9].x, 0.2, 1e-6);
-        EXPECT_NEAR(e.mesh->points[9].z, 0.5, 1e-6);
+        EXPECT_EQ(e.mesh->points[9], glm::vec3(0.0f, 0.5f, 0.5f));  // the edge points first
+        EXPECT_NEAR(e.mesh->points[10].x, 0.2, 1e-6);               // then the free point
+        EXPECT_NEAR(e.mesh->points[10].z, 0.5, 1e-6);
         EXPECT_FALSE(e.mesh->edges.back().smooth);  // the default smoothing angle is 0
         ASSERT_TRUE(e.mesh->validate().ok());
     }
