@@ -701,6 +701,75 @@ std::optional<NurbsCurve> elevateCurveDegree(const NurbsCurve& c, int degree) {
     return toCurve(elevateSpline(clampSpline(toSpline(c)), degree), nullptr);
 }
 
+// ---- detach
+
+std::optional<std::vector<NurbsSurface>> detachSurface(const NurbsSurface& s, bool directionU, std::vector<double> params,
+                                                       std::string* error) {
+    const NurbsForm form = directionU ? s.formU() : s.formV();
+    if (form == NurbsForm::Periodic) return failWith(error, "detaching across a periodic direction is not evaluated");
+    const int p = directionU ? s.degreeU() : s.degreeV();
+    const int lines = directionU ? s.cvCountV() : s.cvCountU();
+    const int along = directionU ? s.cvCountU() : s.cvCountV();
+    const std::vector<double>& knots = directionU ? s.knotsU() : s.knotsV();
+    // The cuts strictly inside the domain, ascending, each once.
+    const double tol = knotTolerance(knots);
+    const double lo = knots[size_t(p)], hi = knots[size_t(along)];
+    std::vector<double> cuts;
+    for (double t : params) {
+        if (!std::isfinite(t)) return failWith(error, "a detach parameter is not finite");
+        if (t > lo + tol && t < hi - tol) cuts.push_back(t);
+    }
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end(), [&](double a, double b) { return b - a <= tol; }), cuts.end());
+    // Every line of CVs across the direction, clamped, with each cut raised to multiplicity p:
+    // the same steps on every line give every line the same knots.
+    std::vector<Spline> split;
+    split.reserve(size_t(lines));
+    for (int l = 0; l < lines; ++l) {
+        Spline line{p, form, knots, {}};
+        for (int i = 0; i < along; ++i) line.cvs.push_back(directionU ? s.cv(i, l) : s.cv(l, i));
+        line = clampSpline(std::move(line));
+        for (double t : cuts) {
+            snapKnots(line.knots, t, tol);
+            while (multiplicity(line.knots, t) < p) insertKnotInPlace(line, t);
+        }
+        split.push_back(std::move(line));
+    }
+    const std::vector<double>& k = split.front().knots;
+    std::vector<double> ends{k[size_t(p)]};
+    ends.insert(ends.end(), cuts.begin(), cuts.end());
+    ends.push_back(k[split.front().cvs.size()]);
+    std::vector<NurbsSurface> pieces;
+    for (size_t r = 0; r + 1 < ends.size(); ++r) {
+        const double a = ends[r], b = ends[r + 1];
+        // The CV at a is P[ia − p] (ia the last index of knot a); the one at b is P[ib − 1].
+        size_t ia = 0, ib = k.size();
+        for (size_t i = 0; i < k.size(); ++i)
+            if (k[i] == a) ia = i;
+        for (size_t i = k.size(); i-- > 0;)
+            if (k[i] == b) ib = i;
+        if (ia < size_t(p) || ib <= ia) return failWith(error, "a detached piece has no span");
+        std::vector<double> pieceKnots(size_t(p) + 1, a);
+        pieceKnots.insert(pieceKnots.end(), k.begin() + std::ptrdiff_t(ia) + 1, k.begin() + std::ptrdiff_t(ib));
+        pieceKnots.insert(pieceKnots.end(), size_t(p) + 1, b);
+        const int count = int(ib - ia) + p;
+        std::vector<glm::dvec4> cvs(size_t(count) * size_t(lines));
+        for (int l = 0; l < lines; ++l)
+            for (int i = 0; i < count; ++i) {
+                const glm::dvec4& c = split[size_t(l)].cvs[ia - size_t(p) + size_t(i)];
+                cvs[directionU ? size_t(i) * size_t(lines) + size_t(l) : size_t(l) * size_t(count) + size_t(i)] = c;
+            }
+        std::optional<NurbsSurface> piece =
+            directionU ? NurbsSurface::create(p, s.degreeV(), NurbsForm::Open, s.formV(), std::move(pieceKnots), s.knotsV(), count,
+                                              lines, std::move(cvs), s.rational(), error)
+                       : NurbsSurface::create(s.degreeU(), p, s.formU(), NurbsForm::Open, s.knotsU(), std::move(pieceKnots), lines,
+                                              count, std::move(cvs), s.rational(), error);
+        if (!piece) return std::nullopt;
+        pieces.push_back(std::move(*piece));
+    }
+    return pieces;
+}
+
 // ---- revolve
 
 std::optional<NurbsSurface> revolveCurve(const NurbsCurve& profile, const RevolveParams& p, std::string* error) {

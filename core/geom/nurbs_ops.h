@@ -163,4 +163,12 @@ std::optional<NurbsCurve> clampCurve(const NurbsCurve& c);
 // Bézier segments (interior knots end with multiplicity `degree`).
 std::optional<NurbsCurve> elevateCurveDegree(const NurbsCurve& c, int degree);
 
+// detachSurface: the pieces of `s` cut across U (directionU) or V at each parameter strictly
+// inside the domain, in order (a surface with no such parameter comes back whole, clamped). Each
+// cut is raised to full multiplicity by knot insertion, so every piece is exactly the part of the
+// surface over its range, with the same parameters. A periodic direction is refused (nullopt with
+// `error`): opening it is not evaluated.
+std::optional<std::vector<NurbsSurface>> detachSurface(const NurbsSurface& s, bool directionU, std::vector<double> params,
+                                                       std::string* error);
+
 }  // namespace pushpin::geom

@@ -3,6 +3,7 @@
 
 #include "core/geom/nurbs_ops.h"
 #include "core/geom/nurbs_primitives.h"
+#include "core/scene/detail/multi_elements.h"
 
 #include <glm/mat4x4.hpp>
 
@@ -324,6 +325,34 @@ std::optional<geom::NurbsSurface> evaluateLoft(Evaluator& ev, NodeId node, std::
     return geom::loftCurves(curves, p, error);
 }
 
+std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, std::string* error, std::string* note,
+                                                int depth);
+
+// detachSurface: piece `os[i]` of its input cut at its parameters (keep[i] off: no piece).
+std::optional<geom::NurbsSurface> evaluateDetach(Evaluator& ev, NodeId node, const std::string& path, std::string* error,
+                                                 std::string* note, int depth) {
+    const Graph& g = ev.graph();
+    if (depth >= kMaxShapeChain) return failWith(error, "the surface history is deeper than " + std::to_string(kMaxShapeChain));
+    const std::optional<Plug> src = g.source(node, "is");
+    if (!src) return failWith(error, "no input surface is connected");
+    std::string err;
+    std::optional<geom::NurbsSurface> in = surfaceAtPlug(ev, *src, &err, note, depth + 1);
+    if (!in) return failWith(error, "inputSurface: " + err);
+    CreatorAttrs a(ev, node);
+    const bool directionU = a.integer("d", 1) != 0;
+    std::vector<double> params;
+    if (const AttrData* p = g.findAttr(node, "parameter"))
+        detail::forEachNumeric(*p, [&](uint64_t, const double* v, int) { params.push_back(v[0]); });
+    const int piece = plugIndex(path);
+    if (!ev.getBool(node, "keep[" + std::to_string(piece) + "]", true))
+        return failWith(error, "piece " + std::to_string(piece) + " is not kept");
+    std::optional<std::vector<geom::NurbsSurface>> pieces = geom::detachSurface(*in, directionU, std::move(params), &err);
+    if (!pieces) return failWith(error, err);
+    if (piece < 0 || size_t(piece) >= pieces->size())
+        return failWith(error, "the cut makes " + std::to_string(pieces->size()) + " pieces, not a piece " + std::to_string(piece));
+    return std::move((*pieces)[size_t(piece)]);
+}
+
 // The surface a plug carries: a nurbsSurface shape's `local` (object space) or `worldSpace[i]` (world
 // space), or the output of a creator, revolve or loft node.
 std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, std::string* error, std::string* note,
@@ -345,6 +374,7 @@ std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, 
     if (isSurfaceCreator(n.type)) s = evaluateCreator(ev, src.node, src.path, &err);
     else if (n.type == "revolve") s = evaluateRevolve(ev, src.node, &err, note, depth);
     else if (n.type == "loft") s = evaluateLoft(ev, src.node, &err, note, depth);
+    else if (n.type == "detachSurface") s = evaluateDetach(ev, src.node, src.path, &err, note, depth);
     else return failWith(error, "history node " + n.type + " (" + n.name + ") is not evaluated");
     if (!s) return failWith(error, n.type + " (" + n.name + "): " + err);
     return s;
@@ -373,7 +403,7 @@ std::optional<geom::NurbsSurface> surfaceOfShape(Evaluator& ev, NodeId shape, st
             if (!s) return failWith(skipReason, n.name + ": " + c.type + " (" + c.name + "): " + err);
             return s;
         }
-        if ((c.type == "revolve" || c.type == "loft") && depth < kMaxShapeChain) {
+        if ((c.type == "revolve" || c.type == "loft" || c.type == "detachSurface") && depth < kMaxShapeChain) {
             std::string err, historyNote;
             auto s = surfaceAtPlug(ev, *src, &err, &historyNote, depth);
             if (s) {

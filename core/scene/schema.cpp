@@ -687,6 +687,10 @@ void addHistoryTypes(Table& t) {
         .a("computePivotAndAxis", "cpa", T::Enum, 0).a("autoCorrectNormal", "acn", T::Bool, 0)
         .a("bridge", "br", T::Bool, 0).a("radius", "r", T::Double, 1, U::Distance)
         .a("inputCurve", "ic", T::NurbsCurve).a("outputSurface", "os", T::NurbsSurface);
+    t.type("detachSurface", "abstractBaseCreate");
+    t.a("inputSurface", "is", T::NurbsSurface).a("parameter", "p", T::Double, 0, U::None, true)
+        .a("keep", "k", T::Bool, 1, U::None, true).a("direction", "d", T::Int, 1)
+        .a("outputSurface", "os", T::NurbsSurface, 0, U::None, true);
     t.type("loft", "abstractBaseCreate");
     t.a("inputCurve", "ic", T::NurbsCurve, 0, U::None, true).a("uniform", "u", T::Bool, 0).a("close", "c", T::Bool, 0)
         .a("degree", "d", T::Enum, 3).a("reverseSurfaceNormals", "rsn", T::Bool, 0).a("autoReverse", "ar", T::Bool, 1)

@@ -576,3 +576,67 @@ TEST(NurbsOpsTessellate, UnusableSettingsGiveAReason) {
 
 }  // namespace
 }  // namespace pushpin::geom
+
+namespace pushpin::geom {
+namespace {
+
+// Every piece of a detach is the part of the surface over its range, point for point.
+void expectPiecesMatch(const NurbsSurface& whole, const std::vector<NurbsSurface>& pieces, bool directionU,
+                       const std::vector<double>& ends) {
+    ASSERT_EQ(pieces.size() + 1, ends.size());
+    for (size_t r = 0; r < pieces.size(); ++r) {
+        const NurbsSurface& piece = pieces[r];
+        EXPECT_NEAR(directionU ? piece.uMin() : piece.vMin(), ends[r], 1e-12) << r;
+        EXPECT_NEAR(directionU ? piece.uMax() : piece.vMax(), ends[r + 1], 1e-12) << r;
+        for (int i = 0; i <= 8; ++i)
+            for (int j = 0; j <= 8; ++j) {
+                const double u = piece.uMin() + (piece.uMax() - piece.uMin()) * i / 8.0;
+                const double v = piece.vMin() + (piece.vMax() - piece.vMin()) * j / 8.0;
+                const glm::dvec3 a = piece.point(u, v), b = whole.point(u, v);
+                EXPECT_NEAR(glm::length(a - b), 0.0, 1e-9) << "piece " << r << " at " << u << ", " << v;
+            }
+    }
+}
+
+TEST(NurbsOpsDetach, ASphereCutAcrossUIsTwoCapsOfTheSameSurface) {
+    const NurbsSurface sphere = *makeNurbSphere({}, nullptr);  // u over [0, 4] pole to pole, v periodic
+    std::string error;
+    const auto pieces = detachSurface(sphere, true, {2.1746218690000001}, &error);
+    ASSERT_TRUE(pieces) << error;
+    expectPiecesMatch(sphere, *pieces, true, {0.0, 2.1746218690000001, 4.0});
+    // The cut is a full-multiplicity knot: the two pieces share their edge CVs.
+    const NurbsSurface& low = (*pieces)[0];
+    const NurbsSurface& high = (*pieces)[1];
+    for (int j = 0; j < sphere.cvCountV(); ++j)
+        EXPECT_NEAR(glm::length(low.cvPoint(low.cvCountU() - 1, j) - high.cvPoint(0, j)), 0.0, 1e-12) << j;
+    EXPECT_EQ(high.formV(), sphere.formV());
+    EXPECT_EQ(low.cvCountV(), sphere.cvCountV());
+}
+
+TEST(NurbsOpsDetach, SeveralCutsAcrossVTakeTheInsideOnesOnceInOrder) {
+    NurbsPlaneParams p;
+    p.patchesU = 2;
+    p.patchesV = 3;  // v over [0, 3]
+    const NurbsSurface plane = *makeNurbPlane(p, nullptr);
+    std::string error;
+    // Out of order, one twice, and two outside the domain or on its ends.
+    const auto pieces = detachSurface(plane, false, {2.5, 0.75, 2.5, -1.0, 3.0, 0.0}, &error);
+    ASSERT_TRUE(pieces) << error;
+    expectPiecesMatch(plane, *pieces, false, {0.0, 0.75, 2.5, 3.0});
+    // No cut inside: the whole surface.
+    const auto whole = detachSurface(plane, false, {}, &error);
+    ASSERT_TRUE(whole);
+    expectPiecesMatch(plane, *whole, false, {0.0, 3.0});
+}
+
+TEST(NurbsOpsDetach, APeriodicDirectionOrABadParameterIsRefused) {
+    const NurbsSurface sphere = *makeNurbSphere({}, nullptr);
+    std::string error;
+    EXPECT_FALSE(detachSurface(sphere, false, {2.0}, &error));  // around the sphere: periodic
+    EXPECT_NE(error.find("periodic"), std::string::npos) << error;
+    EXPECT_FALSE(detachSurface(sphere, true, {std::numeric_limits<double>::quiet_NaN()}, &error));
+    EXPECT_NE(error.find("not finite"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace pushpin::geom

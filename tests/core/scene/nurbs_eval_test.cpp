@@ -201,6 +201,49 @@ TEST(NurbsEval, OtherHistoryIsSkippedUnlessTheShapeStoresItsSurface) {
     EXPECT_NE(reason.find("no cached surface data"), std::string::npos) << reason;
 }
 
+TEST(NurbsEval, DetachSurfaceGivesTheShapeItsPiece) {
+    // As in a real scene: the top of a default sphere, cut across U at 2.17, is a heater's cap.
+    const char* text = R"(createNode transform -n "heater";
+createNode nurbsSurface -n "heaterShape" -p "heater";
+createNode makeNurbSphere -n "makeNurbSphere1";
+	setAttr ".ax" -type "double3" 0 1 0 ;
+createNode detachSurface -n "detachSurface1";
+	setAttr ".p[0]"  2.1746218690000001;
+	setAttr -s 2 ".k[0:1]" yes yes;
+connectAttr "detachSurface1.os[1]" "heaterShape.cr";
+connectAttr "makeNurbSphere1.os" "detachSurface1.is";
+)";
+    Graph g = MaReader::readString(text, "heater.ma");
+    geom::NurbsSphereParams yUp;
+    yUp.axis = {0.0, 1.0, 0.0};
+    auto sphere = geom::makeNurbSphere(yUp, nullptr);
+    ASSERT_TRUE(sphere);
+    {
+        Evaluator ev(g, 1.0);
+        std::string reason;
+        auto s = evaluateNurbsSurface(ev, g.find("heaterShape"), &reason);
+        ASSERT_TRUE(s.has_value()) << reason;
+        EXPECT_NEAR(s->uMin(), 2.1746218690000001, 1e-12);
+        EXPECT_NEAR(s->uMax(), 4.0, 1e-12);
+        for (double u : {2.2, 3.0, 3.9})
+            for (double v : {0.0, 2.5, 7.0}) EXPECT_NEAR(glm::length(s->point(u, v) - sphere->point(u, v)), 0.0, 1e-9);
+    }
+    // A piece that is not kept, or one the cut does not make, is not rendered, with the reason.
+    std::string dropped = text;
+    dropped.replace(dropped.find("yes yes"), 7, "yes no");
+    g = MaReader::readString(dropped, "dropped.ma");
+    Evaluator ev(g, 1.0);
+    std::string reason;
+    EXPECT_FALSE(evaluateNurbsSurface(ev, g.find("heaterShape"), &reason));
+    EXPECT_NE(reason.find("not kept"), std::string::npos) << reason;
+    std::string third = text;
+    third.replace(third.find("os[1]"), 5, "os[2]");
+    g = MaReader::readString(third, "third.ma");
+    Evaluator ev3(g, 1.0);
+    EXPECT_FALSE(evaluateNurbsSurface(ev3, g.find("heaterShape"), &reason));
+    EXPECT_NE(reason.find("2 pieces"), std::string::npos) << reason;
+}
+
 TEST(NurbsEval, RationalCvInterpretationsDifferAndCartesianIsTheDefault) {
     // Exact rational sphere written as (x, y, z, w) with Cartesian xyz, and as pre-multiplied
     // (x·w, y·w, z·w, w). Each decodes onto the sphere only with its own interpretation.
