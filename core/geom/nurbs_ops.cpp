@@ -701,14 +701,78 @@ std::optional<NurbsCurve> elevateCurveDegree(const NurbsCurve& c, int degree) {
     return toCurve(elevateSpline(clampSpline(toSpline(c)), degree), nullptr);
 }
 
-// ---- detach
+// ---- surface edits along one direction
+
+namespace {
+
+// The lines of CVs of `s` along U (directionU) or V, each as a spline in that direction.
+std::vector<Spline> surfaceLines(const NurbsSurface& s, bool directionU) {
+    const int lines = directionU ? s.cvCountV() : s.cvCountU();
+    const int along = directionU ? s.cvCountU() : s.cvCountV();
+    std::vector<Spline> out;
+    out.reserve(size_t(lines));
+    for (int l = 0; l < lines; ++l) {
+        Spline line{directionU ? s.degreeU() : s.degreeV(), directionU ? s.formU() : s.formV(),
+                    directionU ? s.knotsU() : s.knotsV(), {}};
+        line.cvs.reserve(size_t(along));
+        for (int i = 0; i < along; ++i) line.cvs.push_back(directionU ? s.cv(i, l) : s.cv(l, i));
+        out.push_back(std::move(line));
+    }
+    return out;
+}
+
+// The surface whose lines along U (directionU) or V are CVs [first, first + count) of `lines`
+// (which share degree and knots), with `knots` and `form` in that direction and the other
+// direction of `s`.
+std::optional<NurbsSurface> surfaceFromLines(const NurbsSurface& s, bool directionU, const std::vector<Spline>& lines,
+                                             size_t first, int count, std::vector<double> knots, NurbsForm form,
+                                             std::string* error) {
+    const size_t n = lines.size();
+    std::vector<glm::dvec4> cvs(size_t(count) * n);
+    for (size_t l = 0; l < n; ++l)
+        for (int i = 0; i < count; ++i)
+            cvs[directionU ? size_t(i) * n + l : l * size_t(count) + size_t(i)] = lines[l].cvs[first + size_t(i)];
+    const int p = lines.front().degree;
+    const bool rational = anyRational(cvs);
+    return directionU ? NurbsSurface::create(p, s.degreeV(), form, s.formV(), std::move(knots), s.knotsV(), count, int(n),
+                                             std::move(cvs), rational, error)
+                      : NurbsSurface::create(s.degreeU(), p, s.formU(), form, s.knotsU(), std::move(knots), int(n), count,
+                                             std::move(cvs), rational, error);
+}
+
+// Solves a·x = b in place (a n×n row-major, b n right-hand sides of 4 components) by Gaussian
+// elimination with partial pivoting; false when a is singular.
+bool solveDense(std::vector<double>& a, std::vector<glm::dvec4>& b, size_t n) {
+    for (size_t c = 0; c < n; ++c) {
+        size_t pivot = c;
+        for (size_t r = c + 1; r < n; ++r)
+            if (std::abs(a[r * n + c]) > std::abs(a[pivot * n + c])) pivot = r;
+        if (!(std::abs(a[pivot * n + c]) > 1e-14)) return false;
+        if (pivot != c) {
+            for (size_t k = 0; k < n; ++k) std::swap(a[c * n + k], a[pivot * n + k]);
+            std::swap(b[c], b[pivot]);
+        }
+        for (size_t r = c + 1; r < n; ++r) {
+            const double f = a[r * n + c] / a[c * n + c];
+            if (f == 0.0) continue;
+            for (size_t k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (size_t c = n; c-- > 0;) {
+        for (size_t k = c + 1; k < n; ++k) b[c] -= a[c * n + k] * b[k];
+        b[c] /= a[c * n + c];
+    }
+    return true;
+}
+
+}  // namespace
 
 std::optional<std::vector<NurbsSurface>> detachSurface(const NurbsSurface& s, bool directionU, std::vector<double> params,
                                                        std::string* error) {
     const NurbsForm form = directionU ? s.formU() : s.formV();
     if (form == NurbsForm::Periodic) return failWith(error, "detaching across a periodic direction is not evaluated");
     const int p = directionU ? s.degreeU() : s.degreeV();
-    const int lines = directionU ? s.cvCountV() : s.cvCountU();
     const int along = directionU ? s.cvCountU() : s.cvCountV();
     const std::vector<double>& knots = directionU ? s.knotsU() : s.knotsV();
     // The cuts strictly inside the domain, ascending, each once.
@@ -721,24 +785,20 @@ std::optional<std::vector<NurbsSurface>> detachSurface(const NurbsSurface& s, bo
     }
     std::sort(cuts.begin(), cuts.end());
     cuts.erase(std::unique(cuts.begin(), cuts.end(), [&](double a, double b) { return b - a <= tol; }), cuts.end());
-    // Every line of CVs across the direction, clamped, with each cut raised to multiplicity p:
-    // the same steps on every line give every line the same knots.
-    std::vector<Spline> split;
-    split.reserve(size_t(lines));
-    for (int l = 0; l < lines; ++l) {
-        Spline line{p, form, knots, {}};
-        for (int i = 0; i < along; ++i) line.cvs.push_back(directionU ? s.cv(i, l) : s.cv(l, i));
+    // Every line, clamped, with each cut raised to multiplicity p: the same steps on every line
+    // give every line the same knots.
+    std::vector<Spline> lines = surfaceLines(s, directionU);
+    for (Spline& line : lines) {
         line = clampSpline(std::move(line));
         for (double t : cuts) {
             snapKnots(line.knots, t, tol);
             while (multiplicity(line.knots, t) < p) insertKnotInPlace(line, t);
         }
-        split.push_back(std::move(line));
     }
-    const std::vector<double>& k = split.front().knots;
+    const std::vector<double>& k = lines.front().knots;
     std::vector<double> ends{k[size_t(p)]};
     ends.insert(ends.end(), cuts.begin(), cuts.end());
-    ends.push_back(k[split.front().cvs.size()]);
+    ends.push_back(k[lines.front().cvs.size()]);
     std::vector<NurbsSurface> pieces;
     for (size_t r = 0; r + 1 < ends.size(); ++r) {
         const double a = ends[r], b = ends[r + 1];
@@ -752,22 +812,106 @@ std::optional<std::vector<NurbsSurface>> detachSurface(const NurbsSurface& s, bo
         std::vector<double> pieceKnots(size_t(p) + 1, a);
         pieceKnots.insert(pieceKnots.end(), k.begin() + std::ptrdiff_t(ia) + 1, k.begin() + std::ptrdiff_t(ib));
         pieceKnots.insert(pieceKnots.end(), size_t(p) + 1, b);
-        const int count = int(ib - ia) + p;
-        std::vector<glm::dvec4> cvs(size_t(count) * size_t(lines));
-        for (int l = 0; l < lines; ++l)
-            for (int i = 0; i < count; ++i) {
-                const glm::dvec4& c = split[size_t(l)].cvs[ia - size_t(p) + size_t(i)];
-                cvs[directionU ? size_t(i) * size_t(lines) + size_t(l) : size_t(l) * size_t(count) + size_t(i)] = c;
-            }
-        std::optional<NurbsSurface> piece =
-            directionU ? NurbsSurface::create(p, s.degreeV(), NurbsForm::Open, s.formV(), std::move(pieceKnots), s.knotsV(), count,
-                                              lines, std::move(cvs), s.rational(), error)
-                       : NurbsSurface::create(s.degreeU(), p, s.formU(), NurbsForm::Open, s.knotsU(), std::move(pieceKnots), lines,
-                                              count, std::move(cvs), s.rational(), error);
+        std::optional<NurbsSurface> piece = surfaceFromLines(s, directionU, lines, ia - size_t(p), int(ib - ia) + p,
+                                                             std::move(pieceKnots), NurbsForm::Open, error);
         if (!piece) return std::nullopt;
         pieces.push_back(std::move(*piece));
     }
     return pieces;
+}
+
+std::optional<NurbsSurface> insertSurfaceKnots(const NurbsSurface& s, bool directionU,
+                                               const std::vector<std::pair<double, int>>& inserts, std::string* error) {
+    const NurbsForm form = directionU ? s.formU() : s.formV();
+    if (form == NurbsForm::Periodic) return failWith(error, "inserting knots across a periodic direction is not evaluated");
+    const int p = directionU ? s.degreeU() : s.degreeV();
+    std::vector<Spline> lines = surfaceLines(s, directionU);
+    const double tol = knotTolerance(lines.front().knots);
+    for (const auto& [t, count] : inserts) {
+        if (!std::isfinite(t)) return failWith(error, "a knot to insert is not finite");
+        if (!(t >= lines.front().tMin() && t <= lines.front().tMax())) continue;  // outside: nothing to insert
+        for (Spline& line : lines) {
+            snapKnots(line.knots, t, tol);
+            // Up to full multiplicity p; more would break the surface.
+            for (int k = 0; k < count && multiplicity(line.knots, t) < p; ++k) insertKnotInPlace(line, t);
+        }
+    }
+    std::vector<double> knots = lines.front().knots;
+    const int count = lines.front().n();
+    return surfaceFromLines(s, directionU, lines, 0, count, std::move(knots), form, error);
+}
+
+std::optional<NurbsSurface> rebuildSurface(const NurbsSurface& s, const RebuildParams& params, std::string* error) {
+    if (params.spansU < 1 || params.spansV < 1 || params.spansU > kMaxRebuildSpans || params.spansV > kMaxRebuildSpans)
+        return failWith(error, "spans must be 1 to " + std::to_string(kMaxRebuildSpans));
+    if (params.degreeU < 1 || params.degreeV < 1 || params.degreeU > kMaxNurbsDegree || params.degreeV > kMaxNurbsDegree)
+        return failWith(error, "degrees must be 1 to " + std::to_string(kMaxNurbsDegree));
+    std::optional<NurbsSurface> out = s;
+    for (const bool directionU : {true, false}) {
+        if (!(directionU ? params.rebuildU : params.rebuildV)) continue;
+        const NurbsSurface& in = *out;
+        const NurbsForm form = directionU ? in.formU() : in.formV();
+        const double a = directionU ? in.uMin() : in.vMin(), b = directionU ? in.uMax() : in.vMax();
+        const int spans = directionU ? params.spansU : params.spansV;
+        double lo = a, hi = b;
+        if (params.range == RebuildRange::ZeroToOne) lo = 0.0, hi = 1.0;
+        if (params.range == RebuildRange::ZeroToSpans) lo = 0.0, hi = double(params.keepControlPoints ? (directionU ? in.spansU() : in.spansV()) : spans);
+        std::vector<Spline> lines = surfaceLines(in, directionU);
+        if (params.keepControlPoints) {
+            // The same CVs over the new range.
+            std::vector<double> knots = lines.front().knots;
+            for (double& k : knots) k = lo + (k - a) / (b - a) * (hi - lo);
+            const int count = lines.front().n();
+            out = surfaceFromLines(in, directionU, lines, 0, count, std::move(knots), form, error);
+            if (!out) return std::nullopt;
+            continue;
+        }
+        const int q = directionU ? params.degreeU : params.degreeV;
+        const bool periodic = form == NurbsForm::Periodic;
+        // Uniform knots over [lo, hi]: clamped ends, or the periodic pattern (q spans past each end).
+        std::vector<double> knots;
+        const double step = (hi - lo) / spans;
+        if (periodic) {
+            for (int i = -q; i <= spans + q; ++i) knots.push_back(lo + step * i);
+        } else {
+            knots.assign(size_t(q) + 1, lo);
+            for (int i = 1; i < spans; ++i) knots.push_back(lo + step * i);
+            knots.insert(knots.end(), size_t(q) + 1, hi);
+        }
+        const int count = spans + q;                   // CVs along the direction
+        const int unknowns = periodic ? spans : count;  // a periodic line repeats its first q CVs
+        // Interpolate each line at the Greville abscissae of the new knots (wrapped into the domain).
+        std::vector<double> sites(static_cast<size_t>(unknowns));
+        for (int i = 0; i < unknowns; ++i) {
+            double g = 0.0;
+            for (int k = 1; k <= q; ++k) g += knots[size_t(i + k)];
+            g /= q;
+            if (periodic) g = lo + std::fmod(std::fmod(g - lo, hi - lo) + (hi - lo), hi - lo);
+            sites[size_t(i)] = std::clamp(g, lo, hi);
+        }
+        std::vector<double> matrix(size_t(unknowns) * size_t(unknowns), 0.0);
+        double basis[kMaxNurbsDegree + 1];
+        for (int r = 0; r < unknowns; ++r) {
+            const int span = findKnotSpan(q, knots, count, sites[size_t(r)]);
+            basisFunctions(span, sites[size_t(r)], q, knots, basis);
+            for (int k = 0; k <= q; ++k) {
+                const int cv = span - q + k;
+                matrix[size_t(r) * size_t(unknowns) + size_t(periodic ? cv % spans : cv)] += basis[k];
+            }
+        }
+        for (Spline& line : lines) {
+            std::vector<glm::dvec4> rhs(static_cast<size_t>(unknowns));
+            for (int r = 0; r < unknowns; ++r)
+                rhs[size_t(r)] = evalHomogeneous(line, a + (sites[size_t(r)] - lo) / (hi - lo) * (b - a));
+            std::vector<double> m = matrix;
+            if (!solveDense(m, rhs, size_t(unknowns))) return failWith(error, "the rebuilt surface cannot fit the input");
+            for (int k = 0; periodic && k < q; ++k) rhs.push_back(rhs[size_t(k)]);
+            line = Spline{q, form, knots, std::move(rhs)};
+        }
+        out = surfaceFromLines(in, directionU, lines, 0, count, knots, form, error);
+        if (!out) return std::nullopt;
+    }
+    return out;
 }
 
 // ---- revolve

@@ -171,4 +171,26 @@ std::optional<NurbsCurve> elevateCurveDegree(const NurbsCurve& c, int degree);
 std::optional<std::vector<NurbsSurface>> detachSurface(const NurbsSurface& s, bool directionU, std::vector<double> params,
                                                        std::string* error);
 
+// insertKnotSurface: each (parameter, count) inserted `count` times across U (directionU) or V, up
+// to full multiplicity; parameters outside the domain insert nothing. The surface is unchanged as a
+// shape. A periodic direction is refused.
+std::optional<NurbsSurface> insertSurfaceKnots(const NurbsSurface& s, bool directionU,
+                                               const std::vector<std::pair<double, int>>& inserts, std::string* error);
+
+// rebuildSurface with Maya's uniform rebuild type: in each direction asked for, a surface of the
+// given degree and spans with uniform knots (clamped ends; periodic stays periodic) over the new
+// range, interpolating the input at the new knots' Greville abscissae (mapped linearly onto the
+// input's range). With keepControlPoints the CVs stay and only the range changes. The fit is this
+// renderer's own: Maya's CVs for the same request may differ.
+enum class RebuildRange { ZeroToOne, Original, ZeroToSpans };  // Maya's keepRange 0, 1, 2
+struct RebuildParams {
+    bool rebuildU = true, rebuildV = true;
+    int spansU = 4, spansV = 4;
+    int degreeU = 3, degreeV = 3;
+    RebuildRange range = RebuildRange::Original;
+    bool keepControlPoints = false;
+};
+inline constexpr int kMaxRebuildSpans = 1024;
+std::optional<NurbsSurface> rebuildSurface(const NurbsSurface& s, const RebuildParams& params, std::string* error);
+
 }  // namespace pushpin::geom

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <algorithm>
 #include <initializer_list>
+#include <map>
 #include <numbers>
 
 namespace pushpin::scene {
@@ -328,21 +329,80 @@ std::optional<geom::NurbsSurface> evaluateLoft(Evaluator& ev, NodeId node, std::
 std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, std::string* error, std::string* note,
                                                 int depth);
 
-// detachSurface: piece `os[i]` of its input cut at its parameters (keep[i] off: no piece).
-std::optional<geom::NurbsSurface> evaluateDetach(Evaluator& ev, NodeId node, const std::string& path, std::string* error,
-                                                 std::string* note, int depth) {
-    const Graph& g = ev.graph();
+bool isSurfaceHistory(std::string_view type) {
+    return type == "revolve" || type == "loft" || type == "detachSurface" || type == "insertKnotSurface" ||
+           type == "rebuildSurface";
+}
+
+// The input surface of a surface-editing node (`is`), through its own history.
+std::optional<geom::NurbsSurface> inputSurface(Evaluator& ev, NodeId node, std::string* error, std::string* note, int depth) {
     if (depth >= kMaxShapeChain) return failWith(error, "the surface history is deeper than " + std::to_string(kMaxShapeChain));
-    const std::optional<Plug> src = g.source(node, "is");
+    const std::optional<Plug> src = ev.graph().source(node, "is");
     if (!src) return failWith(error, "no input surface is connected");
     std::string err;
     std::optional<geom::NurbsSurface> in = surfaceAtPlug(ev, *src, &err, note, depth + 1);
     if (!in) return failWith(error, "inputSurface: " + err);
+    return in;
+}
+
+// The numbers of multi attribute `name` in index order.
+std::vector<double> multiNumbers(const Graph& g, NodeId node, std::string_view name) {
+    std::vector<double> out;
+    if (const AttrData* a = g.findAttr(node, name))
+        detail::forEachNumeric(*a, [&](uint64_t, const double* v, int) { out.push_back(v[0]); });
+    return out;
+}
+
+// insertKnotSurface: its parameters inserted numberOfKnots times each.
+std::optional<geom::NurbsSurface> evaluateInsertKnots(Evaluator& ev, NodeId node, std::string* error, std::string* note,
+                                                      int depth) {
+    std::optional<geom::NurbsSurface> in = inputSurface(ev, node, error, note, depth);
+    if (!in) return std::nullopt;
+    CreatorAttrs a(ev, node);
+    if (a.integer("ib", 0) != 0) return failWith(error, "insertBetween is not evaluated");
+    if (a.integer("add", 1) == 0) return failWith(error, "setting the knots' multiplicity (addKnots off) is not evaluated");
+    const std::vector<double> params = multiNumbers(ev.graph(), node, "parameter");
+    const std::vector<double> counts = multiNumbers(ev.graph(), node, "numberOfKnots");
+    std::vector<std::pair<double, int>> inserts;
+    for (size_t i = 0; i < params.size(); ++i) {
+        const double n = i < counts.size() ? counts[i] : 1.0;
+        inserts.emplace_back(params[i], std::isfinite(n) ? int(std::clamp(n, 0.0, 64.0)) : 0);
+    }
+    return geom::insertSurfaceKnots(*in, a.integer("d", 1) != 0, inserts, error);
+}
+
+// rebuildSurface: the uniform rebuild (or the same CVs over a new range with keepControlPoints).
+std::optional<geom::NurbsSurface> evaluateRebuild(Evaluator& ev, NodeId node, std::string* error, std::string* note, int depth) {
+    std::optional<geom::NurbsSurface> in = inputSurface(ev, node, error, note, depth);
+    if (!in) return std::nullopt;
+    CreatorAttrs a(ev, node);
+    if (const int type = a.integer("rt", 0); type != 0)
+        return failWith(error, "rebuildType " + std::to_string(type) + " is not evaluated (only the uniform rebuild is)");
+    geom::RebuildParams p;
+    const int direction = a.integer("dir", 2);
+    p.rebuildU = direction == 0 || direction == 2;
+    p.rebuildV = direction == 1 || direction == 2;
+    p.spansU = a.integer("su", 4);
+    p.spansV = a.integer("sv", 4);
+    p.degreeU = a.integer("du", 3);
+    p.degreeV = a.integer("dv", 3);
+    const int range = a.integer("kr", 1);
+    p.range = range == 0 ? geom::RebuildRange::ZeroToOne : range == 2 ? geom::RebuildRange::ZeroToSpans : geom::RebuildRange::Original;
+    p.keepControlPoints = a.integer("kc", 0) != 0;
+    if (a.integer("end", 1) != 1) addNote(note, "rebuildSurface " + ev.graph().node(node).name + ": end knots are made multiple");
+    addNote(note, "rebuildSurface " + ev.graph().node(node).name + ": fitted by interpolation; its CVs may differ from Maya's");
+    return geom::rebuildSurface(*in, p, error);
+}
+
+// detachSurface: piece `os[i]` of its input cut at its parameters (keep[i] off: no piece).
+std::optional<geom::NurbsSurface> evaluateDetach(Evaluator& ev, NodeId node, const std::string& path, std::string* error,
+                                                 std::string* note, int depth) {
+    std::optional<geom::NurbsSurface> in = inputSurface(ev, node, error, note, depth);
+    if (!in) return std::nullopt;
     CreatorAttrs a(ev, node);
     const bool directionU = a.integer("d", 1) != 0;
-    std::vector<double> params;
-    if (const AttrData* p = g.findAttr(node, "parameter"))
-        detail::forEachNumeric(*p, [&](uint64_t, const double* v, int) { params.push_back(v[0]); });
+    std::vector<double> params = multiNumbers(ev.graph(), node, "parameter");
+    std::string err;
     const int piece = plugIndex(path);
     if (!ev.getBool(node, "keep[" + std::to_string(piece) + "]", true))
         return failWith(error, "piece " + std::to_string(piece) + " is not kept");
@@ -375,9 +435,42 @@ std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, 
     else if (n.type == "revolve") s = evaluateRevolve(ev, src.node, &err, note, depth);
     else if (n.type == "loft") s = evaluateLoft(ev, src.node, &err, note, depth);
     else if (n.type == "detachSurface") s = evaluateDetach(ev, src.node, src.path, &err, note, depth);
+    else if (n.type == "insertKnotSurface") s = evaluateInsertKnots(ev, src.node, &err, note, depth);
+    else if (n.type == "rebuildSurface") s = evaluateRebuild(ev, src.node, &err, note, depth);
     else return failWith(error, "history node " + n.type + " (" + n.name + ") is not evaluated");
     if (!s) return failWith(error, n.type + " (" + n.name + "): " + err);
     return s;
+}
+
+// A shape's relative control-point tweaks (`tweak` on, `controlPoints[k]` offsets for CV
+// (k / cvCountV, k % cvCountV), in object space) on the surface its history makes.
+std::optional<geom::NurbsSurface> withControlPointTweaks(Evaluator& ev, NodeId shape, geom::NurbsSurface s,
+                                                         std::string* note) {
+    const Graph& g = ev.graph();
+    if (!ev.getBool(shape, "tw", false)) return s;
+    const std::map<uint32_t, glm::dvec3> tweaks = detail::vectorElements(ev, shape, "controlPoints", 3);
+    if (tweaks.empty()) return s;
+    std::vector<glm::dvec4> cvs = s.cvs();
+    size_t outside = 0;
+    for (const auto& [k, offset] : tweaks) {
+        if (k >= cvs.size()) {
+            ++outside;
+            continue;
+        }
+        glm::dvec4& c = cvs[k];
+        c = glm::dvec4((glm::dvec3(c) / c.w + offset) * c.w, c.w);
+    }
+    if (outside > 0)
+        addNote(note, g.node(shape).name + ": " + std::to_string(outside) + " control-point tweaks past the last CV are not applied");
+    std::string err;
+    std::optional<geom::NurbsSurface> t = geom::NurbsSurface::create(s.degreeU(), s.degreeV(), s.formU(), s.formV(), s.knotsU(),
+                                                                     s.knotsV(), s.cvCountU(), s.cvCountV(), std::move(cvs),
+                                                                     s.rational(), &err);
+    if (!t) {
+        addNote(note, g.node(shape).name + ": its control-point tweaks are not applied (" + err + ")");
+        return s;
+    }
+    return t;
 }
 
 std::optional<geom::NurbsSurface> surfaceOfShape(Evaluator& ev, NodeId shape, std::string* skipReason,
@@ -401,14 +494,14 @@ std::optional<geom::NurbsSurface> surfaceOfShape(Evaluator& ev, NodeId shape, st
             std::string err;
             auto s = evaluateCreator(ev, src->node, src->path, &err);
             if (!s) return failWith(skipReason, n.name + ": " + c.type + " (" + c.name + "): " + err);
-            return s;
+            return withControlPointTweaks(ev, shape, std::move(*s), note);
         }
-        if ((c.type == "revolve" || c.type == "loft" || c.type == "detachSurface") && depth < kMaxShapeChain) {
+        if (isSurfaceHistory(c.type) && depth < kMaxShapeChain) {
             std::string err, historyNote;
             auto s = surfaceAtPlug(ev, *src, &err, &historyNote, depth);
             if (s) {
                 addNote(note, historyNote);
-                return s;
+                return withControlPointTweaks(ev, shape, std::move(*s), note);
             }
             if (cached) {
                 addNote(note, err + "; using the cached surface of " + n.name);

@@ -220,7 +220,7 @@ void addDagTypes(Table& t) {
     t.type("controlPoint", "deformableShape");
     t.c("controlPoints", "cp", T::Double3, {0, 0, 0, 0}, U::Distance, {{"xValue", "xv"}, {"yValue", "yv"}, {"zValue", "zv"}}, true)
         .a("weights", "wt", T::Double, 0, U::None, true)
-        .a("tweak", "twk", T::Bool).a("relativeTweak", "rtw", T::Bool, 1).a("currentUVSet", "cuvs", T::String)
+        .a("tweak", "tw", T::Bool).a("relativeTweak", "rtw", T::Bool, 1).a("currentUVSet", "cuvs", T::String)
         .a("displayImmediate", "di", T::Bool).a("displayColors", "dcol", T::Bool)
         .a("displayColorChannel", "dcc", T::String).a("currentColorSet", "ccls", T::String)
         .a("uvSet", "uvst", T::Compound, 0, U::None, true)
@@ -258,7 +258,7 @@ void addDagTypes(Table& t) {
         .a("continuity", "c", T::Double, 1).a("smoothUVs", "suv", T::Bool, 1)
         .a("propagateEdgeHardness", "peh", T::Bool).a("osdFvarBoundary", "ofb", T::Enum);
 
-    t.type("nurbsSurface", "surfaceShape");
+    t.type("nurbsSurface", "controlPoint");
     t.a("create", "cr", T::NurbsSurface).a("cached", "cc", T::NurbsSurface).a("local", "l", T::NurbsSurface)
         .a("worldSpace", "ws", T::NurbsSurface, 0, U::None, true).a("tweakSize", "ts", T::Int)
         .a("divisionsU", "dvu", T::Int).a("divisionsV", "dvv", T::Int)
@@ -691,6 +691,15 @@ void addHistoryTypes(Table& t) {
     t.a("inputSurface", "is", T::NurbsSurface).a("parameter", "p", T::Double, 0, U::None, true)
         .a("keep", "k", T::Bool, 1, U::None, true).a("direction", "d", T::Int, 1)
         .a("outputSurface", "os", T::NurbsSurface, 0, U::None, true);
+    t.type("insertKnotSurface", "abstractBaseCreate");
+    t.a("inputSurface", "is", T::NurbsSurface).a("parameter", "p", T::Double, 0, U::None, true)
+        .a("numberOfKnots", "nk", T::Int, 1, U::None, true).a("direction", "d", T::Int, 1)
+        .a("insertBetween", "ib", T::Bool, 0).a("addKnots", "add", T::Bool, 1).a("outputSurface", "os", T::NurbsSurface);
+    t.type("rebuildSurface", "abstractBaseCreate");
+    t.a("inputSurface", "is", T::NurbsSurface).a("rebuildType", "rt", T::Enum, 0).a("direction", "dir", T::Enum, 2)
+        .a("spansU", "su", T::Int, 4).a("spansV", "sv", T::Int, 4).a("degreeU", "du", T::Enum, 3).a("degreeV", "dv", T::Enum, 3)
+        .a("keepRange", "kr", T::Enum, 1).a("keepControlPoints", "kc", T::Bool, 0).a("endKnots", "end", T::Enum, 0)
+        .a("keepCorners", "kcp", T::Bool, 0).a("outputSurface", "os", T::NurbsSurface);
     t.type("loft", "abstractBaseCreate");
     t.a("inputCurve", "ic", T::NurbsCurve, 0, U::None, true).a("uniform", "u", T::Bool, 0).a("close", "c", T::Bool, 0)
         .a("degree", "d", T::Enum, 3).a("reverseSurfaceNormals", "rsn", T::Bool, 0).a("autoReverse", "ar", T::Bool, 1)

@@ -640,3 +640,88 @@ TEST(NurbsOpsDetach, APeriodicDirectionOrABadParameterIsRefused) {
 
 }  // namespace
 }  // namespace pushpin::geom
+
+namespace pushpin::geom {
+namespace {
+
+// The largest distance between a and b at the same fractions of their domains.
+double largestGap(const NurbsSurface& a, const NurbsSurface& b) {
+    double worst = 0.0;
+    for (int i = 0; i <= 10; ++i)
+        for (int j = 0; j <= 10; ++j) {
+            const double u = a.uMin() + (a.uMax() - a.uMin()) * i / 10.0, v = a.vMin() + (a.vMax() - a.vMin()) * j / 10.0;
+            const double ub = b.uMin() + (b.uMax() - b.uMin()) * i / 10.0, vb = b.vMin() + (b.vMax() - b.vMin()) * j / 10.0;
+            worst = std::max(worst, glm::length(a.point(u, v) - b.point(ub, vb)));
+        }
+    return worst;
+}
+
+TEST(NurbsOpsInsertKnots, TheShapeStaysAndTheCvsGrow) {
+    NurbsPlaneParams p;
+    p.patchesU = 2;
+    p.patchesV = 2;
+    const NurbsSurface plane = *makeNurbPlane(p, nullptr);
+    std::string error;
+    // u = 0.5 twice, u = 1 (a knot already) five times (capped at full multiplicity 3), u = 5 outside.
+    const auto more = insertSurfaceKnots(plane, true, {{0.5, 2}, {1.0, 5}, {5.0, 1}}, &error);
+    ASSERT_TRUE(more) << error;
+    EXPECT_EQ(more->cvCountU(), plane.cvCountU() + 2 + 2);
+    EXPECT_EQ(more->cvCountV(), plane.cvCountV());
+    EXPECT_LT(largestGap(*more, plane), 1e-12);
+    const NurbsSurface sphere = *makeNurbSphere({}, nullptr);
+    EXPECT_FALSE(insertSurfaceKnots(sphere, false, {{1.0, 1}}, &error));  // around: periodic
+}
+
+TEST(NurbsOpsRebuild, AUniformCubicRebuiltToItsOwnSpansIsItself) {
+    // Rebuilding interpolates in the same spline space, so a uniform bicubic comes back exactly.
+    NurbsPlaneParams p;
+    p.patchesU = 4;
+    p.patchesV = 4;
+    const NurbsSurface plane = *makeNurbPlane(p, nullptr);
+    RebuildParams r;
+    std::string error;
+    const auto same = rebuildSurface(plane, r, &error);
+    ASSERT_TRUE(same) << error;
+    EXPECT_EQ(same->cvCountU(), 7);
+    EXPECT_LT(largestGap(*same, plane), 1e-9);
+    // The default sphere: 4 spans pole to pole (open), 8 sections round (periodic).
+    const NurbsSurface sphere = *makeNurbSphere({}, nullptr);
+    r.spansV = 8;
+    r.range = RebuildRange::ZeroToOne;
+    const auto round = rebuildSurface(sphere, r, &error);
+    ASSERT_TRUE(round) << error;
+    EXPECT_EQ(round->formV(), NurbsForm::Periodic);
+    EXPECT_NEAR(round->uMax(), 1.0, 1e-12);
+    EXPECT_NEAR(round->vMax(), 1.0, 1e-12);
+    EXPECT_LT(largestGap(*round, sphere), 1e-9);  // same spans: the same surface over 0 to 1
+}
+
+TEST(NurbsOpsRebuild, FewerSpansApproximateAndKeepControlPointsOnlyRemaps) {
+    const NurbsSurface sphere = *makeNurbSphere({}, nullptr);
+    RebuildParams r;
+    r.spansU = 2;
+    r.spansV = 6;
+    std::string error;
+    const auto coarse = rebuildSurface(sphere, r, &error);
+    ASSERT_TRUE(coarse) << error;
+    EXPECT_EQ(coarse->cvCountU(), 5);
+    EXPECT_EQ(coarse->cvCountV(), 9);
+    const double gap = largestGap(*coarse, sphere);
+    EXPECT_GT(gap, 1e-6);  // a different surface...
+    EXPECT_LT(gap, 0.1);   // ...close to the unit sphere
+    r.keepControlPoints = true;
+    r.range = RebuildRange::ZeroToSpans;
+    const auto remapped = rebuildSurface(sphere, r, &error);
+    ASSERT_TRUE(remapped) << error;
+    EXPECT_EQ(remapped->cvs(), sphere.cvs());
+    EXPECT_NEAR(remapped->uMax(), 4.0, 1e-12);
+    EXPECT_LT(largestGap(*remapped, sphere), 1e-12);
+    r.spansU = 0;
+    EXPECT_FALSE(rebuildSurface(sphere, r, &error));
+    r.spansU = 4;
+    r.degreeV = 0;
+    EXPECT_FALSE(rebuildSurface(sphere, r, &error));
+}
+
+}  // namespace
+}  // namespace pushpin::geom

@@ -178,13 +178,13 @@ TEST(NurbsEval, OtherHistoryIsSkippedUnlessTheShapeStoresItsSurface) {
     Graph g;
     const NodeId xf = g.createNode("transform", "surf");
     const NodeId shape = g.createNode("nurbsSurface", "surfShape", xf);
-    const NodeId rebuild = g.createNode("rebuildSurface", "rebuildSurface1");
+    const NodeId rebuild = g.createNode("offsetSurface", "offsetSurface1");
     connect(g, rebuild, "os", shape, "cr");
     {
         Evaluator ev(g, 1.0);
         std::string reason;
         EXPECT_FALSE(evaluateNurbsSurface(ev, shape, &reason));
-        EXPECT_EQ(reason, "history node rebuildSurface (rebuildSurface1) is not evaluated");
+        EXPECT_EQ(reason, "history node offsetSurface (offsetSurface1) is not evaluated");
     }
     auto plane = geom::makeNurbPlane({}, nullptr);
     ASSERT_TRUE(plane.has_value());
@@ -193,7 +193,7 @@ TEST(NurbsEval, OtherHistoryIsSkippedUnlessTheShapeStoresItsSurface) {
     std::string reason, note;
     auto s = evaluateNurbsSurface(ev, shape, &reason, &note);
     ASSERT_TRUE(s.has_value()) << reason;
-    EXPECT_NE(note.find("history node rebuildSurface (rebuildSurface1) is not evaluated"), std::string::npos) << note;
+    EXPECT_NE(note.find("history node offsetSurface (offsetSurface1) is not evaluated"), std::string::npos) << note;
     EXPECT_NEAR(glm::length(s->point(0.5, 0.5) - plane->point(0.5, 0.5)), 0.0, 1e-15);
 
     const NodeId empty = g.createNode("nurbsSurface", "emptyShape", xf);
@@ -242,6 +242,62 @@ connectAttr "makeNurbSphere1.os" "detachSurface1.is";
     Evaluator ev3(g, 1.0);
     EXPECT_FALSE(evaluateNurbsSurface(ev3, g.find("heaterShape"), &reason));
     EXPECT_NE(reason.find("2 pieces"), std::string::npos) << reason;
+}
+
+TEST(NurbsEval, InsertKnotThenRebuildAsInARealScene) {
+    // A cigarette: a cylinder with two knots inserted near its top, rebuilt uniformly to 4 × 4
+    // spans over 0 to 1 (7 × 7 CVs), then a tweak on one CV of the shape.
+    const char* text = R"(createNode transform -n "cig";
+createNode nurbsSurface -n "cigShape" -p "cig";
+	setAttr ".tw" yes;
+	setAttr ".cp[24]" -type "double3" 0 0.5 0;
+createNode rebuildSurface -n "rebuildSurface1";
+	setAttr ".end" 1;
+	setAttr ".kc" no;
+	setAttr ".kr" 0;
+createNode insertKnotSurface -n "insertKnotSurface1";
+	setAttr -s 2 ".p[0:1]"  1.9602509296549 1.9792133934038001;
+	setAttr -s 2 ".nk[0:1]"  1 1;
+createNode makeNurbCylinder -n "makeNurbCylinder1";
+	setAttr ".ax" -type "double3" 0 1 0 ;
+	setAttr ".s" 11;
+	setAttr ".nsp" 4;
+connectAttr "rebuildSurface1.os" "cigShape.cr";
+connectAttr "insertKnotSurface1.os" "rebuildSurface1.is";
+connectAttr "makeNurbCylinder1.os" "insertKnotSurface1.is";
+)";
+    Graph g = MaReader::readString(text, "cig.ma");
+    Evaluator ev(g, 1.0);
+    std::string reason, note;
+    auto s = evaluateNurbsSurface(ev, g.find("cigShape"), &reason, &note);
+    ASSERT_TRUE(s.has_value()) << reason;
+    EXPECT_EQ(s->cvCountU(), 7);
+    EXPECT_EQ(s->cvCountV(), 7);
+    EXPECT_EQ(s->formV(), geom::NurbsForm::Periodic);
+    EXPECT_NEAR(s->uMin(), 0.0, 1e-12);
+    EXPECT_NEAR(s->uMax(), 1.0, 1e-12);
+    EXPECT_NE(note.find("interpolation"), std::string::npos) << note;
+    // Still a cylinder of radius 1 from y = -1 to 1 (up to the fit), apart from near the tweaked CV.
+    double worst = 0.0;
+    for (int i = 0; i <= 10; ++i) {
+        const glm::dvec3 q = s->point(0.05 * i, 0.0);
+        worst = std::max(worst, std::abs(std::hypot(q.x, q.z) - 1.0));
+    }
+    EXPECT_LT(worst, 0.02);
+    EXPECT_NEAR(s->point(0.0, 0.0).y, -1.0, 1e-6);
+    EXPECT_NEAR(s->point(1.0, 0.0).y, 1.0, 1e-6);
+    // The shape's relative tweak moves CV (3, 3) (controlPoints[3 · 7 + 3]) and no other.
+    std::string untweaked = text;
+    untweaked.replace(untweaked.find("\tsetAttr \".tw\" yes;\n"), 21, "");
+    Graph plain = MaReader::readString(untweaked, "plain.ma");
+    Evaluator ev2(plain, 1.0);
+    auto base = evaluateNurbsSurface(ev2, plain.find("cigShape"), &reason);
+    ASSERT_TRUE(base.has_value()) << reason;
+    for (int i = 0; i < 7; ++i)
+        for (int j = 0; j < 7; ++j) {
+            const glm::dvec3 d = s->cvPoint(i, j) - base->cvPoint(i, j);
+            EXPECT_NEAR(glm::length(d - (i == 3 && j == 3 ? glm::dvec3(0, 0.5, 0) : glm::dvec3(0.0))), 0.0, 1e-12) << i << " " << j;
+        }
 }
 
 TEST(NurbsEval, RationalCvInterpretationsDifferAndCartesianIsTheDefault) {
