@@ -914,6 +914,87 @@ std::optional<NurbsSurface> rebuildSurface(const NurbsSurface& s, const RebuildP
     return out;
 }
 
+// ---- extrude
+
+std::optional<NurbsSurface> extrudeCurve(const NurbsCurve& profile, const NurbsCurve* path, const ExtrudeParams& p,
+                                         std::string* error) {
+    const std::vector<glm::dvec4>& pc = profile.cvs();
+    auto cartesian = [](const glm::dvec4& c) { return glm::dvec3(c) / c.w; };
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const glm::dvec4& c : pc) {
+        lo = glm::min(lo, cartesian(c));
+        hi = glm::max(hi, cartesian(c));
+    }
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    if (p.type == ExtrudeType::Distance) {
+        const double len = glm::length(p.direction);
+        if (!std::isfinite(len) || len <= 0.0 || !std::isfinite(p.length)) return failWith(error, "the direction or length is not usable");
+        if (p.degreeAlongLength < 1 || p.degreeAlongLength > kMaxNurbsDegree) return failWith(error, "degreeAlongLength is out of range");
+        const glm::dvec3 d = p.direction / len * p.length;
+        const int rows = p.degreeAlongLength + 1;
+        std::vector<glm::dvec4> cvs;
+        for (int i = 0; i < rows; ++i)
+            for (const glm::dvec4& c : pc) cvs.emplace_back((cartesian(c) + d * (double(i) / (rows - 1))) * c.w, c.w);
+        std::vector<double> knots(size_t(rows), 0.0);
+        knots.insert(knots.end(), size_t(rows), 1.0);
+        return NurbsSurface::create(p.degreeAlongLength, profile.degree(), NurbsForm::Open, profile.form(), std::move(knots),
+                                    profile.knots(), rows, profile.cvCount(), std::move(cvs), profile.rational(), error);
+    }
+    if (!path) return failWith(error, "a flat or tube extrusion needs a path curve");
+    // The path runs from the end nearer the profile (unless the surface is placed on the path).
+    std::optional<NurbsCurve> way = *path;
+    if (!p.fixedPath && glm::length(path->point(path->tMax()) - centre) < glm::length(path->point(path->tMin()) - centre))
+        way = reverseCurve(*path);
+    if (!way) return failWith(error, "the path curve cannot be reversed");
+    const glm::dvec3 start = way->point(way->tMin());
+    const glm::dvec3 anchor = p.fixedPath ? centre : start;  // the profile point that rides on the path
+    if (p.type == ExtrudeType::Flat) {
+        // A translational surface: CV (i, j) = path CV i + profile CV j − anchor, weights multiplied.
+        std::vector<glm::dvec4> cvs;
+        for (const glm::dvec4& q : way->cvs())
+            for (const glm::dvec4& c : pc) {
+                const double w = q.w * c.w;
+                cvs.emplace_back((cartesian(q) + cartesian(c) - anchor) * w, w);
+            }
+        return NurbsSurface::create(way->degree(), profile.degree(), way->form(), profile.form(), way->knots(), profile.knots(),
+                                    way->cvCount(), profile.cvCount(), std::move(cvs), way->rational() || profile.rational(),
+                                    error);
+    }
+    // Tube: sections of the profile carried along the path in a rotation-minimising frame, lofted.
+    const int sections = std::clamp(4 * way->spans(), 8, 512);
+    std::vector<NurbsCurve> curves;
+    glm::dmat3 frame(1.0);
+    glm::dvec3 tangentBefore(0.0);
+    for (int k = 0; k <= sections; ++k) {
+        const double t = way->tMin() + (way->tMax() - way->tMin()) * k / sections;
+        glm::dvec3 at, tangent;
+        way->evaluate(t, &at, &tangent);
+        if (glm::length(tangent) > 0.0) tangent = glm::normalize(tangent);
+        if (k > 0 && glm::length(tangent) > 0.0 && glm::length(tangentBefore) > 0.0) {
+            const glm::dvec3 axis = glm::cross(tangentBefore, tangent);
+            const double sinA = glm::length(axis), cosA = glm::dot(tangentBefore, tangent);
+            if (sinA > 1e-12) {
+                const glm::dvec3 n = axis / sinA;
+                // Rodrigues: the rotation taking the previous tangent to this one.
+                const glm::dmat3 cross(0, n.z, -n.y, -n.z, 0, n.x, n.y, -n.x, 0);
+                const glm::dmat3 step = glm::dmat3(1.0) + sinA * cross + (1.0 - cosA) * (cross * cross);
+                frame = step * frame;
+            }
+        }
+        if (glm::length(tangent) > 0.0) tangentBefore = tangent;
+        std::vector<glm::dvec4> cvs;
+        for (const glm::dvec4& c : pc) cvs.emplace_back((at + frame * (cartesian(c) - anchor)) * c.w, c.w);
+        std::optional<NurbsCurve> section =
+            NurbsCurve::create(profile.degree(), profile.form(), profile.knots(), std::move(cvs), profile.rational(), error);
+        if (!section) return std::nullopt;
+        curves.push_back(std::move(*section));
+    }
+    LoftParams loft;
+    loft.uniform = true;
+    loft.autoReverse = false;
+    return loftCurves(curves, loft, error);
+}
+
 // ---- revolve
 
 std::optional<NurbsSurface> revolveCurve(const NurbsCurve& profile, const RevolveParams& p, std::string* error) {

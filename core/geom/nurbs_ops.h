@@ -90,6 +90,26 @@ struct LoftParams {
 // input (fewer than 2 curves, unsupported degree, sectionSpans < 1, a singular interpolation).
 std::optional<NurbsSurface> loftCurves(const std::vector<NurbsCurve>& curves, const LoftParams& p, std::string* error);
 
+// ---- extrude
+
+// Maya's extrude: distance (the profile moved along a direction by a length; exact), flat (the
+// profile translated along a path curve; exact for non-rational curves) or tube (the profile
+// carried along the path in a rotation-minimising frame: sections every quarter span of the path,
+// at least 8, lofted cubically, an approximation). U runs along the length or path, V along the
+// profile. The path starts at its end nearer the profile; with fixedPath the profile's bounding-box
+// centre rides on the path (the surface lies along the path), else the path's start is moved onto
+// the profile.
+enum class ExtrudeType { Distance, Flat, Tube };  // Maya's extrudeType 0, 1, 2
+struct ExtrudeParams {
+    ExtrudeType type = ExtrudeType::Tube;
+    glm::dvec3 direction{0.0, 1.0, 0.0};
+    double length = 1.0;
+    int degreeAlongLength = 1;
+    bool fixedPath = false;
+};
+std::optional<NurbsSurface> extrudeCurve(const NurbsCurve& profile, const NurbsCurve* path, const ExtrudeParams& p,
+                                         std::string* error);
+
 // ---- tessellation (nurbsTessellate)
 
 // Maya's `format` values.

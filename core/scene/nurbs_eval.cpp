@@ -294,6 +294,41 @@ std::optional<geom::NurbsSurface> evaluateRevolve(Evaluator& ev, NodeId node, st
     return geom::revolveCurve(*profile, p, error);
 }
 
+// extrude: a profile moved by a distance, or along a path curve (flat or tube).
+std::optional<geom::NurbsSurface> evaluateExtrude(Evaluator& ev, NodeId node, std::string* error, std::string* note,
+                                                  int depth) {
+    const Graph& g = ev.graph();
+    const auto src = g.source(node, "profile");
+    if (!src) return failWith(error, "no profile curve");
+    auto profile = curveAtPlug(ev, *src, error, note, depth);
+    if (!profile) return std::nullopt;
+    CreatorAttrs a(ev, node);
+    geom::ExtrudeParams p;
+    const int type = a.integer("et", 2);
+    if (type < 0 || type > 2) return failWith(error, "extrudeType " + std::to_string(type) + " is not distance, flat or tube");
+    p.type = type == 0 ? geom::ExtrudeType::Distance : type == 1 ? geom::ExtrudeType::Flat : geom::ExtrudeType::Tube;
+    p.direction = a.vec3("d", {"dx", "dy", "dz"}, glm::dvec3(0, 1, 0));
+    p.length = a.number("l", 1.0);
+    p.degreeAlongLength = a.integer("dl", 1);
+    p.fixedPath = a.integer("fpt", 0) != 0;
+    std::optional<geom::NurbsCurve> path;
+    if (p.type != geom::ExtrudeType::Distance) {
+        const auto along = g.source(node, "path");
+        if (!along) return failWith(error, "no path curve");
+        path = curveAtPlug(ev, *along, error, note, depth);
+        if (!path) return std::nullopt;
+    }
+    const std::string& name = g.node(node).name;
+    std::string ignored;
+    if (a.number("ro", 0.0) != 0.0) ignored += ", rotation";
+    if (a.number("sc", 1.0) != 1.0) ignored += ", scale";
+    if (a.integer("upn", 0) != 0) ignored += ", useProfileNormal";
+    if (a.integer("ucp", 0) != 0) ignored += ", useComponentPivot";
+    if (!ignored.empty()) addNote(note, "extrude " + name + ": " + ignored.substr(2) + " not applied");
+    if (p.type == geom::ExtrudeType::Tube) addNote(note, "extrude " + name + ": the tube is approximated by lofted sections");
+    return geom::extrudeCurve(*profile, path ? &*path : nullptr, p, error);
+}
+
 std::optional<geom::NurbsSurface> evaluateLoft(Evaluator& ev, NodeId node, std::string* error, std::string* note,
                                                int depth) {
     const Graph& g = ev.graph();
@@ -330,8 +365,8 @@ std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, 
                                                 int depth);
 
 bool isSurfaceHistory(std::string_view type) {
-    return type == "revolve" || type == "loft" || type == "detachSurface" || type == "insertKnotSurface" ||
-           type == "rebuildSurface";
+    return type == "revolve" || type == "loft" || type == "extrude" || type == "detachSurface" ||
+           type == "insertKnotSurface" || type == "rebuildSurface";
 }
 
 // The input surface of a surface-editing node (`is`), through its own history.
@@ -434,6 +469,7 @@ std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, 
     if (isSurfaceCreator(n.type)) s = evaluateCreator(ev, src.node, src.path, &err);
     else if (n.type == "revolve") s = evaluateRevolve(ev, src.node, &err, note, depth);
     else if (n.type == "loft") s = evaluateLoft(ev, src.node, &err, note, depth);
+    else if (n.type == "extrude") s = evaluateExtrude(ev, src.node, &err, note, depth);
     else if (n.type == "detachSurface") s = evaluateDetach(ev, src.node, src.path, &err, note, depth);
     else if (n.type == "insertKnotSurface") s = evaluateInsertKnots(ev, src.node, &err, note, depth);
     else if (n.type == "rebuildSurface") s = evaluateRebuild(ev, src.node, &err, note, depth);

@@ -700,6 +700,14 @@ void addHistoryTypes(Table& t) {
         .a("spansU", "su", T::Int, 4).a("spansV", "sv", T::Int, 4).a("degreeU", "du", T::Enum, 3).a("degreeV", "dv", T::Enum, 3)
         .a("keepRange", "kr", T::Enum, 1).a("keepControlPoints", "kc", T::Bool, 0).a("endKnots", "end", T::Enum, 0)
         .a("keepCorners", "kcp", T::Bool, 0).a("outputSurface", "os", T::NurbsSurface);
+    t.type("extrude", "abstractBaseCreate");
+    t.a("profile", "pr", T::NurbsCurve).a("path", "pt", T::NurbsCurve).a("extrudeType", "et", T::Enum, 2)
+        .a("fixedPath", "fpt", T::Bool, 0).a("useComponentPivot", "ucp", T::Enum, 0).a("useProfileNormal", "upn", T::Bool, 0)
+        .xyz("direction", "d", T::Double3, 0, 1, 0, U::Distance).a("length", "l", T::Double, 1, U::Distance)
+        .xyz("pivot", "p", T::Double3, 0, 0, 0, U::Distance).a("rotation", "ro", T::Double, 0, U::Angle)
+        .a("scale", "sc", T::Double, 1).a("degreeAlongLength", "dl", T::Int, 1)
+        .a("reverseSurfaceIfPathReversed", "rsp", T::Bool, 0).a("subCurveSubSurface", "scs", T::Bool, 0)
+        .a("outputSurface", "os", T::NurbsSurface);
     t.type("loft", "abstractBaseCreate");
     t.a("inputCurve", "ic", T::NurbsCurve, 0, U::None, true).a("uniform", "u", T::Bool, 0).a("close", "c", T::Bool, 0)
         .a("degree", "d", T::Enum, 3).a("reverseSurfaceNormals", "rsn", T::Bool, 0).a("autoReverse", "ar", T::Bool, 1)

@@ -725,3 +725,89 @@ TEST(NurbsOpsRebuild, FewerSpansApproximateAndKeepControlPointsOnlyRemaps) {
 
 }  // namespace
 }  // namespace pushpin::geom
+
+namespace pushpin::geom {
+namespace {
+
+TEST(NurbsOpsExtrude, DistanceMovesTheProfileAlongTheDirection) {
+    const NurbsCurve profile = line({0, 0, 0}, {1, 0, 0}, 3);
+    ExtrudeParams p;
+    p.type = ExtrudeType::Distance;
+    p.direction = {0, 3, 0};  // only its direction counts
+    p.length = 2.0;
+    std::string error;
+    const auto s = extrudeCurve(profile, nullptr, p, &error);
+    ASSERT_TRUE(s) << error;
+    EXPECT_EQ(s->degreeU(), 1);
+    for (double u : {0.0, 0.25, 1.0})
+        for (double v : {0.0, 0.5, 1.0}) {
+            const glm::dvec3 q = s->point(u, v);
+            EXPECT_NEAR(glm::length(q - (profile.point(v) + glm::dvec3(0, 2 * u, 0))), 0.0, 1e-12);
+        }
+    p.length = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(extrudeCurve(profile, nullptr, p, &error));
+    p.type = ExtrudeType::Tube;
+    p.length = 1.0;
+    EXPECT_FALSE(extrudeCurve(profile, nullptr, p, &error));  // no path
+}
+
+TEST(NurbsOpsExtrude, FlatAndTubeAlongAStraightPathAreTheSameCylinder) {
+    NurbsCircleParams c;
+    c.normal = {0, 1, 0};
+    const NurbsCurve circle = *makeNurbCircle(c, nullptr);
+    const NurbsCurve path = line({0, 5, 0}, {0, 0, 0}, 1);  // runs towards the profile: taken the other way
+    ExtrudeParams p;
+    p.type = ExtrudeType::Flat;
+    std::string error;
+    const auto flat = extrudeCurve(circle, &path, p, &error);
+    ASSERT_TRUE(flat) << error;
+    p.type = ExtrudeType::Tube;
+    const auto tube = extrudeCurve(circle, &path, p, &error);
+    ASSERT_TRUE(tube) << error;
+    for (int i = 0; i <= 8; ++i)
+        for (int j = 0; j <= 8; ++j) {
+            const double fu = i / 8.0, fv = j / 8.0;
+            const glm::dvec3 a = flat->point(flat->uMin() + fu * (flat->uMax() - flat->uMin()), flat->vMin() + fv * (flat->vMax() - flat->vMin()));
+            const glm::dvec3 b = tube->point(tube->uMin() + fu * (tube->uMax() - tube->uMin()), tube->vMin() + fv * (tube->vMax() - tube->vMin()));
+            EXPECT_NEAR(glm::length(a - b), 0.0, 1e-6) << fu << " " << fv;
+            // The profile's own points, lifted from y = 0 (the path's nearer end) to 5.
+            const glm::dvec3 onProfile = circle.point(circle.tMin() + fv * (circle.tMax() - circle.tMin()));
+            EXPECT_NEAR(glm::length(a - (onProfile + glm::dvec3(0, 5 * fu, 0))), 0.0, 1e-9) << fu << " " << fv;
+        }
+}
+
+TEST(NurbsOpsExtrude, ATubeRoundAQuarterArcKeepsItsRadius) {
+    // A circle of radius 0.25 facing +X at (0, 0, 0), carried round a quarter circle of radius 4
+    // in the XZ plane: every point stays 0.25 from the path's arc.
+    NurbsCircleParams c;
+    c.normal = {1, 0, 0};
+    c.radius = 0.25;
+    const NurbsCurve circle = *makeNurbCircle(c, nullptr);
+    std::vector<glm::dvec4> cvs;
+    for (int i = 0; i <= 64; ++i) {
+        const double a = 0.5 * kPi * i / 64.0;
+        cvs.emplace_back(4.0 * std::sin(a), 0.0, 4.0 - 4.0 * std::cos(a), 1.0);
+    }
+    std::vector<double> knots = {0};
+    for (int i = 0; i <= 64; ++i) knots.push_back(i);
+    knots.push_back(64);
+    std::string error;
+    const auto arc = NurbsCurve::create(1, NurbsForm::Open, knots, cvs, false, &error);
+    ASSERT_TRUE(arc) << error;
+    ExtrudeParams p;
+    const auto tube = extrudeCurve(circle, &*arc, p, &error);
+    ASSERT_TRUE(tube) << error;
+    double worst = 0.0;
+    for (int i = 0; i <= 20; ++i)
+        for (int j = 0; j <= 20; ++j) {
+            const glm::dvec3 q = tube->point(tube->uMin() + (tube->uMax() - tube->uMin()) * i / 20.0,
+                                             tube->vMin() + (tube->vMax() - tube->vMin()) * j / 20.0);
+            // Distance from the arc of radius 4 about (0, y, 4) in XZ.
+            const double rho = std::hypot(q.x, q.z - 4.0);
+            worst = std::max(worst, std::abs(std::hypot(rho - 4.0, q.y) - 0.25));
+        }
+    EXPECT_LT(worst, 0.01);
+}
+
+}  // namespace
+}  // namespace pushpin::geom

@@ -300,6 +300,52 @@ connectAttr "makeNurbCylinder1.os" "insertKnotSurface1.is";
         }
 }
 
+TEST(NurbsEval, ExtrudeAlongAPathOrByADistance) {
+    // A unit circle in the XZ plane extruded as a tube along a stored straight path up to y = 5.
+    const char* text = R"(createNode transform -n "path";
+createNode nurbsCurve -n "pathShape" -p "path";
+	setAttr ".cc" -type "nurbsCurve"
+		1 1 0 no 3
+		2 0 1
+		2
+		0 0 0
+		0 5 0;
+createNode makeNurbCircle -n "makeNurbCircle1";
+	setAttr ".nr" -type "double3" 0 1 0 ;
+createNode extrude -n "extrude1";
+	setAttr ".fpt" yes;
+createNode transform -n "pipe";
+createNode nurbsSurface -n "pipeShape" -p "pipe";
+connectAttr "makeNurbCircle1.oc" "extrude1.pr";
+connectAttr "pathShape.ws" "extrude1.pt";
+connectAttr "extrude1.os" "pipeShape.cr";
+)";
+    Graph g = MaReader::readString(text, "pipe.ma");
+    {
+        Evaluator ev(g, 1.0);
+        std::string reason, note;
+        auto s = evaluateNurbsSurface(ev, g.find("pipeShape"), &reason, &note);
+        ASSERT_TRUE(s.has_value()) << reason;
+        EXPECT_NE(note.find("approximated"), std::string::npos) << note;
+        for (double f : {0.0, 0.3, 1.0}) {
+            const glm::dvec3 q = s->point(s->uMin() + f * (s->uMax() - s->uMin()), s->vMin());
+            EXPECT_NEAR(q.y, 5.0 * f, 1e-6);
+            EXPECT_NEAR(std::hypot(q.x, q.z), 1.0, 1e-6);  // the circle's CV 1 point, on the circle
+        }
+    }
+    // By a distance: 3 along -Z, with a rotation that is reported as not applied.
+    std::string distance = text;
+    distance.replace(distance.find("\tsetAttr \".fpt\" yes;"), 20,
+                     "\tsetAttr \".et\" 0;\n\tsetAttr \".d\" -type \"double3\" 0 0 -1 ;\n\tsetAttr \".l\" 3;\n\tsetAttr \".ro\" 45;");
+    g = MaReader::readString(distance, "distance.ma");
+    Evaluator ev(g, 1.0);
+    std::string reason, note;
+    auto s = evaluateNurbsSurface(ev, g.find("pipeShape"), &reason, &note);
+    ASSERT_TRUE(s.has_value()) << reason;
+    EXPECT_NE(note.find("rotation not applied"), std::string::npos) << note;
+    EXPECT_NEAR(s->point(1.0, s->vMin()).z - s->point(0.0, s->vMin()).z, -3.0, 1e-9);
+}
+
 TEST(NurbsEval, RationalCvInterpretationsDifferAndCartesianIsTheDefault) {
     // Exact rational sphere written as (x, y, z, w) with Cartesian xyz, and as pre-multiplied
     // (x·w, y·w, z·w, w). Each decodes onto the sphere only with its own interpretation.
