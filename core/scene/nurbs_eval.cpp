@@ -478,15 +478,13 @@ std::optional<geom::NurbsSurface> surfaceAtPlug(Evaluator& ev, const Plug& src, 
     return s;
 }
 
-// A shape's relative control-point tweaks (`tweak` on, `controlPoints[k]` offsets for CV
-// (k / cvCountV, k % cvCountV), in object space) on the surface its history makes.
-std::optional<geom::NurbsSurface> withControlPointTweaks(Evaluator& ev, NodeId shape, geom::NurbsSurface s,
-                                                         std::string* note) {
-    const Graph& g = ev.graph();
-    if (!ev.getBool(shape, "tw", false)) return s;
+// A shape's relative control-point tweaks (`tweak` on, `controlPoints[k]` offsets in object space
+// for CV k: k / cvCountV, k % cvCountV on a surface) added to the CVs its history makes. False when
+// there are none.
+bool offsetControlPoints(Evaluator& ev, NodeId shape, std::vector<glm::dvec4>& cvs, std::string* note) {
+    if (!ev.getBool(shape, "tw", false)) return false;
     const std::map<uint32_t, glm::dvec3> tweaks = detail::vectorElements(ev, shape, "controlPoints", 3);
-    if (tweaks.empty()) return s;
-    std::vector<glm::dvec4> cvs = s.cvs();
+    if (tweaks.empty()) return false;
     size_t outside = 0;
     for (const auto& [k, offset] : tweaks) {
         if (k >= cvs.size()) {
@@ -497,14 +495,34 @@ std::optional<geom::NurbsSurface> withControlPointTweaks(Evaluator& ev, NodeId s
         c = glm::dvec4((glm::dvec3(c) / c.w + offset) * c.w, c.w);
     }
     if (outside > 0)
-        addNote(note, g.node(shape).name + ": " + std::to_string(outside) + " control-point tweaks past the last CV are not applied");
+        addNote(note, ev.graph().node(shape).name + ": " + std::to_string(outside) +
+                          " control-point tweaks past the last CV are not applied");
+    return true;
+}
+
+std::optional<geom::NurbsSurface> withControlPointTweaks(Evaluator& ev, NodeId shape, geom::NurbsSurface s,
+                                                         std::string* note) {
+    std::vector<glm::dvec4> cvs = s.cvs();
+    if (!offsetControlPoints(ev, shape, cvs, note)) return s;
     std::string err;
     std::optional<geom::NurbsSurface> t = geom::NurbsSurface::create(s.degreeU(), s.degreeV(), s.formU(), s.formV(), s.knotsU(),
                                                                      s.knotsV(), s.cvCountU(), s.cvCountV(), std::move(cvs),
                                                                      s.rational(), &err);
     if (!t) {
-        addNote(note, g.node(shape).name + ": its control-point tweaks are not applied (" + err + ")");
+        addNote(note, ev.graph().node(shape).name + ": its control-point tweaks are not applied (" + err + ")");
         return s;
+    }
+    return t;
+}
+
+std::optional<geom::NurbsCurve> withControlPointTweaks(Evaluator& ev, NodeId shape, geom::NurbsCurve c, std::string* note) {
+    std::vector<glm::dvec4> cvs = c.cvs();
+    if (!offsetControlPoints(ev, shape, cvs, note)) return c;
+    std::string err;
+    std::optional<geom::NurbsCurve> t = geom::NurbsCurve::create(c.degree(), c.form(), c.knots(), std::move(cvs), c.rational(), &err);
+    if (!t) {
+        addNote(note, ev.graph().node(shape).name + ": its control-point tweaks are not applied (" + err + ")");
+        return c;
     }
     return t;
 }
@@ -576,7 +594,7 @@ std::optional<geom::NurbsCurve> curveOfShape(Evaluator& ev, NodeId shape, std::s
             std::string err;
             auto curve = circleOfCreator(ev, src->node, &err);
             if (!curve) return failWith(skipReason, n.name + ": makeNurbCircle (" + c.name + "): " + err);
-            return curve;
+            return withControlPointTweaks(ev, shape, std::move(*curve), note);
         }
         if (c.type == "nurbsCurve" && depth < kMaxShapeChain && src->node != shape) {
             return curveOfShape(ev, src->node, skipReason, note, depth + 1);

@@ -346,6 +346,27 @@ connectAttr "extrude1.os" "pipeShape.cr";
     EXPECT_NEAR(s->point(1.0, s->vMin()).z - s->point(0.0, s->vMin()).z, -3.0, 1e-9);
 }
 
+TEST(NurbsEval, ACircleShapeTakesItsRelativeControlPointTweaks) {
+    const char* text = R"(createNode transform -n "ring";
+createNode nurbsCurve -n "ringShape" -p "ring";
+	setAttr ".tw" yes;
+	setAttr ".cp[4]" -type "double3" 0 0 2 ;
+createNode makeNurbCircle -n "makeNurbCircle1";
+connectAttr "makeNurbCircle1.oc" "ringShape.cr";
+)";
+    Graph g = MaReader::readString(text, "ring.ma");
+    Evaluator ev(g, 1.0);
+    std::string reason;
+    auto c = evaluateNurbsCurve(ev, g.find("ringShape"), &reason);
+    ASSERT_TRUE(c.has_value()) << reason;
+    auto plain = geom::makeNurbCircle({}, nullptr);
+    ASSERT_TRUE(plain);
+    for (int i = 0; i < c->cvCount(); ++i) {
+        const glm::dvec3 d = glm::dvec3(c->cvs()[size_t(i)]) - glm::dvec3(plain->cvs()[size_t(i)]);
+        EXPECT_NEAR(glm::length(d - (i == 4 ? glm::dvec3(0, 0, 2) : glm::dvec3(0.0))), 0.0, 1e-12) << i;
+    }
+}
+
 TEST(NurbsEval, RationalCvInterpretationsDifferAndCartesianIsTheDefault) {
     // Exact rational sphere written as (x, y, z, w) with Cartesian xyz, and as pre-multiplied
     // (x·w, y·w, z·w, w). Each decodes onto the sphere only with its own interpretation.
