@@ -161,13 +161,15 @@ void MultiStore::erase(uint32_t first, uint32_t count) {
 }
 
 void MultiStore::assign(uint32_t first, uint32_t count, Value value) {
+    constexpr uint32_t kMergedChunk = 16;
     if (count == 0) return;
     erase(first, count);
     int width = 1;
     if (auto* nums = std::get_if<Numbers>(&value)) width = std::max<int>(1, int(nums->values.size() / count));
     // Appending single elements one after another (`.pt[5]`, `.pt[6]` …) grows the previous run
-    // instead of creating one map entry per element.
-    if (auto* nums = std::get_if<Numbers>(&value); nums && first > 0) {
+    // instead of creating one map entry per element. Long chunks (`.vt[0:499]`) keep runs of their
+    // own: growing one run by them would copy everything before at each growth.
+    if (auto* nums = std::get_if<Numbers>(&value); nums && first > 0 && count <= kMergedChunk) {
         auto prev = m_runs.lower_bound(first);
         if (prev != m_runs.begin()) {
             --prev;
