@@ -2,6 +2,7 @@
 #include "core/scene/mesh_eval.h"
 
 #include "core/geom/finite.h"
+#include "core/geom/poly_bevel.h"
 #include "core/geom/poly_dissolve.h"
 #include "core/geom/poly_extrude.h"
 #include "core/geom/poly_extrude_edge.h"
@@ -422,6 +423,41 @@ std::optional<geom::Mesh> evaluateExtrudeEdge(Context& c, NodeId n, std::string&
     return m;
 }
 
+// polyBevel and polyBevel3 with one segment: a chamfer of the selected edges.
+std::optional<geom::Mesh> evaluateBevel(Context& c, NodeId n, std::string& reason) {
+    const Graph& g = c.g;
+    Evaluator& ev = c.ev;
+    const Node& node = g.node(n);
+    const bool third = node.type == "polyBevel3";
+    if (const int segments = ev.getInt(n, "sg", 1); segments != 1) {
+        reason = nodeLabel(node) + ": " + std::to_string(segments) + " segments are not evaluated (one is)";
+        return std::nullopt;
+    }
+    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
+    if (!m) return m;
+    const ComponentList* list = componentListOf(g, n, "ics");
+    if (!list || list->items.empty()) return m;
+    geom::completeEdges(*m, true);
+    geom::BevelParams p;
+    p.edges = componentSelection(*list, ComponentKind::Edge, m->edges.size(), node, c.out.notes);
+    p.offsetAsFraction = ev.getBool(n, "oaf", third);
+    p.offset = third && p.offsetAsFraction ? ev.getDouble(n, "f", 0.5) : ev.getDouble(n, "o", 0.2);
+    p.smoothingAngle = ev.getDouble(n, "sa", p.smoothingAngle);
+    if (ev.getBool(n, "ws", false) && moveSpace(ev, n) != glm::dmat4(1.0))
+        c.out.notes.push_back(nodeLabel(node) + ": the offset is measured in object space, not world space");
+    geom::BevelResult r;
+    std::string error;
+    if (!geom::bevelEdges(*m, p, &r, &error)) {
+        reason = nodeLabel(node) + ": " + error;
+        return std::nullopt;
+    }
+    if (r.skippedEdges > 0)
+        c.out.notes.push_back(nodeLabel(node) + ": " + std::to_string(r.skippedEdges) +
+                              " border or non-manifold edges are not bevelled");
+    c.out.notes.push_back(nodeLabel(node) + ": bevelled as a flat chamfer; the layout of its new components is pushpin's own");
+    return m;
+}
+
 // polyMergeVert: its own tweaks first (as Maya stores them on the node), then the merge.
 std::optional<geom::Mesh> evaluateMergeVert(Context& c, NodeId n, std::string& reason) {
     std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
@@ -751,6 +787,7 @@ std::optional<geom::Mesh> evaluatePlug(Context& c, const Plug& src, std::string&
     }
     if (type == "polyExtrudeFace") return evaluateExtrudeFace(c, src.node, reason);
     if (type == "polyExtrudeEdge") return evaluateExtrudeEdge(c, src.node, reason);
+    if (type == "polyBevel" || type == "polyBevel3") return evaluateBevel(c, src.node, reason);
     if (type == "polyMergeVert") return evaluateMergeVert(c, src.node, reason);
     if (type == "polySplitRing") return evaluateSplitRing(c, src.node, reason);
     if (type == "polySplit") return evaluateSplit(c, src.node, reason);

@@ -598,6 +598,15 @@ void addHistoryTypes(Table& t) {
            {{"compBoundingBoxMinX", "cnx"}, {"compBoundingBoxMinY", "cny"}, {"compBoundingBoxMinZ", "cnz"}})
         .c("compBoundingBoxMax", "cbx", T::Double3, {1, 1, 1, 0}, U::Distance,
            {{"compBoundingBoxMaxX", "cxx"}, {"compBoundingBoxMaxY", "cxy"}, {"compBoundingBoxMaxZ", "cxz"}});
+    t.type("polyBevel", "polyModifierWorld");
+    t.a("offset", "o", T::Double, 0.2).a("offsetAsFraction", "oaf", T::Bool, 0).a("segments", "sg", T::Int, 1)
+        .a("roundness", "ro", T::Double, 0.5).a("smoothingAngle", "sa", T::Double, 0.5235987755982988, U::Angle)
+        .a("fraction", "f", T::Double, 0.2).a("autoFit", "af", T::Bool, 1);
+    t.type("polyBevel3", "polyModifierWorld");
+    t.a("offset", "o", T::Double, 0.2).a("offsetAsFraction", "oaf", T::Bool, 1).a("segments", "sg", T::Int, 1)
+        .a("fraction", "f", T::Double, 0.5).a("depth", "d", T::Double, 1).a("chamfer", "c", T::Bool, 1)
+        .a("smoothingAngle", "sa", T::Double, 0.5235987755982988, U::Angle).a("mitering", "mm", T::Enum, 0)
+        .a("autoFit", "af", T::Bool, 1);
     t.type("polySplitRing", "polyModifierWorld");
     t.a("weight", "wt", T::Double, 0.5).a("direction", "dr", T::Bool, 1).a("rootEdge", "re", T::Int, -1)
         .a("splitType", "stp", T::Enum, 0).a("divisions", "div", T::Int, 2)

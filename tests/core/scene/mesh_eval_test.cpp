@@ -396,14 +396,14 @@ TEST(MeshEval, UnknownHistoryIsSkippedUnlessTheShapeCachesGeometry) {
     // With the final mesh cached on the shape, that is used instead.
     Graph cached = MaReader::readString(kWorkedCube);
     const NodeId shape = cached.find("pCubeShape1");
-    const NodeId bevel = cached.createNode("polyBevel", "polyBevel1");
-    connect(cached, bevel, "output", shape, "inMesh");
+    const NodeId pipe = cached.createNode("polyPipe", "polyPipe1");
+    connect(cached, pipe, "output", shape, "inMesh");
     e = evaluate(cached, shape);
     ASSERT_TRUE(e.mesh) << e.skipReason;
     EXPECT_TRUE(e.usedCachedData);
     EXPECT_EQ(e.mesh->faceCount(), 6u);
     ASSERT_FALSE(e.notes.empty());
-    EXPECT_NE(e.notes[0].find("polyBevel (polyBevel1) is not evaluated"), std::string::npos);
+    EXPECT_NE(e.notes[0].find("polyPipe (polyPipe1) is not evaluated"), std::string::npos);
 }
 
 TEST(MeshEval, OrigShapeFeedingDeformers) {
@@ -863,6 +863,40 @@ connectAttr "polySplit1.out" "pCubeShape1.i";
     e = evaluate(g, g.find("pCubeShape1"));
     EXPECT_FALSE(e.mesh);
     EXPECT_NE(e.skipReason.find("splitPoints"), std::string::npos) << e.skipReason;
+}
+
+TEST(MeshEval, PolyBevelChamfersTheListedEdges) {
+    // polyBevel3 with Maya's defaults (fraction 0.5 of half the shortest edge) on every edge of a
+    // unit cube: 26 faces, the closed-form volume with d = 0.25.
+    const char* text = R"(createNode transform -n "pCube1";
+createNode mesh -n "pCubeShape1" -p "pCube1";
+createNode polyCube -n "polyCube1";
+createNode polyBevel3 -n "polyBevel1";
+	setAttr ".ics" -type "componentList" 1 "e[0:11]";
+connectAttr "polyCube1.out" "polyBevel1.ip";
+connectAttr "polyBevel1.out" "pCubeShape1.i";
+)";
+    Graph g = MaReader::readString(text, "bevel.ma");
+    MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_EQ(e.mesh->faceCount(), 26u);
+    const double d = 0.25;
+    EXPECT_NEAR(e.mesh->signedVolume(), 1.0 - 12 * 0.5 * d * d * (1 - 2 * d) - 8 * (5.0 / 6.0) * d * d * d, 1e-6);
+    EXPECT_TRUE(std::any_of(e.notes.begin(), e.notes.end(), [](const std::string& n) { return n.find("chamfer") != std::string::npos; }));
+    // The old polyBevel takes an absolute offset; more than one segment is not evaluated.
+    std::string old = text;
+    old.replace(old.find("polyBevel3"), 10, "polyBevel");
+    old.replace(old.find("\tsetAttr \".ics\""), 0, "\tsetAttr \".o\" 0.1;\n");
+    g = MaReader::readString(old, "old.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    EXPECT_NEAR(e.mesh->signedVolume(), 1.0 - 12 * 0.5 * 0.01 * 0.8 - 8 * (5.0 / 6.0) * 0.001, 1e-6);
+    std::string rounded = text;
+    rounded.replace(rounded.find("\tsetAttr \".ics\""), 0, "\tsetAttr \".sg\" 3;\n");
+    g = MaReader::readString(rounded, "rounded.ma");
+    e = evaluate(g, g.find("pCubeShape1"));
+    EXPECT_FALSE(e.mesh);
+    EXPECT_NE(e.skipReason.find("3 segments"), std::string::npos) << e.skipReason;
 }
 
 TEST(MeshEval, PolySmoothFaceAndSmoothMeshPreview) {
