@@ -1,5 +1,6 @@
 // bench/mesh_history_bench.cpp: the construction-history operations that rebuild real shapes
-// (core/geom/poly_extrude.h, poly_split_ring.h, poly_merge.h, poly_dissolve.h, subdivide.h), each
+// (core/geom/poly_extrude.h, poly_extrude_edge.h, poly_split.h, poly_split_ring.h, poly_bevel.h,
+// poly_merge.h, poly_dissolve.h, subdivide.h), each
 // on a mesh large enough that per-face cost shows, with faces (or points) per second counters;
 // then, when the real scenes are present, the time to evaluate every mesh shape of each of them.
 //
@@ -10,10 +11,13 @@
 // folder in PUSHPIN_SCENES.
 #include <benchmark/benchmark.h>
 
+#include "core/geom/poly_bevel.h"
 #include "core/geom/poly_dissolve.h"
 #include "core/geom/poly_extrude.h"
+#include "core/geom/poly_extrude_edge.h"
 #include "core/geom/poly_merge.h"
 #include "core/geom/poly_primitives.h"
+#include "core/geom/poly_split.h"
 #include "core/geom/poly_split_ring.h"
 #include "core/geom/subdivide.h"
 #include "core/scene/evaluator.h"
@@ -23,6 +27,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -93,6 +98,66 @@ void BM_SplitRingRoundACylinder(benchmark::State& state) {
     state.counters["faces/s"] = benchmark::Counter(double(base.faceCount()), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_SplitRingRoundACylinder)->Arg(200)->Arg(2000)->Unit(benchmark::kMillisecond);
+
+void BM_SplitAcrossAGrid(benchmark::State& state) {
+    // One cut straight across an n × n grid, through the middle of every edge it crosses.
+    const int n = int(state.range(0));
+    geom::Mesh base = plane(n);
+    geom::completeEdges(base, true);
+    geom::SplitParams p;
+    const float across = 0.5f / float(n);  // inside the row of quads just above z = 0
+    for (size_t e = 0; e < base.edges.size(); ++e) {
+        const glm::vec3 a = base.points[base.edges[e].v0], b = base.points[base.edges[e].v1];
+        if (std::abs(a.x - b.x) < 1e-6f && std::min(a.z, b.z) < across && std::max(a.z, b.z) > across)
+            p.points.push_back({geom::SplitPoint::Kind::Edge, int64_t(e), 0.5, {}});
+    }
+    std::sort(p.points.begin(), p.points.end(), [&](const geom::SplitPoint& x, const geom::SplitPoint& y) {
+        return base.points[base.edges[size_t(x.index)].v0].x < base.points[base.edges[size_t(y.index)].v0].x;
+    });
+    size_t cut = 0;
+    for (auto _ : state) {
+        geom::Mesh m = base;
+        geom::SplitResult r;
+        benchmark::DoNotOptimize(geom::splitFaces(m, p, &r));
+        cut = r.newFaces;
+    }
+    state.counters["faces cut"] = double(cut);
+    state.counters["faces/s"] = benchmark::Counter(double(base.faceCount()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_SplitAcrossAGrid)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
+
+void BM_ExtrudeEveryEdge(benchmark::State& state) {
+    const geom::Mesh source = plane(int(state.range(0)));
+    geom::Mesh base = source;
+    geom::completeEdges(base, true);
+    geom::ExtrudeEdgesParams p;
+    p.edges.assign(base.edges.size(), true);
+    p.localTranslate = {0, 0, 0.1};
+    for (auto _ : state) {
+        geom::Mesh m = base;
+        benchmark::DoNotOptimize(geom::extrudeEdges(m, p));
+    }
+    state.counters["edges/s"] = benchmark::Counter(double(base.edges.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_ExtrudeEveryEdge)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
+
+void BM_BevelEveryEdge(benchmark::State& state) {
+    geom::PolySphereParams sp;
+    sp.subdivisionsAxis = int(state.range(0));
+    sp.subdivisionsHeight = int(state.range(0)) / 2;
+    geom::Mesh base = *geom::makePolySphere(sp);
+    geom::completeEdges(base, true);
+    geom::BevelParams p;
+    p.edges.assign(base.edges.size(), true);
+    p.offset = 0.2;
+    p.offsetAsFraction = true;
+    for (auto _ : state) {
+        geom::Mesh m = base;
+        benchmark::DoNotOptimize(geom::bevelEdges(m, p));
+    }
+    state.counters["edges/s"] = benchmark::Counter(double(base.edges.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_BevelEveryEdge)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
 
 void BM_MergeCoincidentPoints(benchmark::State& state) {
     // A grid of separate quads: every inner point four times over.

@@ -184,17 +184,21 @@ bool bevelEdges(Mesh& mesh, const BevelParams& params, BevelResult* result, std:
     for (uint32_t v = 0; v < atPoint.size(); ++v) {
         if (!atPoint[v] || cornersAt[v].empty()) continue;
         // The faces round v in turn: the next one runs this one's outgoing edge at v as its incoming one.
+        std::unordered_map<uint32_t, size_t> byIncoming;  // the point before v → that corner
+        for (size_t i = 0; i < cornersAt[v].size(); ++i) {
+            const Use& d = cornersAt[v][i];
+            const std::span<const uint32_t> lq = work.faceOuterLoop(d.face);
+            byIncoming.emplace(lq[(d.at + lq.size() - 1) % lq.size()], i);
+        }
         std::vector<Use> ring{cornersAt[v].front()};
         bool closed = false;
         while (ring.size() <= cornersAt[v].size()) {
             const Use& c = ring.back();
             const std::span<const uint32_t> lp = work.faceOuterLoop(c.face);
             const uint32_t w = lp[(c.at + 1) % lp.size()];
-            const Use* next = nullptr;
-            for (const Use& d : cornersAt[v]) {
-                const std::span<const uint32_t> lq = work.faceOuterLoop(d.face);
-                if (lq[(d.at + lq.size() - 1) % lq.size()] == w && !(d.face == c.face && d.at == c.at)) next = &d;
-            }
+            const auto found = byIncoming.find(w);
+            const Use* next = found == byIncoming.end() ? nullptr : &cornersAt[v][found->second];
+            if (next && next->face == c.face && next->at == c.at) next = nullptr;
             if (!next) break;
             if (next->face == ring.front().face && next->at == ring.front().at) {
                 closed = true;

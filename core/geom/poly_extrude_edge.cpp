@@ -52,13 +52,20 @@ bool extrudeEdges(Mesh& mesh, const ExtrudeEdgesParams& params, ExtrudeEdgesResu
                 }
         }
         std::unordered_map<uint32_t, size_t> regionOf;
+        std::unordered_map<uint32_t, size_t> pointRegion;  // a point's region once listed (points are in one region each)
         for (uint32_t e : selected) {
             const auto [it, fresh] = regionOf.try_emplace(sets.find(e), regions.size());
             if (fresh) regions.emplace_back();
             Region& r = regions[it->second];
             r.edges.push_back(e);
-            for (uint32_t p : {work.edges[e].v0, work.edges[e].v1})
-                if (std::find(r.points.begin(), r.points.end(), p) == r.points.end()) r.points.push_back(p);
+            for (uint32_t p : {work.edges[e].v0, work.edges[e].v1}) {
+                // Kept together, a point is in one region; apart, each edge lists its own two.
+                if (!params.keepFacesTogether) {
+                    if (r.points.empty() || r.points.back() != p) r.points.push_back(p);
+                    continue;
+                }
+                if (pointRegion.try_emplace(p, it->second).second) r.points.push_back(p);
+            }
         }
     }
     size_t newPoints = 0;
