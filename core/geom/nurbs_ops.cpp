@@ -740,32 +740,6 @@ std::optional<NurbsSurface> surfaceFromLines(const NurbsSurface& s, bool directi
                                              std::move(cvs), rational, error);
 }
 
-// Solves a·x = b in place (a n×n row-major, b n right-hand sides of 4 components) by Gaussian
-// elimination with partial pivoting; false when a is singular.
-bool solveDense(std::vector<double>& a, std::vector<glm::dvec4>& b, size_t n) {
-    for (size_t c = 0; c < n; ++c) {
-        size_t pivot = c;
-        for (size_t r = c + 1; r < n; ++r)
-            if (std::abs(a[r * n + c]) > std::abs(a[pivot * n + c])) pivot = r;
-        if (!(std::abs(a[pivot * n + c]) > 1e-14)) return false;
-        if (pivot != c) {
-            for (size_t k = 0; k < n; ++k) std::swap(a[c * n + k], a[pivot * n + k]);
-            std::swap(b[c], b[pivot]);
-        }
-        for (size_t r = c + 1; r < n; ++r) {
-            const double f = a[r * n + c] / a[c * n + c];
-            if (f == 0.0) continue;
-            for (size_t k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
-            b[r] -= f * b[c];
-        }
-    }
-    for (size_t c = n; c-- > 0;) {
-        for (size_t k = c + 1; k < n; ++k) b[c] -= a[c * n + k] * b[k];
-        b[c] /= a[c * n + c];
-    }
-    return true;
-}
-
 }  // namespace
 
 std::optional<std::vector<NurbsSurface>> detachSurface(const NurbsSurface& s, bool directionU, std::vector<double> params,
@@ -785,6 +759,7 @@ std::optional<std::vector<NurbsSurface>> detachSurface(const NurbsSurface& s, bo
     }
     std::sort(cuts.begin(), cuts.end());
     cuts.erase(std::unique(cuts.begin(), cuts.end(), [&](double a, double b) { return b - a <= tol; }), cuts.end());
+    if (cuts.size() > kMaxSurfaceEdits) return failWith(error, "more than " + std::to_string(kMaxSurfaceEdits) + " cuts");
     // Every line, clamped, with each cut raised to multiplicity p: the same steps on every line
     // give every line the same knots.
     std::vector<Spline> lines = surfaceLines(s, directionU);
@@ -827,6 +802,7 @@ std::optional<NurbsSurface> insertSurfaceKnots(const NurbsSurface& s, bool direc
     const int p = directionU ? s.degreeU() : s.degreeV();
     std::vector<Spline> lines = surfaceLines(s, directionU);
     const double tol = knotTolerance(lines.front().knots);
+    if (inserts.size() > kMaxSurfaceEdits) return failWith(error, "more than " + std::to_string(kMaxSurfaceEdits) + " knots to insert");
     for (const auto& [t, count] : inserts) {
         if (!std::isfinite(t)) return failWith(error, "a knot to insert is not finite");
         if (!(t >= lines.front().tMin() && t <= lines.front().tMax())) continue;  // outside: nothing to insert
@@ -899,14 +875,19 @@ std::optional<NurbsSurface> rebuildSurface(const NurbsSurface& s, const RebuildP
                 matrix[size_t(r) * size_t(unknowns) + size_t(periodic ? cv % spans : cv)] += basis[k];
             }
         }
-        for (Spline& line : lines) {
-            std::vector<glm::dvec4> rhs(static_cast<size_t>(unknowns));
+        // Every line's samples as the columns of one system.
+        const size_t columns = lines.size();
+        std::vector<glm::dvec4> rhs(size_t(unknowns) * columns);
+        for (size_t l = 0; l < columns; ++l)
             for (int r = 0; r < unknowns; ++r)
-                rhs[size_t(r)] = evalHomogeneous(line, a + (sites[size_t(r)] - lo) / (hi - lo) * (b - a));
-            std::vector<double> m = matrix;
-            if (!solveDense(m, rhs, size_t(unknowns))) return failWith(error, "the rebuilt surface cannot fit the input");
-            for (int k = 0; periodic && k < q; ++k) rhs.push_back(rhs[size_t(k)]);
-            line = Spline{q, form, knots, std::move(rhs)};
+                rhs[size_t(r) * columns + l] = evalHomogeneous(lines[l], a + (sites[size_t(r)] - lo) / (hi - lo) * (b - a));
+        if (!solveDense(matrix, rhs, columns, size_t(unknowns))) return failWith(error, "the rebuilt surface cannot fit the input");
+        for (size_t l = 0; l < columns; ++l) {
+            std::vector<glm::dvec4> cvs;
+            cvs.reserve(size_t(count));
+            for (int r = 0; r < unknowns; ++r) cvs.push_back(rhs[size_t(r) * columns + l]);
+            for (int k = 0; periodic && k < q; ++k) cvs.push_back(cvs[size_t(k)]);
+            lines[l] = Spline{q, form, knots, std::move(cvs)};
         }
         out = surfaceFromLines(in, directionU, lines, 0, count, knots, form, error);
         if (!out) return std::nullopt;

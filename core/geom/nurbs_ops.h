@@ -183,6 +183,9 @@ std::optional<NurbsCurve> clampCurve(const NurbsCurve& c);
 // Bézier segments (interior knots end with multiplicity `degree`).
 std::optional<NurbsCurve> elevateCurveDegree(const NurbsCurve& c, int degree);
 
+// The most cuts a detach, or knot values an insertion, takes (each costs a pass over the CVs).
+inline constexpr size_t kMaxSurfaceEdits = 4096;
+
 // detachSurface: the pieces of `s` cut across U (directionU) or V at each parameter strictly
 // inside the domain, in order (a surface with no such parameter comes back whole, clamped). Each
 // cut is raised to full multiplicity by knot insertion, so every piece is exactly the part of the

@@ -636,6 +636,11 @@ TEST(NurbsOpsDetach, APeriodicDirectionOrABadParameterIsRefused) {
     EXPECT_NE(error.find("periodic"), std::string::npos) << error;
     EXPECT_FALSE(detachSurface(sphere, true, {std::numeric_limits<double>::quiet_NaN()}, &error));
     EXPECT_NE(error.find("not finite"), std::string::npos) << error;
+    // A flood of cuts is refused rather than worked through one CV pass each.
+    std::vector<double> many;
+    for (size_t i = 1; i <= kMaxSurfaceEdits + 1; ++i) many.push_back(4.0 * double(i) / double(kMaxSurfaceEdits + 2));
+    EXPECT_FALSE(detachSurface(sphere, true, many, &error));
+    EXPECT_NE(error.find("cuts"), std::string::npos) << error;
 }
 
 }  // namespace
