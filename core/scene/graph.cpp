@@ -223,10 +223,16 @@ namespace {
 const NodeLinks kNoLinks;
 }  // namespace
 
+const AttrMap::Map& AttrMap::map() const {
+    static const Map kEmpty;
+    return m_map ? *m_map : kEmpty;
+}
+
 Node::Node(const Node& other)
-    : id(other.id), line(other.line), nextSameName(other.nextSameName), underWorld(other.underWorld),
-      shared(other.shared), locked(other.locked), schema(other.schema), type(other.type), name(other.name),
-      attrs(other.attrs), m_links(other.m_links ? std::make_unique<NodeLinks>(*other.m_links) : nullptr) {}
+    : id(other.id), line(other.line), nextSameName(other.nextSameName), prevSameName(other.prevSameName),
+      schema(other.schema), type(other.type), name(other.name), attrs(other.attrs), underWorld(other.underWorld),
+      shared(other.shared), locked(other.locked),
+      m_links(other.m_links ? std::make_unique<NodeLinks>(*other.m_links) : nullptr) {}
 
 Node& Node::operator=(const Node& other) {
     if (this != &other) *this = Node(other);
@@ -398,11 +404,9 @@ bool Graph::isAncestorOrSelf(NodeId ancestor, NodeId node) const {
     return false;
 }
 
-void Graph::prefetchName(std::string_view name) const { m_byName.prefetch(util::hashBytes(name)); }
-
 NodeId Graph::firstNamed(std::string_view name) const {
-    const uint32_t head = m_byName.find(util::hashBytes(name), [&](uint32_t id) { return m_nodes[id].name == name; });
-    return head == util::IndexTable::kNone ? kNoNode : NodeId(head);
+    const uint32_t head = m_byName.find(name, [&](uint32_t id) -> std::string_view { return m_nodes[id].name; });
+    return head == detail::NameIndex::kNone ? kNoNode : NodeId(head);
 }
 
 // A node joins the end of its name's ring, which keeps the ring in creation order as long as
@@ -415,7 +419,7 @@ void Graph::indexName(NodeId id) {
     if (head == kNoNode) {
         n.nextSameName = kNoNode;
         n.prevSameName = id;
-        m_byName.insert(util::hashBytes(n.name), id);
+        m_byName.insert(n.name, id);
         return;
     }
     if (m_nodes[head].nextSameName == kNoNode) indexSiblings(head);  // the name becomes shared
@@ -423,7 +427,7 @@ void Graph::indexName(NodeId id) {
         n.nextSameName = head;
         n.prevSameName = m_nodes[head].prevSameName;
         m_nodes[head].prevSameName = id;
-        m_byName.replace(util::hashBytes(n.name), [&](uint32_t e) { return e == head; }, id);
+        m_byName.replace(n.name, head, id);
     } else {
         NodeId after = m_nodes[head].prevSameName;  // the last
         while (after > id) after = m_nodes[after].prevSameName;
@@ -441,7 +445,7 @@ void Graph::unindexName(NodeId id) {
     const NodeId head = firstNamed(n.name);
     if (head == kNoNode) return;
     if (!inSharedRing(n)) {
-        m_byName.erase(util::hashBytes(n.name), [&](uint32_t e) { return e == id; });
+        m_byName.erase(n.name, id);
         n.nextSameName = n.prevSameName = kNoNode;
         return;
     }
@@ -449,7 +453,7 @@ void Graph::unindexName(NodeId id) {
     NodeId newHead = head;
     if (head == id) {
         newHead = n.nextSameName;
-        m_byName.replace(util::hashBytes(n.name), [&](uint32_t e) { return e == id; }, newHead);
+        m_byName.replace(n.name, id, newHead);
         m_nodes[newHead].prevSameName = n.prevSameName;  // the last
     } else {
         m_nodes[n.prevSameName].nextSameName = n.nextSameName;

@@ -7,6 +7,7 @@
 // (`.vt[0:165]` is one chunk), so a 1M-vertex mesh costs its numbers and little more.
 #pragma once
 
+#include "core/scene/detail/name_index.h"
 #include "core/scene/schema.h"
 #include "core/scene/units.h"
 #include "core/scene/value.h"
@@ -86,6 +87,38 @@ struct NodeLinks {
     std::vector<size_t> outConnections;
 };
 
+// A node's attributes by canonical path (long names, indices kept). Many nodes set none, so the
+// map is allocated on the first write and a node without attributes holds one pointer.
+class AttrMap {
+public:
+    using Map = std::map<std::string, AttrData, std::less<>>;
+    using const_iterator = Map::const_iterator;
+
+    AttrMap() = default;
+    AttrMap(AttrMap&&) noexcept = default;
+    AttrMap& operator=(AttrMap&&) noexcept = default;
+    AttrMap(const AttrMap& other) : m_map(other.m_map ? std::make_unique<Map>(*other.m_map) : nullptr) {}
+    AttrMap& operator=(const AttrMap& other) {
+        if (this != &other) *this = AttrMap(other);
+        return *this;
+    }
+
+    bool empty() const { return !m_map || m_map->empty(); }
+    size_t size() const { return m_map ? m_map->size() : 0; }
+    const_iterator begin() const { return map().begin(); }
+    const_iterator end() const { return map().end(); }
+    const_iterator find(std::string_view key) const { return map().find(key); }
+    const_iterator lower_bound(std::string_view key) const { return map().lower_bound(key); }
+    AttrData& operator[](const std::string& key) {
+        if (!m_map) m_map = std::make_unique<Map>();
+        return (*m_map)[key];
+    }
+
+private:
+    const Map& map() const;  // an empty map while none is allocated
+    std::unique_ptr<Map> m_map;
+};
+
 struct Node {
     NodeId id = kNoNode;
     uint32_t line = 0;                 // source line of the createNode (0 for implicit defaults)
@@ -93,13 +126,13 @@ struct Node {
     // created; prevSameName of that first node is the last.
     NodeId nextSameName = kNoNode;
     NodeId prevSameName = kNoNode;
-    bool underWorld = false;           // also (or only) a child of the world: a DAG path starts here
-    bool shared = false;               // createNode -s
-    bool locked = false;               // lockNode
     const NodeSchema* schema = nullptr;  // nullptr for types pushpin does not model
     std::string type;
     std::string name;                  // unique among non-DAG nodes; DAG siblings differ
-    std::map<std::string, AttrData, std::less<>> attrs;  // canonical path (long names, indices) → data
+    AttrMap attrs;
+    bool underWorld = false;           // also (or only) a child of the world: a DAG path starts here
+    bool shared = false;               // createNode -s
+    bool locked = false;               // lockNode
 
     Node() = default;
     Node(Node&&) noexcept = default;
@@ -250,8 +283,6 @@ public:
     // Finds a node by name or DAG path: "pCube1", "|group1|pCube1", "group1|pCube1", ":lambert1",
     // "ns:name". An ambiguous short DAG name returns the first created. kNoNode if none.
     NodeId find(std::string_view nameOrPath) const;
-    // Starts loading what a later find(name) of a plain name reads first; changes nothing.
-    void prefetchName(std::string_view name) const;
     // The first created node named `name` (exactly) that has `parent` among its DAG parents.
     NodeId childNamed(NodeId parent, std::string_view name) const;
     std::vector<NodeId> nodesOfType(std::string_view type, bool derived = true) const;
@@ -306,7 +337,7 @@ private:
     NodeStore m_nodes;
     // Name → the first created node of that name (DAG nodes under different parents share names);
     // Node::nextSameName links the rest in creation order.
-    util::IndexTable m_byName;
+    detail::NameIndex m_byName;
     // (parent, name) → node, for the nodes whose name another node shares: every DAG node under
     // each of its parents, and under kNoNode the nodes at world level and every node outside the
     // DAG. Name clashes and child lookups then cost one probe, however many nodes share a name.

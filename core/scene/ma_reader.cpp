@@ -597,9 +597,6 @@ std::string Parser::freeName(const std::string& base) {
         if (m_g.find(candidate) == kNoNode) break;
     }
     ++next;
-    // The next rename of this base most likely tries base + next: its lookup, a cache miss in a
-    // large scene, starts now and overlaps the work until then.
-    m_g.prefetchName(base + std::to_string(next));
     return candidate;
 }
 

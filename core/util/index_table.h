@@ -58,18 +58,6 @@ public:
             if (s.tag == tag && matches(s.entry)) return s.entry;
         }
     }
-    // Starts loading the slot a later lookup of `hash` reads first, so that the lookup does not
-    // wait for memory. Changes nothing.
-    void prefetch(uint64_t hash) const {
-        if (m_slots.empty()) return;
-        const Slot* slot = m_slots.data() + (tagOf(hash) & m_mask);
-#if defined(__x86_64__)
-        // GCC 12 drops a __builtin_prefetch of this address as having no effect.
-        asm volatile("prefetcht0 %0" : : "m"(*slot));
-#else
-        __builtin_prefetch(slot);
-#endif
-    }
     // Calls visit(entry) for every entry under `hash` for which matches(entry) holds, in table order.
     template <class Matches, class Visit>
     void forEach(uint64_t hash, Matches&& matches, Visit&& visit) const {
