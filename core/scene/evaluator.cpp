@@ -394,6 +394,52 @@ int Evaluator::getInt(NodeId node, std::string_view plugPath, int fallback) {
     return numbers(node, plugPath, v) && !v.empty() ? int(std::lround(v[0])) : fallback;
 }
 
+// Names of the Channel values, in their order.
+const std::array<std::string_view, Evaluator::kChannels> Evaluator::kChannelNames = {
+    "translate", "rotate", "scale", "shear", "rotateOrder", "rotateAxis", "rotatePivot", "rotatePivotTranslate",
+    "scalePivot", "scalePivotTranslate", "inheritsTransform", "visibility", "lodVisibility", "intermediateObject",
+    "template", "overrideEnabled", "overrideVisibility", "overrideDisplayType"};
+
+const Evaluator::ChannelSpecs& Evaluator::channelSpecs(const NodeSchema& schema) {
+    if (m_lastChannelSchema == &schema) return *m_lastChannelSpecs;
+    auto [it, added] = m_channelSpecs.try_emplace(&schema);
+    if (added)
+        for (size_t c = 0; c < kChannels; ++c) {
+            const AttrSpec* spec = schema.find(kChannelNames[c]);
+            // Only whole attributes read this way; a component (never one of these in Maya's
+            // schemas) takes the general path.
+            it->second[c] = spec && spec->component < 0 ? spec : nullptr;
+        }
+    m_lastChannelSchema = &schema;
+    m_lastChannelSpecs = &it->second;
+    return it->second;
+}
+
+bool Evaluator::channel(NodeId node, Channel c, std::vector<double>& out) {
+    if (node < m_graph.size()) {
+        const Node& n = m_graph.node(node);
+        if (n.schema && n.inConnections().empty() && !computesOutputs(node))
+            if (const AttrSpec* spec = channelSpecs(*n.schema)[size_t(c)]) return m_graph.numbers(node, *spec, out);
+    }
+    return numbers(node, kChannelNames[size_t(c)], out);
+}
+
+glm::dvec3 Evaluator::channel3(NodeId node, Channel c, glm::dvec3 fallback) {
+    std::vector<double>& v = m_scratch;
+    if (!channel(node, c, v) || v.size() < 3) return fallback;
+    return {v[0], v[1], v[2]};
+}
+
+bool Evaluator::channelBool(NodeId node, Channel c, bool fallback) {
+    std::vector<double>& v = m_scratch;
+    return channel(node, c, v) && !v.empty() ? v[0] != 0.0 : fallback;
+}
+
+int Evaluator::channelInt(NodeId node, Channel c, int fallback) {
+    std::vector<double>& v = m_scratch;
+    return channel(node, c, v) && !v.empty() ? int(std::lround(v[0])) : fallback;
+}
+
 glm::dvec3 Evaluator::getDouble3(NodeId node, std::string_view plugPath, glm::dvec3 fallback) {
     std::vector<double>& v = m_scratch;
     if (!numbers(node, plugPath, v) || v.size() < 3) return fallback;
@@ -429,16 +475,16 @@ glm::dmat4 Evaluator::localMatrixUnder(NodeId id, NodeId dagParent) {
         local = jointMatrix(j);
     } else {
         TransformAttrs t;
-        t.translate = getDouble3(id, "translate", t.translate);
-        t.rotate = getDouble3(id, "rotate", t.rotate);
-        t.scale = getDouble3(id, "scale", t.scale);
-        t.shear = getDouble3(id, "shear", t.shear);
-        t.rotateOrder = getInt(id, "rotateOrder", 0);
-        t.rotateAxis = getDouble3(id, "rotateAxis", t.rotateAxis);
-        t.rotatePivot = getDouble3(id, "rotatePivot", t.rotatePivot);
-        t.rotatePivotTranslate = getDouble3(id, "rotatePivotTranslate", t.rotatePivotTranslate);
-        t.scalePivot = getDouble3(id, "scalePivot", t.scalePivot);
-        t.scalePivotTranslate = getDouble3(id, "scalePivotTranslate", t.scalePivotTranslate);
+        t.translate = channel3(id, Channel::Translate, t.translate);
+        t.rotate = channel3(id, Channel::Rotate, t.rotate);
+        t.scale = channel3(id, Channel::Scale, t.scale);
+        t.shear = channel3(id, Channel::Shear, t.shear);
+        t.rotateOrder = channelInt(id, Channel::RotateOrder, 0);
+        t.rotateAxis = channel3(id, Channel::RotateAxis, t.rotateAxis);
+        t.rotatePivot = channel3(id, Channel::RotatePivot, t.rotatePivot);
+        t.rotatePivotTranslate = channel3(id, Channel::RotatePivotTranslate, t.rotatePivotTranslate);
+        t.scalePivot = channel3(id, Channel::ScalePivot, t.scalePivot);
+        t.scalePivotTranslate = channel3(id, Channel::ScalePivotTranslate, t.scalePivotTranslate);
         local = transformMatrix(t);
     }
     // Maya 2020+ offsetParentMatrix (row-major, row vectors) sits between the local and the parent:
@@ -494,7 +540,7 @@ glm::dmat4 Evaluator::worldMatrix(const std::vector<NodeId>& dagPath) {
         const NodeId id = dagPath[k];
         if (id >= m_graph.size()) return glm::dmat4(1.0);
         const glm::dmat4 local = localMatrixUnder(id, k > 0 ? dagPath[k - 1] : kNoNode);
-        if (isA(m_graph.node(id), "transform") && !getBool(id, "inheritsTransform", true)) world = local;
+        if (isA(m_graph.node(id), "transform") && !channelBool(id, Channel::InheritsTransform, true)) world = local;
         else world = world * local;
         if (hasSinglePath(id)) m_worldOfSinglePath.emplace(id, world);
     }
@@ -510,8 +556,8 @@ bool Evaluator::nodeVisible(NodeId id) {
 
 bool Evaluator::nodeVisibleUncached(NodeId id) {
     // Templated objects are drawn as wireframes for reference and never rendered.
-    if (!getBool(id, "visibility", true) || !getBool(id, "lodVisibility", true) ||
-        getBool(id, "intermediateObject", false) || getBool(id, "template", false))
+    if (!channelBool(id, Channel::Visibility, true) || !channelBool(id, Channel::LodVisibility, true) ||
+        channelBool(id, Channel::IntermediateObject, false) || channelBool(id, Channel::Template, false))
         return false;
     // Drawing overrides: a display layer drives the node's drawOverride through its drawInfo;
     // otherwise the node's own overrideEnabled/overrideVisibility/overrideDisplayType apply.
@@ -520,8 +566,8 @@ bool Evaluator::nodeVisibleUncached(NodeId id) {
         if (!getBool(layer->node, "enabled", true)) return true;
         return getBool(layer->node, "visibility", true) && getInt(layer->node, "displayType", 0) != 1;
     }
-    if (!getBool(id, "overrideEnabled", false)) return true;
-    return getBool(id, "overrideVisibility", true) && getInt(id, "overrideDisplayType", 0) != 1;
+    if (!channelBool(id, Channel::OverrideEnabled, false)) return true;
+    return channelBool(id, Channel::OverrideVisibility, true) && channelInt(id, Channel::OverrideDisplayType, 0) != 1;
 }
 
 bool Evaluator::visible(const std::vector<NodeId>& dagPath) {

@@ -15,6 +15,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <deque>
 #include <string>
 #include <string_view>
@@ -78,6 +79,22 @@ private:
         size_t valueOffset = 0;
         std::string path;  // canonical
     };
+    // The attributes every transform's matrix and visibility read, by number: on a node nothing
+    // drives, they are read through the schema's spec, found once per schema, instead of by name.
+    enum class Channel : uint8_t {
+        Translate, Rotate, Scale, Shear, RotateOrder, RotateAxis, RotatePivot, RotatePivotTranslate,
+        ScalePivot, ScalePivotTranslate, InheritsTransform, Visibility, LodVisibility, IntermediateObject,
+        Template, OverrideEnabled, OverrideVisibility, OverrideDisplayType, Count
+    };
+    static constexpr size_t kChannels = size_t(Channel::Count);
+    static const std::array<std::string_view, kChannels> kChannelNames;
+    using ChannelSpecs = std::array<const AttrSpec*, kChannels>;
+    const ChannelSpecs& channelSpecs(const NodeSchema& schema);
+    bool channel(NodeId node, Channel c, std::vector<double>& out);
+    glm::dvec3 channel3(NodeId node, Channel c, glm::dvec3 fallback);
+    bool channelBool(NodeId node, Channel c, bool fallback);
+    int channelInt(NodeId node, Channel c, int fallback);
+
     static constexpr uint32_t kNoEntry = util::IndexTable::kNone;
     uint32_t findEntry(NodeId node, std::string_view path) const;  // kNoEntry if not cached
     uint32_t addEntry(NodeId node, std::string path);              // a new entry, Evaluating
@@ -117,6 +134,9 @@ private:
     // Where getDouble, getBool, getInt and getDouble3 receive numbers (numbers() never calls them
     // back, so one buffer serves them all without an allocation per read).
     std::vector<double> m_scratch;
+    std::unordered_map<const NodeSchema*, ChannelSpecs> m_channelSpecs;
+    const NodeSchema* m_lastChannelSchema = nullptr;  // the schema of the last channelSpecs() call
+    const ChannelSpecs* m_lastChannelSpecs = nullptr;
 };
 
 }  // namespace pushpin::scene

@@ -308,7 +308,7 @@ Graph::Graph() {
 
 const Node* Graph::clashingNode(std::string_view type, std::string_view name, NodeId parent) const {
     const NodeSchema* schema = findSchema(type);
-    return clashing(schema ? schema->isDag() : parent != kNoNode, name, parent);
+    return clashing(schema ? schema->isDag() : parent != kNoNode, name, parent, firstNamed(name));
 }
 
 NodeId Graph::childNamed(NodeId parent, std::string_view name) const {
@@ -319,8 +319,7 @@ NodeId Graph::childNamed(NodeId parent, std::string_view name) const {
 
 // A node outside the DAG clashes with any node of its name; a DAG node with a node outside the
 // DAG, and with a DAG node at the same place: at world level, or under the same parent.
-const Node* Graph::clashing(bool dag, std::string_view name, NodeId parent) const {
-    const NodeId any = firstNamed(name);
+const Node* Graph::clashing(bool dag, std::string_view name, NodeId parent, NodeId any) const {
     if (any == kNoNode) return nullptr;
     if (!dag) return &m_nodes[any];
     NodeId best = kNoNode;
@@ -335,7 +334,8 @@ const Node* Graph::clashing(bool dag, std::string_view name, NodeId parent) cons
 NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId parent, uint32_t line) {
     const NodeSchema* schema = findSchema(type);
     const bool dag = schema ? schema->isDag() : parent != kNoNode;
-    if (const Node* other = clashing(dag, name, parent))
+    const NodeId head = firstNamed(name);
+    if (const Node* other = clashing(dag, name, parent, head))
         throw Error("a node named '" + util::excerpt(name) + "' already exists (" + other->type + ")");
     if (parent != kNoNode && parent >= m_nodes.size()) throw Error("createNode: invalid parent id");
     Node n;
@@ -348,7 +348,7 @@ NodeId Graph::createNode(std::string_view type, std::string_view name, NodeId pa
     n.underWorld = parent == kNoNode && dag;
     const NodeId id = n.id;
     m_nodes.push_back(std::move(n));
-    indexName(id);
+    indexName(id, head);
     if (parent != kNoNode) setParent(id, parent, true);
     return id;
 }
@@ -413,9 +413,8 @@ NodeId Graph::firstNamed(std::string_view name) const {
 // nodes come in by createNode; a node renamed into a name goes to its place by id, searched from
 // the end (renames of recent nodes are the common case). Nodes whose name is shared also go into
 // the sibling index; a name held by one node needs none.
-void Graph::indexName(NodeId id) {
+void Graph::indexName(NodeId id, NodeId head) {
     Node& n = m_nodes[id];
-    const NodeId head = firstNamed(n.name);
     if (head == kNoNode) {
         n.nextSameName = kNoNode;
         n.prevSameName = id;
@@ -510,7 +509,7 @@ void Graph::rename(NodeId id, std::string_view newName) {
     m_nodes.at(id);
     unindexName(id);
     m_nodes[id].name = std::string(newName);
-    indexName(id);
+    indexName(id, firstNamed(newName));
 }
 
 std::string Graph::canonicalPath(NodeId nodeId, const std::vector<PlugSegment>& segments) const {
@@ -889,6 +888,11 @@ bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double
         }
     }
     return storedOrDefault(findAttr(nodeId, canonicalPath(nodeId, *segs)), spec, out);
+}
+
+bool Graph::numbers(NodeId node, const AttrSpec& spec, std::vector<double>& out) const {
+    out.clear();
+    return storedOrDefault(findAttr(node, spec.longName), &spec, out);
 }
 
 double Graph::getDouble(NodeId node, std::string_view plugPath, double fallback) const {

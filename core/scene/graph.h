@@ -301,6 +301,9 @@ public:
     // Numbers of a plug path ("translate", "translateX", "vrts[5]", "colorEntryList[0].position"):
     // the stored value, else the schema default for the plug's components. False if neither exists.
     bool numbers(NodeId node, std::string_view plugPath, std::vector<double>& out) const;
+    // The same for a whole attribute of the node given by its spec (one the node's schema or
+    // addAttr holds, not a component such as translateX): no name to look up.
+    bool numbers(NodeId node, const AttrSpec& spec, std::vector<double>& out) const;
     double getDouble(NodeId node, std::string_view plugPath, double fallback = 0.0) const;
     bool getBool(NodeId node, std::string_view plugPath, bool fallback = false) const;
     int getInt(NodeId node, std::string_view plugPath, int fallback = 0) const;
@@ -343,8 +346,10 @@ private:
     // DAG. Name clashes and child lookups then cost one probe, however many nodes share a name.
     util::IndexTable m_bySibling;
     NodeId firstNamed(std::string_view name) const;
-    const Node* clashing(bool dag, std::string_view name, NodeId parent) const;
-    void indexName(NodeId id);
+    // `any`: firstNamed(name), which the caller has at hand.
+    const Node* clashing(bool dag, std::string_view name, NodeId parent, NodeId any) const;
+    // Adds node `id` under its name; `head`: firstNamed of that name before it joins.
+    void indexName(NodeId id, NodeId head);
     void unindexName(NodeId id);
     bool atWorldKey(const Node& n) const;    // indexed under kNoNode in m_bySibling
     bool inSharedRing(const Node& n) const;  // another node has its name: it is in m_bySibling

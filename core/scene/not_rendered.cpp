@@ -79,7 +79,7 @@ std::vector<NotRendered> notRenderedFeatures(Evaluator& ev, const RenderSetup& s
 
     // Node types that stand for a feature wherever they are.
     for (const Node& n : g.nodes()) {
-        const std::string& t = n.type;
+        const std::string_view t = n.type;  // compared by length first, not with strlen and memcmp
         // (Maya's default shaderGlow1 is in every scene: glow counts where a material glows.)
         if (t == "opticalFX") {
             out.add("glow and optical effects", n.id);

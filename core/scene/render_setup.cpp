@@ -57,8 +57,9 @@ RenderSetup extractRenderSetup(const Graph& g) {
         }
     }
 
+    const NodeSchema* lightSchema = findSchema("light");
     for (const Node& n : g.nodes()) {
-        bool known = n.schema && n.schema->isA("light");
+        bool known = n.schema && lightSchema && n.schema->isA(lightSchema);
         // Plug-in lights (aiSkyDomeLight, aiAreaLight, …) are listed so users see them, flagged unsupported.
         bool plugin = !n.schema && n.isDag() && n.type.size() > 5 &&
                       n.type.compare(n.type.size() - 5, 5, "Light") == 0;
