@@ -64,6 +64,12 @@ bool Evaluator::computesOutputs(NodeId node) {
 }
 
 uint32_t Evaluator::findEntry(NodeId node, std::string_view path) const {
+    if (node >= m_firstEntry.size() || m_firstEntry[node] == kNoEntry) return kNoEntry;
+    if (!m_nodeHashed[node]) {
+        for (uint32_t e = m_firstEntry[node]; e != kNoEntry; e = m_entries[e].nextOfNode)
+            if (m_entries[e].path == path) return e;
+        return kNoEntry;
+    }
     return m_entryIndex.find(util::hashIdAndBytes(node, path), [&](uint32_t e) {
         return m_entries[e].node == node && m_entries[e].path == path;
     });
@@ -71,11 +77,25 @@ uint32_t Evaluator::findEntry(NodeId node, std::string_view path) const {
 
 uint32_t Evaluator::addEntry(NodeId node, std::string path) {
     if (m_entries.size() >= kNoEntry) throw Error("evaluation: more than 4 billion plugs cached");
+    if (m_firstEntry.size() != m_graph.size()) {
+        m_firstEntry.resize(m_graph.size(), kNoEntry);
+        m_nodeHashed.resize(m_graph.size(), 0);
+        m_entriesOfNode.resize(m_graph.size(), 0);
+    }
     const uint32_t e = uint32_t(m_entries.size());
-    m_entryIndex.insert(util::hashIdAndBytes(node, path), e);
     CacheEntry& entry = m_entries.emplace_back();
     entry.node = node;
     entry.path = std::move(path);
+    entry.nextOfNode = m_firstEntry[node];
+    m_firstEntry[node] = e;
+    if (m_nodeHashed[node]) {
+        m_entryIndex.insert(util::hashIdAndBytes(node, entry.path), e);
+    } else if (++m_entriesOfNode[node] > kListedEntriesPerNode) {
+        // Past a few plugs a node's list would make lookups linear: its plugs move to the table.
+        m_nodeHashed[node] = 1;
+        for (uint32_t k = e; k != kNoEntry; k = m_entries[k].nextOfNode)
+            m_entryIndex.insert(util::hashIdAndBytes(node, m_entries[k].path), k);
+    }
     return e;
 }
 

@@ -76,9 +76,13 @@ private:
         NodeId node = kNoNode;
         State state = State::Evaluating;
         uint32_t valueCount = 0;
+        uint32_t nextOfNode = ~uint32_t(0);  // the node's entry cached before this one (or kNoEntry)
         size_t valueOffset = 0;
         std::string path;  // canonical
     };
+    // A node's entries are found through a list from the node while it has at most this many,
+    // then through the hash table.
+    static constexpr uint8_t kListedEntriesPerNode = 8;
     // The attributes every transform's matrix and visibility read, by number: on a node nothing
     // drives, they are read through the schema's spec, found once per schema, instead of by name.
     enum class Channel : uint8_t {
@@ -120,9 +124,12 @@ private:
 
     const Graph& m_graph;
     double m_frame;
-    // Values at this frame: entries by (node, path) through an index table, their numbers side by
-    // side in one array. A deque, so that a path being computed stays put while entries are added.
+    // Values at this frame: entries by (node, path) through a short list per node (an index table
+    // for nodes with many), their numbers side by side in one array. A deque, so that a path being computed stays put while entries are added.
     std::deque<CacheEntry> m_entries;
+    std::vector<uint32_t> m_firstEntry;    // per node: its latest entry, kNoEntry if none
+    std::vector<uint8_t> m_entriesOfNode;  // per node: entries in its list, up to the limit
+    std::vector<uint8_t> m_nodeHashed;     // per node: 1 once its entries are in m_entryIndex
     util::IndexTable m_entryIndex;
     std::vector<double> m_values;
     std::vector<uint8_t> m_computesOutputs;            // per node: 0 unknown, 1 yes, 2 no
