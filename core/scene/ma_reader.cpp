@@ -868,8 +868,11 @@ void Parser::cmdCreateNode(uint32_t line) {
     setErrorNode(nodeName);
 
     // An existing node of that name at that place in the DAG: reused for -s and implicit defaults.
+    // Without a parent, none of that name means no clash either.
+    bool mayClash = true;
     {
         NodeId existing = parent ? m_g.childNamed(parentId, nodeName) : m_g.find(nodeName);
+        if (!parent && existing == kNoNode) mayClash = false;
         if (existing != kNoNode && !parent && !m_g.node(existing).parents().empty()) existing = kNoNode;
         if (existing != kNoNode) {
             const Node& n = m_g.node(existing);
@@ -883,7 +886,7 @@ void Parser::cmdCreateNode(uint32_t line) {
             }
         }
     }
-    if (m_g.clashingNode(type->text, nodeName, parentId)) {
+    if (mayClash && m_g.clashingNode(type->text, nodeName, parentId)) {
         // Name taken: Maya renames the new node by incrementing its trailing number.
         std::string base = nodeName;
         while (!base.empty() && base.back() >= '0' && base.back() <= '9') base.pop_back();
