@@ -100,8 +100,7 @@ void MaLexer::failBadByte(unsigned char c) const {
     fail(m_line, column(), std::string("invalid character ") + hex + " (binary data in a text file?)");
 }
 
-void MaLexer::skipBlanks() {
-    // The common case between the numbers of a list: spaces and tabs, maybe a newline, in the buffer.
+void MaLexer::skipBufferedWhitespace() {
     while (m_cur < m_end) {
         const unsigned char cls = classOf(*m_cur);
         if (cls == kSpace) {
@@ -111,27 +110,21 @@ void MaLexer::skipBlanks() {
             ++m_line;
             m_lineStart = offset();
         } else {
-            if (*m_cur == '/') skipSpaceAndComments();
             return;
         }
     }
-    skipSpaceAndComments();  // at the end of the buffer
+}
+
+void MaLexer::skipBlanks() {
+    // The common case between the numbers of a list: spaces and tabs, maybe a newline, in the buffer.
+    skipBufferedWhitespace();
+    if (m_cur < m_end && *m_cur != '/') return;
+    skipSpaceAndComments();  // a comment, or the end of the buffer
 }
 
 void MaLexer::skipSpaceAndComments() {
     for (;;) {
-        while (m_cur < m_end) {
-            const unsigned char cls = classOf(*m_cur);
-            if (cls == kSpace) {
-                ++m_cur;
-            } else if (cls == kNewline) {
-                ++m_cur;
-                ++m_line;
-                m_lineStart = offset();
-            } else {
-                break;
-            }
-        }
+        skipBufferedWhitespace();
         if (m_cur == m_end) {
             if (!refill()) return;
             continue;

@@ -84,6 +84,7 @@ private:
     }
     void skipSpaceAndComments();
     void skipBlanks();  // skipSpaceAndComments() with the plain case inline
+    void skipBufferedWhitespace();  // spaces, tabs and newlines up to the end of the buffer
     void checkHeader();
     void readWord(MaToken& token);
     void readString(MaToken& token);
