@@ -35,20 +35,24 @@
 
 namespace pushpin::geom {
 
-struct ExtrudeFacesParams {
-    std::vector<bool> faces;  // selected faces; a shorter mask leaves the rest unselected
+// How an extrusion of faces or edges moves the copies it makes.
+struct ExtrusionMove {
     bool keepFacesTogether = true;
     int divisions = 1;  // rings of side faces; values below 1 count as 1
-    // The space the cap is moved in, from object space: worldFromObject when Maya's worldSpace is
-    // on (distances and normals are then world-space ones), else the identity.
+    // The space the copies are moved in, from object space: worldFromObject when Maya's worldSpace
+    // is on (distances and normals are then world-space ones), else the identity.
     glm::dmat4 space{1.0};
-    // The cap's transform in that space (Maya's translate, rotate and scale about the pivot).
+    // The copies' transform in that space (Maya's translate, rotate and scale about the pivot).
     glm::dmat4 transform{1.0};
     // In each region's frame, in that space: z along the normals (each point along the average
     // normal of its region faces), x and y in the region's plane. Local scale is about the
     // region's centre.
     glm::dvec3 localTranslate{0.0};
     glm::dvec3 localScale{1.0};
+};
+
+struct ExtrudeFacesParams : ExtrusionMove {
+    std::vector<bool> faces;  // selected faces; a shorter mask leaves the rest unselected
     double smoothingAngle = 0.5235987755982988;  // radians (Maya's default, 30 degrees)
 };
 

@@ -23,6 +23,7 @@
 #pragma once
 
 #include "core/geom/mesh.h"
+#include "core/geom/poly_extrude.h"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -32,16 +33,10 @@
 
 namespace pushpin::geom {
 
-struct ExtrudeEdgesParams {
+// The move as in extrudeFaces; `divisions` counts rings of wall faces, and each region's frame is
+// the one described above.
+struct ExtrudeEdgesParams : ExtrusionMove {
     std::vector<bool> edges;  // selected edges (indices into mesh.edges after completeEdges)
-    bool keepFacesTogether = true;
-    int divisions = 1;  // rings of wall faces; values below 1 count as 1
-    // As ExtrudeFacesParams: the space the copies move in (from object space) and the transform
-    // applied there.
-    glm::dmat4 space{1.0};
-    glm::dmat4 transform{1.0};
-    glm::dvec3 localTranslate{0.0};
-    glm::dvec3 localScale{1.0};
 };
 
 struct ExtrudeEdgesResult {

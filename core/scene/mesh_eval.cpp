@@ -317,25 +317,26 @@ std::optional<glm::dmat4> moveTransform(Evaluator& ev, NodeId n) {
     return m;
 }
 
-// How an extrusion (of faces or edges) moves what it makes; nothing, with `reason`, when a value
+// How an extrusion (of faces or edges) moves what it makes; false, with `reason`, when a value
 // is not finite.
-struct ExtrusionMove {
-    glm::dmat4 transform{1.0}, space{1.0};
-    glm::dvec3 localTranslate{0.0}, localScale{1.0};
-};
-std::optional<ExtrusionMove> extrusionMove(Context& c, NodeId n, std::string& reason) {
+bool readExtrusionMove(Context& c, NodeId n, geom::ExtrusionMove& m, std::string& reason) {
     Evaluator& ev = c.ev;
     const std::optional<glm::dmat4> transform = moveTransform(ev, n);
     if (!transform) {
         reason = nodeLabel(c.g.node(n)) + ": its translate, rotate, scale or pivot is not finite";
-        return std::nullopt;
+        return false;
     }
-    ExtrusionMove m{*transform, moveSpace(ev, n), ev.getDouble3(n, "lt"), ev.getDouble3(n, "ls", glm::dvec3(1.0))};
+    m.transform = *transform;
+    m.space = moveSpace(ev, n);
+    m.localTranslate = ev.getDouble3(n, "lt");
+    m.localScale = ev.getDouble3(n, "ls", glm::dvec3(1.0));
     if (!geom::isFinite(m.localTranslate) || !geom::isFinite(m.localScale)) {
         reason = nodeLabel(c.g.node(n)) + ": its local translate or local scale is not finite";
-        return std::nullopt;
+        return false;
     }
-    return m;
+    m.keepFacesTogether = ev.getBool(n, "kft", true);
+    m.divisions = ev.getInt(n, "dv", 1);
+    return true;
 }
 
 // What an extrusion (of faces or edges) does not apply yet, said rather than dropped.
@@ -362,65 +363,50 @@ void noteMovesNotApplied(Context& c, NodeId n) {
     }
 }
 
-std::optional<geom::Mesh> evaluateExtrudeFace(Context& c, NodeId n, std::string& reason) {
+// The common shape of a component edit (polyExtrudeFace, polyExtrudeEdge, polyBevel; not
+// polyMergeVert, whose own tweaks apply even without components): the node's input mesh, then, when its component list names something, `edit`
+// on the mesh with that list. An edit returns false with `error` set; the reason then names the
+// node. Without components the input passes through unchanged.
+template <class Edit>
+std::optional<geom::Mesh> evaluateComponentEdit(Context& c, NodeId n, std::string& reason, Edit&& edit) {
     std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
     if (!m) return m;
-    const Graph& g = c.g;
-    Evaluator& ev = c.ev;
-    const Node& node = g.node(n);
-    const ComponentList* list = componentListOf(g, n, "ics");
+    const ComponentList* list = componentListOf(c.g, n, "ics");
     if (!list || list->items.empty()) return m;
-    geom::ExtrudeFacesParams p;
-    p.faces = componentSelection(*list, ComponentKind::Face, m->faceCount(), node, c.out.notes);
-    p.keepFacesTogether = ev.getBool(n, "kft", true);
-    p.divisions = ev.getInt(n, "dv", 1);
-    const std::optional<ExtrusionMove> move = extrusionMove(c, n, reason);
-    if (!move) return std::nullopt;
-    p.transform = move->transform;
-    p.space = move->space;
-    p.localTranslate = move->localTranslate;
-    p.localScale = move->localScale;
-    p.smoothingAngle = ev.getDouble(n, "sma", p.smoothingAngle);
-    if (!std::isfinite(p.smoothingAngle)) {
-        reason = nodeLabel(node) + ": its smoothing angle is not finite";
-        return std::nullopt;
-    }
-    noteMovesNotApplied(c, n);
     std::string error;
-    if (!geom::extrudeFaces(*m, p, nullptr, &error)) {
-        reason = nodeLabel(node) + ": " + error;
+    if (!edit(*m, *list, error)) {
+        reason = error.empty() ? reason : nodeLabel(c.g.node(n)) + ": " + error;
         return std::nullopt;
     }
     return m;
 }
 
+std::optional<geom::Mesh> evaluateExtrudeFace(Context& c, NodeId n, std::string& reason) {
+    return evaluateComponentEdit(c, n, reason, [&](geom::Mesh& m, const ComponentList& list, std::string& error) {
+        const Node& node = c.g.node(n);
+        geom::ExtrudeFacesParams p;
+        p.faces = componentSelection(list, ComponentKind::Face, m.faceCount(), node, c.out.notes);
+        if (!readExtrusionMove(c, n, p, reason)) return false;
+        p.smoothingAngle = c.ev.getDouble(n, "sma", p.smoothingAngle);
+        if (!std::isfinite(p.smoothingAngle)) {
+            error = "its smoothing angle is not finite";
+            return false;
+        }
+        noteMovesNotApplied(c, n);
+        return geom::extrudeFaces(m, p, nullptr, &error);
+    });
+}
+
 // polyExtrudeEdge: walls on the selected edges, moved as polyExtrudeFace moves its faces.
 std::optional<geom::Mesh> evaluateExtrudeEdge(Context& c, NodeId n, std::string& reason) {
-    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
-    if (!m) return m;
-    const Graph& g = c.g;
-    Evaluator& ev = c.ev;
-    const Node& node = g.node(n);
-    const ComponentList* list = componentListOf(g, n, "ics");
-    if (!list || list->items.empty()) return m;
-    geom::completeEdges(*m, true);
-    geom::ExtrudeEdgesParams p;
-    p.edges = componentSelection(*list, ComponentKind::Edge, m->edges.size(), node, c.out.notes);
-    p.keepFacesTogether = ev.getBool(n, "kft", true);
-    p.divisions = ev.getInt(n, "dv", 1);
-    const std::optional<ExtrusionMove> move = extrusionMove(c, n, reason);
-    if (!move) return std::nullopt;
-    p.transform = move->transform;
-    p.space = move->space;
-    p.localTranslate = move->localTranslate;
-    p.localScale = move->localScale;
-    noteMovesNotApplied(c, n);
-    std::string error;
-    if (!geom::extrudeEdges(*m, p, nullptr, &error)) {
-        reason = nodeLabel(node) + ": " + error;
-        return std::nullopt;
-    }
-    return m;
+    return evaluateComponentEdit(c, n, reason, [&](geom::Mesh& m, const ComponentList& list, std::string& error) {
+        geom::completeEdges(m, true);
+        geom::ExtrudeEdgesParams p;
+        p.edges = componentSelection(list, ComponentKind::Edge, m.edges.size(), c.g.node(n), c.out.notes);
+        if (!readExtrusionMove(c, n, p, reason)) return false;
+        noteMovesNotApplied(c, n);
+        return geom::extrudeEdges(m, p, nullptr, &error);
+    });
 }
 
 // polyBevel and polyBevel3 with one segment: a chamfer of the selected edges.
@@ -433,29 +419,24 @@ std::optional<geom::Mesh> evaluateBevel(Context& c, NodeId n, std::string& reaso
         reason = nodeLabel(node) + ": " + std::to_string(segments) + " segments are not evaluated (one is)";
         return std::nullopt;
     }
-    std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
-    if (!m) return m;
-    const ComponentList* list = componentListOf(g, n, "ics");
-    if (!list || list->items.empty()) return m;
-    geom::completeEdges(*m, true);
-    geom::BevelParams p;
-    p.edges = componentSelection(*list, ComponentKind::Edge, m->edges.size(), node, c.out.notes);
-    p.offsetAsFraction = ev.getBool(n, "oaf", third);
-    p.offset = third && p.offsetAsFraction ? ev.getDouble(n, "f", 0.5) : ev.getDouble(n, "o", 0.2);
-    p.smoothingAngle = ev.getDouble(n, "sa", p.smoothingAngle);
-    if (ev.getBool(n, "ws", false) && moveSpace(ev, n) != glm::dmat4(1.0))
-        c.out.notes.push_back(nodeLabel(node) + ": the offset is measured in object space, not world space");
-    geom::BevelResult r;
-    std::string error;
-    if (!geom::bevelEdges(*m, p, &r, &error)) {
-        reason = nodeLabel(node) + ": " + error;
-        return std::nullopt;
-    }
-    if (r.skippedEdges > 0)
-        c.out.notes.push_back(nodeLabel(node) + ": " + std::to_string(r.skippedEdges) +
-                              " border or non-manifold edges are not bevelled");
-    c.out.notes.push_back(nodeLabel(node) + ": bevelled as a flat chamfer; the layout of its new components is pushpin's own");
-    return m;
+    return evaluateComponentEdit(c, n, reason, [&](geom::Mesh& m, const ComponentList& list, std::string& error) {
+        geom::completeEdges(m, true);
+        geom::BevelParams p;
+        p.edges = componentSelection(list, ComponentKind::Edge, m.edges.size(), node, c.out.notes);
+        p.offsetAsFraction = ev.getBool(n, "oaf", third);
+        p.offset = third && p.offsetAsFraction ? ev.getDouble(n, "f", 0.5) : ev.getDouble(n, "o", 0.2);
+        p.smoothingAngle = ev.getDouble(n, "sa", p.smoothingAngle);
+        if (ev.getBool(n, "ws", false) && moveSpace(ev, n) != glm::dmat4(1.0))
+            c.out.notes.push_back(nodeLabel(node) + ": the offset is measured in object space, not world space");
+        geom::BevelResult r;
+        if (!geom::bevelEdges(m, p, &r, &error)) return false;
+        if (r.skippedEdges > 0)
+            c.out.notes.push_back(nodeLabel(node) + ": " + std::to_string(r.skippedEdges) +
+                                  " border or non-manifold edges are not bevelled");
+        c.out.notes.push_back(nodeLabel(node) +
+                              ": bevelled as a flat chamfer; the layout of its new components is pushpin's own");
+        return true;
+    });
 }
 
 // polyMergeVert: its own tweaks first (as Maya stores them on the node), then the merge.
