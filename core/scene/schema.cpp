@@ -578,26 +578,24 @@ void addHistoryTypes(Table& t) {
     t.type("polyMoveFace", "polyMoveEdge");
     t.a("offset", "off", T::Double, 0).a("attraction", "att", T::Double, 0).a("weight", "w", T::Double, 0)
         .xyz("gravity", "g", T::Double3, 0, -1, 0, U::Distance).xyz("magnet", "m", T::Double3, 0, 0, 0, U::Distance);
+    // What polyExtrudeFace and polyExtrudeEdge both add (Maya gives them no common type for it).
+    auto extrusionAttrs = [&t] {
+        t.a("keepFacesTogether", "kft", T::Bool, 1).a("divisions", "dv", T::Int, 1).a("twist", "twt", T::Double, 0, U::Angle)
+            .a("taper", "tp", T::Double, 1).a("thickness", "tk", T::Double, 0, U::Distance)
+            .a("smoothingAngle", "sma", T::Double, 0.5235987755982988, U::Angle)
+            .c("taperCurve", "c", T::Float3, {0, 1, 1, 0}, U::None,
+               {{"taperCurve_Position", "cp"}, {"taperCurve_FloatValue", "cfv"}, {"taperCurve_Interp", "ci"}}, true)
+            .c("compBoundingBoxMin", "cbn", T::Double3, {0, 0, 0, 0}, U::Distance,
+               {{"compBoundingBoxMinX", "cnx"}, {"compBoundingBoxMinY", "cny"}, {"compBoundingBoxMinZ", "cnz"}})
+            .c("compBoundingBoxMax", "cbx", T::Double3, {1, 1, 1, 0}, U::Distance,
+               {{"compBoundingBoxMaxX", "cxx"}, {"compBoundingBoxMaxY", "cxy"}, {"compBoundingBoxMaxZ", "cxz"}});
+    };
     t.type("polyExtrudeFace", "polyMoveFace");
-    t.a("keepFacesTogether", "kft", T::Bool, 1).a("divisions", "dv", T::Int, 1).a("twist", "twt", T::Double, 0, U::Angle)
-        .a("taper", "tp", T::Double, 1).a("thickness", "tk", T::Double, 0, U::Distance)
-        .a("smoothingAngle", "sma", T::Double, 0.5235987755982988, U::Angle).a("reverseAllFaces", "raf", T::Bool, 0)
-        .c("taperCurve", "c", T::Float3, {0, 1, 1, 0}, U::None,
-           {{"taperCurve_Position", "cp"}, {"taperCurve_FloatValue", "cfv"}, {"taperCurve_Interp", "ci"}}, true)
-        .c("compBoundingBoxMin", "cbn", T::Double3, {0, 0, 0, 0}, U::Distance,
-           {{"compBoundingBoxMinX", "cnx"}, {"compBoundingBoxMinY", "cny"}, {"compBoundingBoxMinZ", "cnz"}})
-        .c("compBoundingBoxMax", "cbx", T::Double3, {1, 1, 1, 0}, U::Distance,
-           {{"compBoundingBoxMaxX", "cxx"}, {"compBoundingBoxMaxY", "cxy"}, {"compBoundingBoxMaxZ", "cxz"}});
+    extrusionAttrs();
+    t.a("reverseAllFaces", "raf", T::Bool, 0);
     t.type("polyExtrudeEdge", "polyMoveEdge");
-    t.a("keepFacesTogether", "kft", T::Bool, 1).a("divisions", "dv", T::Int, 1).a("twist", "twt", T::Double, 0, U::Angle)
-        .a("taper", "tp", T::Double, 1).a("thickness", "tk", T::Double, 0, U::Distance).a("offset", "off", T::Double, 0)
-        .a("smoothingAngle", "sma", T::Double, 0.5235987755982988, U::Angle)
-        .c("taperCurve", "c", T::Float3, {0, 1, 1, 0}, U::None,
-           {{"taperCurve_Position", "cp"}, {"taperCurve_FloatValue", "cfv"}, {"taperCurve_Interp", "ci"}}, true)
-        .c("compBoundingBoxMin", "cbn", T::Double3, {0, 0, 0, 0}, U::Distance,
-           {{"compBoundingBoxMinX", "cnx"}, {"compBoundingBoxMinY", "cny"}, {"compBoundingBoxMinZ", "cnz"}})
-        .c("compBoundingBoxMax", "cbx", T::Double3, {1, 1, 1, 0}, U::Distance,
-           {{"compBoundingBoxMaxX", "cxx"}, {"compBoundingBoxMaxY", "cxy"}, {"compBoundingBoxMaxZ", "cxz"}});
+    extrusionAttrs();
+    t.a("offset", "off", T::Double, 0);
     t.type("polyBevel", "polyModifierWorld");
     t.a("offset", "o", T::Double, 0.2).a("offsetAsFraction", "oaf", T::Bool, 0).a("segments", "sg", T::Int, 1)
         .a("roundness", "ro", T::Double, 0.5).a("smoothingAngle", "sa", T::Double, 0.5235987755982988, U::Angle)
