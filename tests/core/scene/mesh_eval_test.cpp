@@ -43,6 +43,23 @@ ShapeUnderTransform addMesh(Graph& g, const std::string& name) {
     return {t, g.createNode("mesh", name + "Shape", t)};
 }
 
+// A unit polyCube feeding pCubeShape1 (under pCube1) through the history nodes `chain`, in
+// order, each taking the one before on inputPolymesh. `nodes` makes them (createNode and setAttr
+// lines); `cubeLines` follows the polyCube's createNode.
+std::string cubeThrough(std::string_view nodes, std::initializer_list<std::string_view> chain,
+                        std::string_view cubeLines = {}) {
+    std::string text = "createNode transform -n \"pCube1\";\ncreateNode mesh -n \"pCubeShape1\" -p \"pCube1\";\n"
+                       "createNode polyCube -n \"polyCube1\";\n";
+    text += cubeLines;
+    text += nodes;
+    std::string from = "polyCube1";
+    for (std::string_view node : chain) {
+        text += "connectAttr \"" + from + ".out\" \"" + std::string(node) + ".ip\";\n";
+        from = node;
+    }
+    return text + "connectAttr \"" + from + ".out\" \"pCubeShape1.i\";\n";
+}
+
 MeshEvaluation evaluate(const Graph& g, NodeId shape, double frame = 1.0) {
     Evaluator ev(g, frame);
     return evaluateMeshShape(ev, shape);
@@ -750,21 +767,14 @@ TEST(MeshEval, PolyExtrudeFaceWithoutComponentsOrWithBadValues) {
 
 TEST(MeshEval, PolySplitRingAndPolyMergeVertFromMaText) {
     // A cube cut round its middle, then two corners of one end merged into one.
-    const char* text = R"(createNode transform -n "pCube1";
-createNode mesh -n "pCubeShape1" -p "pCube1";
-createNode polyCube -n "polyCube1";
-	setAttr ".d" 8;
-createNode polySplitRing -n "polySplitRing1";
+    const std::string text = cubeThrough(R"(createNode polySplitRing -n "polySplitRing1";
 	setAttr ".ics" -type "componentList" 2 "e[6:7]" "e[10:11]";
 	setAttr ".wt" 0.5;
 	setAttr ".re" 7;
 createNode polyMergeVert -n "polyMergeVert1";
 	setAttr ".ics" -type "componentList" 2 "vtx[0]" "vtx[1]";
 	setAttr ".mtc" -type "componentList" 1 "vtx[1]";
-connectAttr "polyCube1.out" "polySplitRing1.ip";
-connectAttr "polySplitRing1.out" "polyMergeVert1.ip";
-connectAttr "polyMergeVert1.out" "pCubeShape1.i";
-)";
+)", {"polySplitRing1", "polyMergeVert1"}, "\tsetAttr \".d\" 8;\n");
     Graph g = MaReader::readString(text, "split.ma");
     MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
     ASSERT_TRUE(e.mesh) << e.skipReason;
@@ -798,16 +808,11 @@ TEST(MeshEval, PolySplitFromMaText) {
     // A unit cube cut down its front face (0 1 3 2) from the middle of e[0] (0→1, along the
     // bottom) to the middle of e[1] (2→3, along the top). Edge descriptors are the edge number
     // with bit 31 set.
-    const char* text = R"(createNode transform -n "pCube1";
-createNode mesh -n "pCubeShape1" -p "pCube1";
-createNode polyCube -n "polyCube1";
-createNode polySplit -n "polySplit1";
+    const std::string text = cubeThrough(R"(createNode polySplit -n "polySplit1";
 	setAttr -s 2 ".e[0:1]"  0.5 0.5;
 	setAttr -s 2 ".d[0:1]"  -2147483648 -2147483647;
 	setAttr ".sma" 180;
-connectAttr "polyCube1.out" "polySplit1.ip";
-connectAttr "polySplit1.out" "pCubeShape1.i";
-)";
+)", {"polySplit1"});
     Graph g = MaReader::readString(text, "split.ma");
     MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
     ASSERT_TRUE(e.mesh) << e.skipReason;
@@ -819,21 +824,16 @@ connectAttr "polySplit1.out" "pCubeShape1.i";
 
     // Through a free point. Maya 2015's files give its face in `edge` and its slot in `vertices`
     // in `desc`; older ones give the face in `desc` and -1 in `edge`.
-    const char* free2015 = R"(createNode transform -n "pCube1";
-createNode mesh -n "pCubeShape1" -p "pCube1";
-createNode polyCube -n "polyCube1";
-createNode polySplit -n "polySplit1";
+    const std::string free2015 = cubeThrough(R"(createNode polySplit -n "polySplit1";
 	setAttr -s 1 ".v[0]" -type "float3" 0.2 0 0.5;
 	setAttr -s 3 ".e[0:2]"  0.5 0 0.5;
 	setAttr -s 3 ".d[0:2]"  -2147483648 0 -2147483647;
 	setAttr ".m2015" yes;
-connectAttr "polyCube1.out" "polySplit1.ip";
-connectAttr "polySplit1.out" "pCubeShape1.i";
-)";
+)", {"polySplit1"});
     std::string older = free2015;
     older.replace(older.find("0.5 0 0.5;"), 9, "0.5 -1 0.5;");
     older.replace(older.find("\tsetAttr \".m2015\" yes;\n"), 23, "");
-    for (const std::string& variant : {std::string(free2015), older}) {
+    for (const std::string& variant : {free2015, older}) {
         g = MaReader::readString(variant, "free.ma");
         e = evaluate(g, g.find("pCubeShape1"));
         ASSERT_TRUE(e.mesh) << e.skipReason;
@@ -868,14 +868,9 @@ connectAttr "polySplit1.out" "pCubeShape1.i";
 TEST(MeshEval, PolyBevelChamfersTheListedEdges) {
     // polyBevel3 with Maya's defaults (fraction 0.5 of half the shortest edge) on every edge of a
     // unit cube: 26 faces, the closed-form volume with d = 0.25.
-    const char* text = R"(createNode transform -n "pCube1";
-createNode mesh -n "pCubeShape1" -p "pCube1";
-createNode polyCube -n "polyCube1";
-createNode polyBevel3 -n "polyBevel1";
+    const std::string text = cubeThrough(R"(createNode polyBevel3 -n "polyBevel1";
 	setAttr ".ics" -type "componentList" 1 "e[0:11]";
-connectAttr "polyCube1.out" "polyBevel1.ip";
-connectAttr "polyBevel1.out" "pCubeShape1.i";
-)";
+)", {"polyBevel1"});
     Graph g = MaReader::readString(text, "bevel.ma");
     MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
     ASSERT_TRUE(e.mesh) << e.skipReason;
@@ -900,14 +895,9 @@ connectAttr "polyBevel1.out" "pCubeShape1.i";
 }
 
 TEST(MeshEval, PolySmoothFaceAndSmoothMeshPreview) {
-    const char* text = R"(createNode transform -n "pCube1";
-createNode mesh -n "pCubeShape1" -p "pCube1";
-createNode polyCube -n "polyCube1";
-createNode polySmoothFace -n "polySmoothFace1";
+    const std::string text = cubeThrough(R"(createNode polySmoothFace -n "polySmoothFace1";
 	setAttr ".ics" -type "componentList" 1 "f[*]";
-connectAttr "polyCube1.out" "polySmoothFace1.ip";
-connectAttr "polySmoothFace1.out" "pCubeShape1.i";
-)";
+)", {"polySmoothFace1"});
     Graph g = MaReader::readString(text, "smooth.ma");
     MeshEvaluation e = evaluate(g, g.find("pCubeShape1"));
     ASSERT_TRUE(e.mesh) << e.skipReason;
