@@ -41,7 +41,8 @@ bool MaToken::isFlag() const {
     if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'))) return false;
     // `-inf`, `-nan`, `-infinity` are (invalid) numbers rather than flags.
     if (c != 'i' && c != 'n' && c != 'I' && c != 'N') return true;
-    return text != "-inf" && text != "-nan" && text != "-infinity" && text != "-INF" && text != "-NAN";
+    const std::string_view t = text;  // compared by length first
+    return t != "-inf" && t != "-nan" && t != "-infinity" && t != "-INF" && t != "-NAN";
 }
 
 MaLexer::MaLexer(std::istream& in, size_t bufferBytes) : m_in(&in), m_buffer(bufferBytes < 16 ? 16 : bufferBytes) {
