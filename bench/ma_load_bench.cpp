@@ -164,6 +164,15 @@ int64_t writeDuplicateScene(const fs::path& path, int mib) {
     return lines;
 }
 
+// Writes `lines` createNode lines that each name a new node (x0, x1, …): the same nodes as the
+// duplicate scene without a rename, to weigh what renaming adds.
+void writeUniqueScene(const fs::path& path, int64_t lines) {
+    Writer w(path);
+    w << "//Maya ASCII 2018 scene\n//Name: unique.ma\nrequires maya \"2018\";\n";
+    for (int64_t i = 0; i < lines; ++i) w << "createNode transform -n \"x" << std::to_string(i) << "\";\n";
+    w << "// End of unique.ma\n";
+}
+
 double peakRssMiB() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
@@ -263,7 +272,27 @@ int main(int argc, char** argv) {
                     fileMiB / seconds[seconds.size() / 2]);
         std::printf("peak RSS growth during loads: %.1f MiB, %.0f bytes per node\n", rssGrowth,
                     rssGrowth * 1024.0 * 1024.0 / double(lines));
-        if (!keep) fs::remove(path);
+
+        // The same number of nodes, each named anew: what the nodes cost without renaming.
+        const fs::path uniquePath = fs::temp_directory_path() / ("pushpin_ma_load_bench_unique" + std::to_string(duplicates) + ".ma");
+        writeUniqueScene(uniquePath, lines);
+        std::vector<double> uniqueSeconds;
+        for (int r = 0; r < runs; ++r) {
+            const auto s = std::chrono::steady_clock::now();
+            Graph g = MaReader::readFile(uniquePath);
+            uniqueSeconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
+        }
+        std::sort(uniqueSeconds.begin(), uniqueSeconds.end());
+        const double perNodeDup = seconds.front() * 1e6 / double(lines);
+        const double perNodeUnique = uniqueSeconds.front() * 1e6 / double(lines);
+        std::printf("the same %lld nodes named anew (%.1f MiB): best %.3f s; %.2f us per node renamed, %.2f us per "
+                    "node named anew: renaming adds %.0f%%\n",
+                    (long long)lines, double(fs::file_size(uniquePath)) / (1024.0 * 1024.0), uniqueSeconds.front(),
+                    perNodeDup, perNodeUnique, 100.0 * (perNodeDup / perNodeUnique - 1.0));
+        if (!keep) {
+            fs::remove(path);
+            fs::remove(uniquePath);
+        }
         return 0;
     }
     const fs::path path = fs::temp_directory_path() / ("pushpin_ma_load_bench_" + std::to_string(grid) + ".ma");
