@@ -894,9 +894,15 @@ const Table& table() {
 }  // namespace
 
 const NodeSchema* findSchema(std::string_view type) {
+    // Files create nodes of one type in runs (a million transforms, mesh after mesh): the last
+    // schema found is tried first, by its own name, before the table is hashed.
+    thread_local const NodeSchema* last = nullptr;
+    if (last && last->type() == type) return last;
     const auto& types = table().m_byType;
     auto it = types.find(type);
-    return it == types.end() ? nullptr : it->second;
+    if (it == types.end()) return nullptr;
+    last = it->second;
+    return last;
 }
 
 std::vector<std::string> schemaTypes() {
