@@ -18,6 +18,7 @@
 #include "core/util/format.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cerrno>
 #include <fstream>
@@ -253,6 +254,9 @@ struct ReadContext {
     uint64_t referenceBytes = 0;
     // Next trailing number to try per base name when renaming (see Parser::freeName).
     std::unordered_map<std::string, uint64_t> nextSuffix;
+    // The entry of nextSuffix used last, and its base: renames come in runs of one base.
+    const std::string* lastSuffixBase = nullptr;
+    uint64_t* lastSuffix = nullptr;
     uint64_t renamesReported = 0;
     uint64_t renamesUnreported = 0;
     uint64_t statementsSkipped = 0;  // statements that failed, in this file and its references
@@ -590,10 +594,17 @@ std::string Parser::qualify(std::string_view name) const {
 // counter again (nameFreed), so each base resumes where it stopped: 20,000 nodes named "x" cost
 // 20,000 lookups, not 200 million.
 std::string Parser::freeName(const std::string& base) {
-    uint64_t& next = m_ctx.nextSuffix.try_emplace(base, 1).first->second;
+    if (!m_ctx.lastSuffixBase || *m_ctx.lastSuffixBase != base) {
+        auto it = m_ctx.nextSuffix.try_emplace(base, 1).first;  // entries stay put as the map grows
+        m_ctx.lastSuffixBase = &it->first;
+        m_ctx.lastSuffix = &it->second;
+    }
+    uint64_t& next = *m_ctx.lastSuffix;
     std::string candidate;
     for (;; ++next) {
-        candidate = base + std::to_string(next);
+        char digits[24];
+        const char* end = std::to_chars(digits, digits + sizeof digits, next).ptr;
+        candidate.assign(base).append(digits, size_t(end - digits));
         if (m_g.find(candidate) == kNoNode) break;
     }
     ++next;
