@@ -134,10 +134,6 @@ struct FlagSpec {
 };
 constexpr FlagSpec kCreateNodeFlags[] = {
     {"-n", "-name", 1}, {"-p", "-parent", 1}, {"-s", "-shared", 0}, {"-ss", "-skipSelect", 0}};
-constexpr FlagSpec kSetAttrFlags[] = {
-    {"-av", "-alteredValue", 0}, {"-ca", "-caching", kBoolArg}, {"-ch", "-capacityHint", 1},
-    {"-cb", "-channelBox", kBoolArg}, {"-c", "-clamp", 0}, {"-k", "-keyable", kBoolArg},
-    {"-l", "-lock", kBoolArg}, {"-s", "-size", 1}, {"-typ", "-type", 1}};
 constexpr FlagSpec kAddAttrFlags[] = {
     {"-at", "-attributeType", 1}, {"-bt", "-binaryTag", 1}, {"-ci", "-cachedInternally", kBoolArg},
     {"-ct", "-category", 1}, {"-dt", "-dataType", 1}, {"-dv", "-defaultValue", 1},
@@ -1231,9 +1227,16 @@ void Parser::cmdLockNode() {
             nodes.push_back(&a);
             continue;
         }
-        bool value = true;
-        if (i + 1 < m_argc && detail::parseMaBool(m_args[i + 1].text, value)) ++i;
-        if (a.text == "-l" || a.text == "-lock") lock = value;
+        if (a.text == "-l" || a.text == "-lock") {
+            bool value = true;
+            if (i + 1 < m_argc && m_args[i + 1].kind == MaTokenKind::Word && detail::parseMaBool(m_args[i + 1].text, value))
+                ++i;
+            lock = value;
+            continue;
+        }
+        // lockUnpublished, ignoreComponents and lockName lock nothing a render reads; any other
+        // flag is reported.
+        i += flagArgs(kLockNodeFlags, "lockNode", i, nodes.empty() ? 1 : 0);
     }
     if (nodes.empty()) {
         if (m_current != kNoNode) m_g.node(m_current).locked = lock;

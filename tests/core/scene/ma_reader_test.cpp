@@ -909,10 +909,16 @@ createNode transform -n "b";
 lockNode -l 1 -lu 1 "b";
 createNode transform -n "c";
 	lockNode -l 0;
+createNode transform -n "d";
+lockNode -l 1 -bogus 3 "d";
 )");
     EXPECT_TRUE(g.node(findNode(g, "a")).locked);
     EXPECT_TRUE(g.node(findNode(g, "b")).locked);
     EXPECT_FALSE(g.node(findNode(g, "c")).locked);
+    // A flag lockNode does not know is reported and skipped with its number; the node still locks.
+    EXPECT_TRUE(g.node(findNode(g, "d")).locked);
+    ASSERT_EQ(g.warnings().size(), 1u);
+    EXPECT_NE(g.warnings()[0].message.find("lockNode: unknown flag -bogus"), std::string::npos) << g.warnings()[0].message;
 }
 
 // ------------------------------------------------------------------ warnings
