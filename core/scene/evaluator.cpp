@@ -46,11 +46,15 @@ Evaluator::Evaluator(const Graph& graph, double frame) : m_graph(graph), m_frame
 bool Evaluator::numbers(NodeId node, std::string_view plugPath, std::vector<double>& out) {
     out.clear();
     if (node >= m_graph.size()) return false;
-    // A node nothing drives and that computes nothing holds its stored values: read them directly.
-    if (m_graph.node(node).inConnections().empty() && !computesOutputs(node)) return m_graph.numbers(node, plugPath, out);
+    if (holdsStoredValues(node)) return m_graph.numbers(node, plugPath, out);
     auto segs = parsePlugPath(plugPath);
     if (!segs) return false;
     return evaluatePlug(node, m_graph.canonicalPath(node, *segs), out);
+}
+
+// A node nothing drives and that computes nothing holds its stored values: they are read directly.
+bool Evaluator::holdsStoredValues(NodeId node) {
+    return m_graph.node(node).inConnections().empty() && !computesOutputs(node);
 }
 
 bool Evaluator::computesOutputs(NodeId node) {
@@ -65,7 +69,7 @@ bool Evaluator::computesOutputs(NodeId node) {
 
 uint32_t Evaluator::findEntry(NodeId node, std::string_view path) const {
     if (node >= m_firstEntry.size() || m_firstEntry[node] == kNoEntry) return kNoEntry;
-    if (!m_nodeHashed[node]) {
+    if (!hashedEntries(node)) {
         for (uint32_t e = m_firstEntry[node]; e != kNoEntry; e = m_entries[e].nextOfNode)
             if (m_entries[e].path == path) return e;
         return kNoEntry;
@@ -79,7 +83,6 @@ uint32_t Evaluator::addEntry(NodeId node, std::string path) {
     if (m_entries.size() >= kNoEntry) throw Error("evaluation: more than 4 billion plugs cached");
     if (m_firstEntry.size() != m_graph.size()) {
         m_firstEntry.resize(m_graph.size(), kNoEntry);
-        m_nodeHashed.resize(m_graph.size(), 0);
         m_entriesOfNode.resize(m_graph.size(), 0);
     }
     const uint32_t e = uint32_t(m_entries.size());
@@ -88,11 +91,10 @@ uint32_t Evaluator::addEntry(NodeId node, std::string path) {
     entry.path = std::move(path);
     entry.nextOfNode = m_firstEntry[node];
     m_firstEntry[node] = e;
-    if (m_nodeHashed[node]) {
+    if (hashedEntries(node)) {
         m_entryIndex.insert(util::hashIdAndBytes(node, entry.path), e);
     } else if (++m_entriesOfNode[node] > kListedEntriesPerNode) {
         // Past a few plugs a node's list would make lookups linear: its plugs move to the table.
-        m_nodeHashed[node] = 1;
         for (uint32_t k = e; k != kNoEntry; k = m_entries[k].nextOfNode)
             m_entryIndex.insert(util::hashIdAndBytes(node, m_entries[k].path), k);
     }
@@ -399,19 +401,28 @@ double Evaluator::evaluateAnimCurve(NodeId curve) {
     return AnimCurve(std::move(data)).evaluate(x);
 }
 
+namespace {
+// A read's numbers as one value, or `fallback` when the read found none.
+double firstOr(bool read, const std::vector<double>& v, double fallback) { return read && !v.empty() ? v[0] : fallback; }
+bool boolOr(bool read, const std::vector<double>& v, bool fallback) { return read && !v.empty() ? v[0] != 0.0 : fallback; }
+int intOr(bool read, const std::vector<double>& v, int fallback) {
+    return read && !v.empty() ? int(std::lround(v[0])) : fallback;
+}
+glm::dvec3 double3Or(bool read, const std::vector<double>& v, glm::dvec3 fallback) {
+    return read && v.size() >= 3 ? glm::dvec3(v[0], v[1], v[2]) : fallback;
+}
+}  // namespace
+
 double Evaluator::getDouble(NodeId node, std::string_view plugPath, double fallback) {
-    std::vector<double>& v = m_scratch;
-    return numbers(node, plugPath, v) && !v.empty() ? v[0] : fallback;
+    return firstOr(numbers(node, plugPath, m_scratch), m_scratch, fallback);
 }
 
 bool Evaluator::getBool(NodeId node, std::string_view plugPath, bool fallback) {
-    std::vector<double>& v = m_scratch;
-    return numbers(node, plugPath, v) && !v.empty() ? v[0] != 0.0 : fallback;
+    return boolOr(numbers(node, plugPath, m_scratch), m_scratch, fallback);
 }
 
 int Evaluator::getInt(NodeId node, std::string_view plugPath, int fallback) {
-    std::vector<double>& v = m_scratch;
-    return numbers(node, plugPath, v) && !v.empty() ? int(std::lround(v[0])) : fallback;
+    return intOr(numbers(node, plugPath, m_scratch), m_scratch, fallback);
 }
 
 // Names of the Channel values, in their order.
@@ -438,32 +449,26 @@ const Evaluator::ChannelSpecs& Evaluator::channelSpecs(const NodeSchema& schema)
 bool Evaluator::channel(NodeId node, Channel c, std::vector<double>& out) {
     if (node < m_graph.size()) {
         const Node& n = m_graph.node(node);
-        if (n.schema && n.inConnections().empty() && !computesOutputs(node))
+        if (n.schema && holdsStoredValues(node))
             if (const AttrSpec* spec = channelSpecs(*n.schema)[size_t(c)]) return m_graph.numbers(node, *spec, out);
     }
     return numbers(node, kChannelNames[size_t(c)], out);
 }
 
 glm::dvec3 Evaluator::channel3(NodeId node, Channel c, glm::dvec3 fallback) {
-    std::vector<double>& v = m_scratch;
-    if (!channel(node, c, v) || v.size() < 3) return fallback;
-    return {v[0], v[1], v[2]};
+    return double3Or(channel(node, c, m_scratch), m_scratch, fallback);
 }
 
 bool Evaluator::channelBool(NodeId node, Channel c, bool fallback) {
-    std::vector<double>& v = m_scratch;
-    return channel(node, c, v) && !v.empty() ? v[0] != 0.0 : fallback;
+    return boolOr(channel(node, c, m_scratch), m_scratch, fallback);
 }
 
 int Evaluator::channelInt(NodeId node, Channel c, int fallback) {
-    std::vector<double>& v = m_scratch;
-    return channel(node, c, v) && !v.empty() ? int(std::lround(v[0])) : fallback;
+    return intOr(channel(node, c, m_scratch), m_scratch, fallback);
 }
 
 glm::dvec3 Evaluator::getDouble3(NodeId node, std::string_view plugPath, glm::dvec3 fallback) {
-    std::vector<double>& v = m_scratch;
-    if (!numbers(node, plugPath, v) || v.size() < 3) return fallback;
-    return {v[0], v[1], v[2]};
+    return double3Or(numbers(node, plugPath, m_scratch), m_scratch, fallback);
 }
 
 glm::dmat4 Evaluator::localMatrix(NodeId transform) {

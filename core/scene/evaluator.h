@@ -83,6 +83,7 @@ private:
     // A node's entries are found through a list from the node while it has at most this many,
     // then through the hash table.
     static constexpr uint8_t kListedEntriesPerNode = 8;
+    bool hashedEntries(NodeId node) const { return m_entriesOfNode[node] > kListedEntriesPerNode; }
     // The attributes every transform's matrix and visibility read, by number: on a node nothing
     // drives, they are read through the schema's spec, found once per schema, instead of by name.
     enum class Channel : uint8_t {
@@ -105,6 +106,7 @@ private:
     void readEntry(const CacheEntry& e, std::vector<double>& out) const;
     // Whether `node` computes outputs of its own (animCurve, unitConversion, time); per node, once.
     bool computesOutputs(NodeId node);
+    bool holdsStoredValues(NodeId node);  // no connection in and no output of its own
 
     bool evaluatePlug(NodeId node, const std::string& canonicalPath, std::vector<double>& out);
     // The plugs whose values `node.path` is computed from: every plug computePlug may read (more
@@ -125,11 +127,13 @@ private:
     const Graph& m_graph;
     double m_frame;
     // Values at this frame: entries by (node, path) through a short list per node (an index table
-    // for nodes with many), their numbers side by side in one array. A deque, so that a path being computed stays put while entries are added.
+    // for nodes with many), their numbers side by side in one array. A deque, so that a path being
+    // computed stays put while entries are added.
     std::deque<CacheEntry> m_entries;
     std::vector<uint32_t> m_firstEntry;    // per node: its latest entry, kNoEntry if none
-    std::vector<uint8_t> m_entriesOfNode;  // per node: entries in its list, up to the limit
-    std::vector<uint8_t> m_nodeHashed;     // per node: 1 once its entries are in m_entryIndex
+    // Per node: its entries, counted up to one past kListedEntriesPerNode, when they are all in
+    // m_entryIndex.
+    std::vector<uint8_t> m_entriesOfNode;
     util::IndexTable m_entryIndex;
     std::vector<double> m_values;
     std::vector<uint8_t> m_computesOutputs;            // per node: 0 unknown, 1 yes, 2 no
@@ -138,7 +142,7 @@ private:
     std::vector<uint8_t> m_singlePath;                  // per node: 0 unknown, 1 one DAG path, 2 more
     std::unordered_map<NodeId, glm::dmat4> m_worldOfSinglePath;  // world matrix of single-path nodes
     std::vector<Diagnostic> m_diagnostics;
-    // Where getDouble, getBool, getInt and getDouble3 receive numbers (numbers() never calls them
+    // Where the get* and channel* reads receive numbers (numbers() never calls them
     // back, so one buffer serves them all without an allocation per read).
     std::vector<double> m_scratch;
     std::unordered_map<const NodeSchema*, ChannelSpecs> m_channelSpecs;
