@@ -25,6 +25,13 @@ uint32_t NameIndex::findBase(std::string_view base) const {
     return m_baseIndex.find(util::hashBytes(base), [&](uint32_t b) { return baseText(m_bases[b]) == base; });
 }
 
+uint32_t* NameIndex::slotOf(const Split& s, uint32_t* base) {
+    const uint32_t b = findBase(s.base);
+    if (base) *base = b;
+    if (b == kNone || s.number >= m_bases[b].slots.size()) return nullptr;
+    return &m_bases[b].slots[s.number];
+}
+
 uint32_t NameIndex::addBase(std::string_view base) {
     if (m_bases.size() >= kNone || m_text.size() + base.size() > std::numeric_limits<uint32_t>::max()) return kNone;
     const uint32_t b = uint32_t(m_bases.size());
@@ -60,22 +67,20 @@ void NameIndex::insert(std::string_view name, uint32_t entry) {
 
 bool NameIndex::replace(std::string_view name, uint32_t entry, uint32_t replacement) {
     const Split s = split(name);
-    if (s.numbered) {
-        const uint32_t b = findBase(s.base);
-        if (b != kNone && s.number < m_bases[b].slots.size() && m_bases[b].slots[s.number] == entry) {
-            m_bases[b].slots[s.number] = replacement;
+    if (s.numbered)
+        if (uint32_t* slot = slotOf(s); slot && *slot == entry) {
+            *slot = replacement;
             return true;
         }
-    }
     return m_others.replace(util::hashBytes(name), [&](uint32_t e) { return e == entry; }, replacement);
 }
 
 bool NameIndex::erase(std::string_view name, uint32_t entry) {
     const Split s = split(name);
     if (s.numbered) {
-        const uint32_t b = findBase(s.base);
-        if (b != kNone && s.number < m_bases[b].slots.size() && m_bases[b].slots[s.number] == entry) {
-            m_bases[b].slots[s.number] = kNone;
+        uint32_t b = kNone;
+        if (uint32_t* slot = slotOf(s, &b); slot && *slot == entry) {
+            *slot = kNone;
             --m_bases[b].count;
             --m_count;
             return true;

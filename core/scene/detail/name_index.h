@@ -38,11 +38,7 @@ public:
     uint32_t find(std::string_view name, NameOf&& nameOf) const {
         const Split s = split(name);
         if (s.numbered) {
-            const uint32_t b = findBase(s.base);
-            if (b != kNone && s.number < m_bases[b].slots.size()) {
-                const uint32_t e = m_bases[b].slots[s.number];
-                if (e != kNone) return e;
-            }
+            if (const uint32_t* slot = slotOf(s); slot && *slot != kNone) return *slot;
             if (m_othersNumbered == 0) return kNone;  // every numbered name is in an array
         }
         return m_others.find(util::hashBytes(name), [&](uint32_t e) { return nameOf(e) == name; });
@@ -65,6 +61,10 @@ private:
         std::vector<uint32_t> slots;  // by number; kNone: no such name here
     };
     uint32_t findBase(std::string_view base) const;
+    // The array slot of a numbered name, or nullptr when its base's array does not reach it;
+    // `base` receives the base's index.
+    uint32_t* slotOf(const Split& s, uint32_t* base = nullptr);
+    const uint32_t* slotOf(const Split& s) const { return const_cast<NameIndex*>(this)->slotOf(s); }
     uint32_t addBase(std::string_view base);
     std::string_view baseText(const Base& b) const { return std::string_view(m_text).substr(b.textOffset, b.textSize); }
 
