@@ -317,13 +317,13 @@ std::optional<glm::dmat4> moveTransform(Evaluator& ev, NodeId n) {
     return m;
 }
 
-// How an extrusion (of faces or edges) moves what it makes; false, with `reason`, when a value
+// How an extrusion (of faces or edges) moves what it makes; false, with `error`, when a value
 // is not finite.
-bool readExtrusionMove(Context& c, NodeId n, geom::ExtrusionMove& m, std::string& reason) {
+bool readExtrusionMove(Context& c, NodeId n, geom::ExtrusionMove& m, std::string& error) {
     Evaluator& ev = c.ev;
     const std::optional<glm::dmat4> transform = moveTransform(ev, n);
     if (!transform) {
-        reason = nodeLabel(c.g.node(n)) + ": its translate, rotate, scale or pivot is not finite";
+        error = "its translate, rotate, scale or pivot is not finite";
         return false;
     }
     m.transform = *transform;
@@ -331,7 +331,7 @@ bool readExtrusionMove(Context& c, NodeId n, geom::ExtrusionMove& m, std::string
     m.localTranslate = ev.getDouble3(n, "lt");
     m.localScale = ev.getDouble3(n, "ls", glm::dvec3(1.0));
     if (!geom::isFinite(m.localTranslate) || !geom::isFinite(m.localScale)) {
-        reason = nodeLabel(c.g.node(n)) + ": its local translate or local scale is not finite";
+        error = "its local translate or local scale is not finite";
         return false;
     }
     m.keepFacesTogether = ev.getBool(n, "kft", true);
@@ -364,9 +364,10 @@ void noteMovesNotApplied(Context& c, NodeId n) {
 }
 
 // The common shape of a component edit (polyExtrudeFace, polyExtrudeEdge, polyBevel; not
-// polyMergeVert, whose own tweaks apply even without components): the node's input mesh, then, when its component list names something, `edit`
-// on the mesh with that list. An edit returns false with `error` set; the reason then names the
-// node. Without components the input passes through unchanged.
+// polyMergeVert, whose own tweaks apply even without components): the node's input mesh, then,
+// when its component list names something, `edit` on the mesh with that list. An edit returns
+// false with `error` set; the reason then names the node. Without components the input passes
+// through unchanged.
 template <class Edit>
 std::optional<geom::Mesh> evaluateComponentEdit(Context& c, NodeId n, std::string& reason, Edit&& edit) {
     std::optional<geom::Mesh> m = evaluateInput(c, n, {"inputPolymesh", "ip"}, reason);
@@ -375,7 +376,7 @@ std::optional<geom::Mesh> evaluateComponentEdit(Context& c, NodeId n, std::strin
     if (!list || list->items.empty()) return m;
     std::string error;
     if (!edit(*m, *list, error)) {
-        reason = error.empty() ? reason : nodeLabel(c.g.node(n)) + ": " + error;
+        reason = nodeLabel(c.g.node(n)) + ": " + error;
         return std::nullopt;
     }
     return m;
@@ -386,7 +387,7 @@ std::optional<geom::Mesh> evaluateExtrudeFace(Context& c, NodeId n, std::string&
         const Node& node = c.g.node(n);
         geom::ExtrudeFacesParams p;
         p.faces = componentSelection(list, ComponentKind::Face, m.faceCount(), node, c.out.notes);
-        if (!readExtrusionMove(c, n, p, reason)) return false;
+        if (!readExtrusionMove(c, n, p, error)) return false;
         p.smoothingAngle = c.ev.getDouble(n, "sma", p.smoothingAngle);
         if (!std::isfinite(p.smoothingAngle)) {
             error = "its smoothing angle is not finite";
@@ -403,7 +404,7 @@ std::optional<geom::Mesh> evaluateExtrudeEdge(Context& c, NodeId n, std::string&
         geom::completeEdges(m, true);
         geom::ExtrudeEdgesParams p;
         p.edges = componentSelection(list, ComponentKind::Edge, m.edges.size(), c.g.node(n), c.out.notes);
-        if (!readExtrusionMove(c, n, p, reason)) return false;
+        if (!readExtrusionMove(c, n, p, error)) return false;
         noteMovesNotApplied(c, n);
         return geom::extrudeEdges(m, p, nullptr, &error);
     });
