@@ -1227,16 +1227,15 @@ void Parser::cmdLockNode() {
             nodes.push_back(&a);
             continue;
         }
-        if (a.text == "-l" || a.text == "-lock") {
-            bool value = true;
-            if (i + 1 < m_argc && m_args[i + 1].kind == MaTokenKind::Word && detail::parseMaBool(m_args[i + 1].text, value))
-                ++i;
-            lock = value;
-            continue;
-        }
         // lockUnpublished, ignoreComponents and lockName lock nothing a render reads; any other
         // flag is reported.
-        i += flagArgs(kLockNodeFlags, "lockNode", i, nodes.empty() ? 1 : 0);
+        const size_t n = flagArgs(kLockNodeFlags, "lockNode", i, nodes.empty() ? 1 : 0);
+        if (a.text == "-l" || a.text == "-lock") {
+            bool value = true;
+            if (n == 1) detail::parseMaBool(m_args[i + 1].text, value);
+            lock = value;
+        }
+        i += n;
     }
     if (nodes.empty()) {
         if (m_current != kNoNode) m_g.node(m_current).locked = lock;
