@@ -173,6 +173,14 @@ void writeUniqueScene(const fs::path& path, int64_t lines) {
     w << "// End of unique.ma\n";
 }
 
+// Loads `path`, adding the seconds the load took to `seconds`.
+Graph timedLoad(const fs::path& path, std::vector<double>& seconds) {
+    const auto start = std::chrono::steady_clock::now();
+    Graph g = MaReader::readFile(path);
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    return g;
+}
+
 double peakRssMiB() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
@@ -224,22 +232,17 @@ int main(int argc, char** argv) {
         double bytes = 0, seconds = 0;
         size_t nodes = 0, loaded = 0, failed = 0;
         for (const fs::path& f : files) {
-            double best = 1e30;
+            std::vector<double> times;
             size_t count = 0;
             try {
-                for (int r = 0; r < runs; ++r) {
-                    const auto s = std::chrono::steady_clock::now();
-                    Graph g = MaReader::readFile(f);
-                    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
-                    count = g.size();
-                }
+                for (int r = 0; r < runs; ++r) count = timedLoad(f, times).size();
             } catch (const std::exception&) {
                 ++failed;
                 continue;
             }
             ++loaded;
             bytes += double(fs::file_size(f));
-            seconds += best;
+            seconds += *std::min_element(times.begin(), times.end());
             nodes += count;
         }
         const double mib = bytes / (1024.0 * 1024.0);
@@ -261,18 +264,11 @@ int main(int argc, char** argv) {
         const double rssBefore = peakRssMiB();
         std::vector<double> seconds, uniqueSeconds;
         for (int r = 0; r < runs; ++r) {
-            auto s = std::chrono::steady_clock::now();
-            {
-                Graph g = MaReader::readFile(path);
-                seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
-                if (g.find("x" + std::to_string(lines - 1)) == pushpin::scene::kNoNode) {
-                    std::fprintf(stderr, "the last duplicate was not renamed x%lld\n", (long long)(lines - 1));
-                    return 1;
-                }
+            if (timedLoad(path, seconds).find("x" + std::to_string(lines - 1)) == pushpin::scene::kNoNode) {
+                std::fprintf(stderr, "the last duplicate was not renamed x%lld\n", (long long)(lines - 1));
+                return 1;
             }
-            s = std::chrono::steady_clock::now();
-            Graph g = MaReader::readFile(uniquePath);
-            uniqueSeconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
+            (void)timedLoad(uniquePath, uniqueSeconds);
         }
         const double rssGrowth = peakRssMiB() - rssBefore;
         std::sort(seconds.begin(), seconds.end());
@@ -307,9 +303,7 @@ int main(int argc, char** argv) {
     std::vector<double> seconds;
     double payloadMiB = 0;
     for (int r = 0; r < runs; ++r) {
-        const auto s = std::chrono::steady_clock::now();
-        Graph g = MaReader::readFile(path);
-        seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
+        const Graph g = timedLoad(path, seconds);
         if (r == 0) {
             payloadMiB = graphPayloadMiB(g);
             std::vector<double> p;

@@ -1,8 +1,8 @@
 // bench/mesh_history_bench.cpp: the construction-history operations that rebuild real shapes
 // (core/geom/poly_extrude.h, poly_extrude_edge.h, poly_split.h, poly_split_ring.h, poly_bevel.h,
-// poly_merge.h, poly_dissolve.h, subdivide.h), each
-// on a mesh large enough that per-face cost shows, with faces (or points) per second counters;
-// then, when the real scenes are present, the time to evaluate every mesh shape of each of them.
+// poly_merge.h, poly_dissolve.h, subdivide.h), each on a mesh large enough that per-face cost
+// shows, with faces (or points) per second counters; then, when the real scenes are present, the
+// time to evaluate every mesh shape of each of them.
 //
 //   mesh_history_bench [--benchmark_* flags]
 //
@@ -127,8 +127,7 @@ void BM_SplitAcrossAGrid(benchmark::State& state) {
 BENCHMARK(BM_SplitAcrossAGrid)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
 
 void BM_ExtrudeEveryEdge(benchmark::State& state) {
-    const geom::Mesh source = plane(int(state.range(0)));
-    geom::Mesh base = source;
+    geom::Mesh base = plane(int(state.range(0)));
     geom::completeEdges(base, true);
     geom::ExtrudeEdgesParams p;
     p.edges.assign(base.edges.size(), true);
