@@ -5,7 +5,7 @@
 #include "core/util/format.h"
 #include "cache/error.h"
 #include "core/geom/nurbs.h"
-#include "core/geom/triangulate.h"
+#include "core/geom/geometry_handle.h"
 #include "core/scene/components.h"
 #include "core/scene/mesh_eval.h"
 #include "core/scene/nurbs_eval.h"
@@ -49,259 +49,6 @@ std::string boundsProblem(const geom::Bounds3& b) {
                 return "world-space bounds reach " + util::formatNumber(v, 6) + ", beyond 1e18 scene units";
     }
     return {};
-}
-
-// Fills geo.neighbors from the vertex each corner sits on (`cornerVertex`, 3 per triangle): two
-// triangles whose edges join the same two vertices are neighbours, flagged with kHardEdgeBit when
-// `hard(t0, t1, v0, v1)` says so; edges used by one triangle or by more than two get kNoTriangle.
-template <class HardFn>
-void buildNeighbors(RenderGeometry& geo, const std::vector<uint32_t>& cornerVertex, HardFn&& hard) {
-    const size_t triangles = geo.triangleCount();
-    geo.neighbors.assign(3 * triangles, kNoTriangle);
-    struct EdgeUse {
-        uint64_t key;
-        uint32_t slot;  // 3·t + k
-    };
-    std::vector<EdgeUse> uses;
-    uses.reserve(3 * triangles);
-    for (size_t t = 0; t < triangles; ++t)
-        for (uint32_t k = 0; k < 3; ++k) {
-            const uint32_t a = cornerVertex[3 * t + k], b = cornerVertex[3 * t + (k + 1) % 3];
-            if (a != b) uses.push_back({geom::edgeKey(a, b), uint32_t(3 * t + k)});
-        }
-    std::sort(uses.begin(), uses.end(),
-              [](const EdgeUse& x, const EdgeUse& y) { return x.key != y.key ? x.key < y.key : x.slot < y.slot; });
-    for (size_t i = 0; i < uses.size();) {
-        size_t j = i + 1;
-        while (j < uses.size() && uses[j].key == uses[i].key) ++j;
-        if (j - i == 2) {
-            const uint32_t s0 = uses[i].slot, s1 = uses[i + 1].slot;
-            const uint32_t t0 = s0 / 3, t1 = s1 / 3;
-            if (t0 != t1) {
-                const bool isHard = hard(t0, t1, uint32_t(uses[i].key >> 32), uint32_t(uses[i].key & 0xffffffffu));
-                const uint32_t bit = isHard ? kHardEdgeBit : 0u;
-                geo.neighbors[s0] = t1 | bit;
-                geo.neighbors[s1] = t0 | bit;
-            }
-        }
-        i = j;
-    }
-}
-
-void computeBounds(RenderGeometry& geo) {
-    geo.bounds = geom::Bounds3();
-    for (const glm::vec3& p : geo.positions) geo.bounds.extend(glm::dvec3(p));
-}
-
-// triangulateMesh for a mesh that passed validation; `degenerate` marks faces to drop.
-RenderGeometry triangulateValidMesh(const geom::Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
-                                    bool smoothShading, const std::vector<bool>& degenerate) {
-    RenderGeometry geo;
-    const size_t faces = mesh.faceCount();
-    std::vector<glm::vec3> shading;
-    if (smoothShading) shading = mesh.shadingNormals();
-    const geom::UvSet* uvSet = nullptr;
-    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
-        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount())
-        uvSet = &mesh.uvSets[size_t(mesh.currentUvSet)];
-
-    std::vector<uint32_t> cornerVertex;
-    geom::PolygonTriangulator triangulator;
-    std::vector<glm::dvec3> points;
-    std::vector<uint32_t> loops, local;
-    const size_t expected = mesh.faceVertexCount() * 3;  // a fair upper guess of corner count
-    geo.positions.reserve(expected);
-    geo.normals.reserve(expected);
-    cornerVertex.reserve(expected);
-
-    for (size_t f = 0; f < faces; ++f) {
-        const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
-        if (material == kNoMaterial || (f < degenerate.size() && degenerate[f])) continue;
-        const uint32_t begin = mesh.faceVertexBegin(f), end = mesh.faceVertexEnd(f);
-        const glm::dvec3 areaVector = mesh.faceAreaVector(f);
-        local.clear();
-        if (mesh.holeCount(f) == 0 && end - begin == 3) {
-            local = {0, 1, 2};
-        } else {
-            points.clear();
-            for (uint32_t c = begin; c < end; ++c) points.push_back(glm::dvec3(mesh.points[mesh.faceVertices[c]]));
-            loops.clear();
-            for (uint32_t l = mesh.faceLoopStarts[f]; l <= mesh.faceLoopStarts[f + 1]; ++l)
-                loops.push_back(mesh.loopStarts[l] - begin);
-            triangulator.triangulate(points, loops, areaVector, local);
-        }
-        if (local.empty()) continue;
-        const double areaLength = glm::length(areaVector);
-        const glm::vec3 faceNormal = areaLength > 0.0 ? glm::vec3(areaVector / areaLength) : glm::vec3(0, 0, 1);
-        for (size_t i = 0; i < local.size(); ++i) {
-            const uint32_t fv = begin + local[i];
-            const uint32_t point = mesh.faceVertices[fv];
-            geo.positions.push_back(mesh.points[point]);
-            glm::vec3 n = faceNormal;
-            if (smoothShading) {
-                const glm::vec3 s = shading[fv];
-                const float length = glm::length(s);
-                if (std::isfinite(length) && length > 1e-20f) n = s / length;
-            }
-            geo.normals.push_back(n);
-            if (uvSet) {
-                const int32_t id = uvSet->faceVertexUvs[fv];
-                geo.uvs.push_back(id >= 0 ? uvSet->uvs[size_t(id)] : glm::vec2(0.0f));
-            }
-            cornerVertex.push_back(point);
-        }
-        for (size_t t = 0; t < local.size() / 3; ++t) {
-            geo.face.push_back(uint32_t(f));
-            geo.material.push_back(material);
-        }
-    }
-    computeBounds(geo);
-
-    std::unordered_map<uint64_t, bool> smoothByEdge;
-    smoothByEdge.reserve(mesh.edges.size());
-    for (const geom::MeshEdge& e : mesh.edges) smoothByEdge[geom::edgeKey(e.v0, e.v1)] = e.smooth;
-    buildNeighbors(geo, cornerVertex, [&](uint32_t t0, uint32_t t1, uint32_t a, uint32_t b) {
-        if (geo.face[t0] == geo.face[t1]) return false;  // a diagonal inside one face
-        if (geo.material[t0] != geo.material[t1]) return true;
-        if (!smoothShading) return true;
-        const auto it = smoothByEdge.find(geom::edgeKey(a, b));
-        return it != smoothByEdge.end() && !it->second;
-    });
-    return geo;
-}
-
-// Sorted distinct knot values of a direction's domain [lo, hi] (the span boundaries).
-std::vector<double> spanBreaks(const std::vector<double>& knots, double lo, double hi) {
-    std::vector<double> breaks;
-    for (double k : knots)
-        if (k >= lo && k <= hi && (breaks.empty() || k > breaks.back())) breaks.push_back(k);
-    if (breaks.empty() || breaks.front() > lo) breaks.insert(breaks.begin(), lo);
-    if (breaks.back() < hi) breaks.push_back(hi);
-    return breaks;
-}
-
-// Grid parameters: `divisions` steps in every non-empty span; `span` receives each step's span.
-std::vector<double> gridParameters(const std::vector<double>& breaks, int divisions, std::vector<uint32_t>& span) {
-    std::vector<double> params;
-    span.clear();
-    for (size_t s = 0; s + 1 < breaks.size(); ++s) {
-        for (int d = 0; d < divisions; ++d) {
-            params.push_back(breaks[s] + (breaks[s + 1] - breaks[s]) * double(d) / double(divisions));
-            span.push_back(uint32_t(s));
-        }
-    }
-    params.push_back(breaks.back());
-    return params;
-}
-
-// Uniform per-span grid tessellation of a NURBS surface (reference/algorithms.md §8, primary
-// pass): positions and normals evaluated exactly, uvs the normalised parameters, poles given a
-// neighbouring normal, every grid edge soft. Returns nullopt with `problem` set when the surface
-// evaluates to non-finite values.
-std::optional<RenderGeometry> tessellateNurbs(const geom::NurbsSurface& s, int divU, int divV, std::string& problem) {
-    std::vector<uint32_t> spanOfU, spanOfV;
-    const std::vector<double> breaksU = spanBreaks(s.knotsU(), s.uMin(), s.uMax());
-    const std::vector<double> breaksV = spanBreaks(s.knotsV(), s.vMin(), s.vMax());
-    const std::vector<double> us = gridParameters(breaksU, divU, spanOfU);
-    const std::vector<double> vs = gridParameters(breaksV, divV, spanOfV);
-    const size_t nu = us.size(), nv = vs.size();
-    const size_t spansV = breaksV.size() - 1;
-    if (nu < 2 || nv < 2) {
-        problem = "the surface has an empty parameter domain";
-        return std::nullopt;
-    }
-    std::vector<glm::dvec3> pos(nu * nv), nrm(nu * nv);
-    geom::Bounds3 box;
-    for (size_t i = 0; i < nu; ++i)
-        for (size_t j = 0; j < nv; ++j) {
-            const glm::dvec3 p = s.point(us[i], vs[j]);
-            const glm::dvec3 n = s.normal(us[i], vs[j]);
-            if (!geom::isFinite(p) || !geom::isFinite(n)) {
-                problem = "the surface evaluates to NaN/Inf";
-                return std::nullopt;
-            }
-            pos[i * nv + j] = p;
-            nrm[i * nv + j] = n;
-            box.extend(p);
-        }
-    // Poles: the nearest grid normal that is not zero, searching outwards ring by ring.
-    for (size_t i = 0; i < nu; ++i)
-        for (size_t j = 0; j < nv; ++j) {
-            if (glm::dot(nrm[i * nv + j], nrm[i * nv + j]) > 0.0) continue;
-            bool found = false;
-            for (size_t r = 1; r < std::max(nu, nv) && !found; ++r)
-                for (size_t a = (i >= r ? i - r : 0); a <= std::min(nu - 1, i + r) && !found; ++a)
-                    for (size_t b = (j >= r ? j - r : 0); b <= std::min(nv - 1, j + r) && !found; ++b) {
-                        const glm::dvec3& q = nrm[a * nv + b];
-                        if (glm::dot(q, q) > 0.0) {
-                            nrm[i * nv + j] = q;
-                            found = true;
-                        }
-                    }
-        }
-
-    // Vertex identities for adjacency: seams of closed directions and collapsed rows (poles)
-    // are welded so that the triangles around them are neighbours.
-    const double tol = 1e-6 * std::max({box.size().x, box.size().y, box.size().z, 1e-30});
-    std::vector<uint32_t> id(nu * nv);
-    std::iota(id.begin(), id.end(), 0u);
-    auto close = [&](size_t a, size_t b) { return glm::length(pos[a] - pos[b]) <= tol; };
-    auto root = [&](uint32_t x) {
-        while (id[x] != x) x = id[x];
-        return x;
-    };
-    auto weld = [&](size_t a, size_t b) {
-        const uint32_t ra = root(uint32_t(a)), rb = root(uint32_t(b));
-        if (ra != rb) id[std::max(ra, rb)] = std::min(ra, rb);
-    };
-    for (size_t j = 0; j < nv; ++j)
-        if (close(j, (nu - 1) * nv + j)) weld(j, (nu - 1) * nv + j);
-    for (size_t i = 0; i < nu; ++i)
-        if (close(i * nv, i * nv + nv - 1)) weld(i * nv, i * nv + nv - 1);
-    for (size_t i = 0; i < nu; ++i) {
-        bool collapsed = true;
-        for (size_t j = 1; j < nv && collapsed; ++j) collapsed = close(i * nv, i * nv + j);
-        if (collapsed)
-            for (size_t j = 1; j < nv; ++j) weld(i * nv, i * nv + j);
-    }
-    for (size_t j = 0; j < nv; ++j) {
-        bool collapsed = true;
-        for (size_t i = 1; i < nu && collapsed; ++i) collapsed = close(j, i * nv + j);
-        if (collapsed)
-            for (size_t i = 1; i < nu; ++i) weld(j, i * nv + j);
-    }
-
-    RenderGeometry geo;
-    std::vector<uint32_t> cornerVertex;
-    const double du = s.uMax() - s.uMin(), dv = s.vMax() - s.vMin();
-    const double minArea2 = 1e-24 * std::pow(std::max({box.size().x, box.size().y, box.size().z}), 4.0);
-    auto corner = [&](size_t i, size_t j) {
-        const size_t k = i * nv + j;
-        geo.positions.push_back(glm::vec3(pos[k]));
-        geo.normals.push_back(glm::vec3(glm::normalize(glm::dot(nrm[k], nrm[k]) > 0.0 ? nrm[k] : glm::dvec3(0, 0, 1))));
-        geo.uvs.push_back(glm::vec2(float((us[i] - s.uMin()) / du), float((vs[j] - s.vMin()) / dv)));
-        cornerVertex.push_back(root(uint32_t(k)));
-    };
-    // Quad (i, j)–(i+1, j+1) splits into (a, b, c) and (a, c, d), counter-clockwise in (u, v):
-    // their geometric normal is dP/du × dP/dv, the surface normal. Zero-area halves (poles) go.
-    for (size_t i = 0; i + 1 < nu; ++i)
-        for (size_t j = 0; j + 1 < nv; ++j) {
-            const size_t quad[4][2] = {{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}};
-            const int tris[2][3] = {{0, 1, 2}, {0, 2, 3}};
-            for (const auto& t : tris) {
-                const glm::dvec3& p0 = pos[quad[t[0]][0] * nv + quad[t[0]][1]];
-                const glm::dvec3& p1 = pos[quad[t[1]][0] * nv + quad[t[1]][1]];
-                const glm::dvec3& p2 = pos[quad[t[2]][0] * nv + quad[t[2]][1]];
-                const glm::dvec3 c = glm::cross(p1 - p0, p2 - p0);
-                if (!(glm::dot(c, c) > minArea2)) continue;
-                for (int k = 0; k < 3; ++k) corner(quad[t[k]][0], quad[t[k]][1]);
-                geo.face.push_back(spanOfU[i] * uint32_t(spansV) + spanOfV[j]);
-                geo.material.push_back(0);
-            }
-        }
-    computeBounds(geo);
-    buildNeighbors(geo, cornerVertex, [](uint32_t, uint32_t, uint32_t, uint32_t) { return false; });
-    return geo;
 }
 
 // Per-span divisions for one direction: ceil(number · factor), at least 1 (reference/algorithms.md
@@ -497,14 +244,16 @@ void readLights(scene::Evaluator& ev, const scene::RenderSetup& setup, FrameScen
 struct ShapeGeometry {
     bool failed = false;
     std::string skipReason;
-    scene::MeshEvaluation mesh;         // meshes
-    std::vector<bool> degenerate;       // meshes: faces to drop
-    std::optional<RenderGeometry> nurbs;  // NURBS surfaces (one material)
-    // The last triangulation (held by FrameScene::objects[lastObject]), reused by the next
-    // instance with the same face materials and smoothShading.
+    scene::MeshEvaluation evaluation;                    // meshes: groups, face origins (mesh moved out)
+    std::shared_ptr<const geom::Mesh> mesh;              // meshes, validated
+    std::shared_ptr<const std::vector<bool>> degenerate;  // meshes: faces to drop
+    std::shared_ptr<const geom::NurbsSurface> surface;   // NURBS surfaces (one material)
+    int divU = 1, divV = 1;
+    // The handle made for the last instance, reused by the next with the same face materials and
+    // smoothShading: instances share one tessellation.
+    std::shared_ptr<const geom::GeometryHandle> lastHandle;
     std::vector<uint16_t> lastMaterials;
     bool lastSmooth = true;
-    size_t lastObject = ~size_t(0);
 };
 
 void evaluateShape(scene::Evaluator& ev, NodeId shape, const std::string& label, ShapeGeometry& out,
@@ -512,30 +261,35 @@ void evaluateShape(scene::Evaluator& ev, NodeId shape, const std::string& label,
     const Graph& g = ev.graph();
     try {
         if (g.node(shape).type == "mesh") {
-            out.mesh = scene::evaluateMeshShape(ev, shape);
-            for (const std::string& note : out.mesh.notes) notes.push_back(label + ": " + note);
-            if (!out.mesh.mesh) {
+            out.evaluation = scene::evaluateMeshShape(ev, shape);
+            for (const std::string& note : out.evaluation.notes) notes.push_back(label + ": " + note);
+            if (!out.evaluation.mesh) {
                 out.failed = true;
-                out.skipReason = out.mesh.skipReason.empty() ? "the mesh could not be evaluated" : out.mesh.skipReason;
+                out.skipReason =
+                    out.evaluation.skipReason.empty() ? "the mesh could not be evaluated" : out.evaluation.skipReason;
                 return;
             }
-            const geom::MeshValidation validation = out.mesh.mesh->validate();
+            const geom::MeshValidation validation = out.evaluation.mesh->validate();
+            auto mesh = std::make_shared<const geom::Mesh>(std::move(*out.evaluation.mesh));
+            out.evaluation.mesh.reset();
             if (!validation.ok()) {
                 out.failed = true;
                 out.skipReason = "invalid mesh: " + validation.errors.front();
-                out.mesh.mesh.reset();
                 return;
             }
-            if (out.mesh.mesh->empty()) {
+            if (mesh->empty()) {
                 out.failed = true;
                 out.skipReason = "mesh has no faces";
                 return;
             }
-            out.degenerate.assign(out.mesh.mesh->faceCount(), false);
-            for (uint32_t f : validation.degenerateFaces) out.degenerate[f] = true;
-            if (!validation.degenerateFaces.empty())
+            if (!validation.degenerateFaces.empty()) {
+                auto degenerate = std::make_shared<std::vector<bool>>(mesh->faceCount(), false);
+                for (uint32_t f : validation.degenerateFaces) (*degenerate)[f] = true;
+                out.degenerate = std::move(degenerate);
                 notes.push_back(label + ": " + std::to_string(validation.degenerateFaces.size()) +
                                 " degenerate face(s) not rendered");
+            }
+            out.mesh = std::move(mesh);
             return;
         }
         std::string reason, note;
@@ -546,14 +300,9 @@ void evaluateShape(scene::Evaluator& ev, NodeId shape, const std::string& label,
             out.skipReason = reason.empty() ? "the surface could not be evaluated" : reason;
             return;
         }
-        const int divU = spanDivisions(ev, shape, "numberU", "uDivisionsFactor", label, notes);
-        const int divV = spanDivisions(ev, shape, "numberV", "vDivisionsFactor", label, notes);
-        std::string problem;
-        out.nurbs = tessellateNurbs(*surface, divU, divV, problem);
-        if (!out.nurbs) {
-            out.failed = true;
-            out.skipReason = problem;
-        }
+        out.divU = spanDivisions(ev, shape, "numberU", "uDivisionsFactor", label, notes);
+        out.divV = spanDivisions(ev, shape, "numberV", "vDivisionsFactor", label, notes);
+        out.surface = std::make_shared<const geom::NurbsSurface>(std::move(*surface));
     } catch (const std::bad_alloc&) {
         throw;
     } catch (const std::exception& e) {
@@ -588,22 +337,6 @@ void dropUnplaceableObjects(FrameScene& scene, std::vector<std::vector<NodeId>>&
 }
 
 }  // namespace
-
-std::vector<ObjectTopology> FrameScene::topology() const {
-    std::vector<ObjectTopology> out;
-    out.reserve(objects.size());
-    for (const RenderObject& o : objects)
-        out.push_back({o.geometry.neighbors.data(), uint32_t(o.geometry.triangleCount())});
-    return out;
-}
-
-RenderGeometry triangulateMesh(const geom::Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading) {
-    const geom::MeshValidation validation = mesh.validate();
-    if (!validation.ok()) return {};
-    std::vector<bool> degenerate(mesh.faceCount(), false);
-    for (uint32_t f : validation.degenerateFaces) degenerate[f] = true;
-    return triangulateValidMesh(mesh, faceMaterial, smoothShading, degenerate);
-}
 
 FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup, const RenderSettings& settings) {
     const Graph& g = ev.graph();
@@ -684,7 +417,6 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
 
             RenderObject object;
             std::vector<const scene::ShadingGroupInfo*> slotGroups;  // per material slot
-            bool triangulated = false;
             object.name = label;
             object.shape = node.id;
             object.instance = int(instance);
@@ -709,20 +441,21 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
             for (const Membership& m : groups)
                 if (m.member->objectGroup < 0 && !whole) whole = m.group;
 
-            if (shape.nurbs) {
+            if (shape.surface) {
                 const scene::ShadingGroupInfo* sg = whole ? whole : groups.front().group;
                 if (!whole)
                     scene.notes.push_back(label + ": component shading assignment on a NURBS surface; " + sg->name +
                                           " used for the whole surface");
-                object.geometry = *shape.nurbs;
+                if (!shape.lastHandle) shape.lastHandle = geom::GeometryHandle::fromNurbs(shape.surface, shape.divU, shape.divV);
+                object.geometry = shape.lastHandle;
                 slotGroups.push_back(sg);
             } else {
-                const geom::Mesh& mesh = *shape.mesh.mesh;
+                const geom::Mesh& mesh = *shape.mesh;
                 const size_t faces = mesh.faceCount();
                 // Shading assignments name the faces of the unsmoothed mesh when the shape renders
                 // its smooth preview; each smoothed face takes the group of the face it comes from.
-                const std::vector<uint32_t>& origin = shape.mesh.faceOrigin;
-                const size_t sourceFaces = origin.size() == faces ? shape.mesh.sourceFaceCount : faces;
+                const std::vector<uint32_t>& origin = shape.evaluation.faceOrigin;
+                const size_t sourceFaces = origin.size() == faces ? shape.evaluation.sourceFaceCount : faces;
                 std::vector<int32_t> sourceGroup(sourceFaces, -1);
                 if (whole) {
                     candidates.push_back(whole);
@@ -730,7 +463,7 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                 }
                 for (const Membership& m : groups) {
                     if (m.member->objectGroup < 0) continue;
-                    const scene::ComponentList list = memberComponents(ev, *m.member, shape.mesh);
+                    const scene::ComponentList list = memberComponents(ev, *m.member, shape.evaluation);
                     if (list.items.empty()) {
                         scene.notes.push_back(label + ": objectGroups[" + std::to_string(m.member->objectGroup) +
                                               "] in " + m.group->name + " lists no components");
@@ -776,24 +509,21 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                 if (dropped > 0)
                     scene.notes.push_back(label + ": " + std::to_string(dropped) +
                                           " face(s) in no shading group not rendered");
-                if (shape.lastObject < scene.objects.size() && shape.lastMaterials == faceMaterial &&
-                    shape.lastSmooth == object.smoothShading) {
-                    object.geometry = scene.objects[shape.lastObject].geometry;
-                } else {
-                    object.geometry = triangulateValidMesh(mesh, faceMaterial, object.smoothShading, shape.degenerate);
-                    shape.lastObject = ~size_t(0);
+                if (!shape.lastHandle || shape.lastMaterials != faceMaterial ||
+                    shape.lastSmooth != object.smoothShading) {
+                    shape.lastHandle =
+                        geom::GeometryHandle::fromMesh(shape.mesh, faceMaterial, shape.degenerate, object.smoothShading);
                     shape.lastMaterials = std::move(faceMaterial);
                     shape.lastSmooth = object.smoothShading;
-                    triangulated = true;
                 }
+                object.geometry = shape.lastHandle;
             }
-            if (object.geometry.triangleCount() == 0) {
+            if (object.geometry->triangleCount() == 0) {
                 skip("no renderable triangles (every face degenerate or unassigned)");
                 continue;
             }
-            object.worldBounds = object.geometry.bounds.transformed(object.worldFromObject);
+            object.worldBounds = object.geometry->bounds().transformed(object.worldFromObject);
             for (const scene::ShadingGroupInfo* sg : slotGroups) object.materials.push_back({useGroup(*sg), {}});
-            if (triangulated) shape.lastObject = scene.objects.size();
             scene.objects.push_back(std::move(object));
             objectPaths.push_back(path);
         }

@@ -1,6 +1,6 @@
 // core/render/frame_scene.h: the flat scene one frame renders (DESIGN.md step 2): render objects
 // (one per visible shape instance: polygon meshes, and NURBS surfaces on a uniform per-span grid)
-// with their world matrix, render stats and triangles; the lights in world space with the objects
+// with their world matrix, render stats and geometry handle; the lights in world space with the objects
 // each lights (light linking); the shading groups with their compiled networks. Built once per
 // frame from an evaluated Graph; immutable afterwards.
 // Thread safety: building is single-threaded (it uses one Evaluator); a finished FrameScene is
@@ -8,12 +8,12 @@
 // Numbers at the door: world matrices, world bounds, light positions and light values are checked
 // here (kMaxSceneCoordinate, camera.h); what cannot be rendered without overflow is skipped with
 // a note naming the node, so nothing past this point meets NaN, Inf or an overflowing number.
-// Memory: geometry is owned here and not charged to the MemoryBudget yet; the memory-budgeted
-// lazy path is a later stage (tile_plan.h).
+// Memory: each object refers to a geom::GeometryHandle, shared by the instances of a shape; no
+// triangles are made here (the renderer tessellates what a tile needs).
 #pragma once
 
 #include "core/geom/bounds.h"
-#include "core/geom/mesh.h"
+#include "core/geom/geometry_handle.h"
 #include "core/render/fragment.h"
 #include "core/render/render_settings.h"
 #include "core/scene/evaluator.h"
@@ -31,19 +31,6 @@
 
 namespace pushpin::render {
 
-// Triangles of one shape in object space, with what shading needs per corner.
-// Corner arrays are parallel: corner c of triangle t is index 3·t + c.
-struct RenderGeometry {
-    std::vector<glm::vec3> positions;      // per corner, object space
-    std::vector<glm::vec3> normals;        // per corner, unit, object space (smooth or faceted per hard edges)
-    std::vector<glm::vec2> uvs;            // per corner (current UV set); empty when the shape has none
-    std::vector<uint32_t> face;            // per triangle: the Maya face (or NURBS patch) it came from
-    std::vector<uint16_t> material;        // per triangle: index into RenderObject::materials
-    std::vector<uint32_t> neighbors;       // 3 per triangle, see ObjectTopology (fragment.h)
-    geom::Bounds3 bounds;                  // object space
-    size_t triangleCount() const { return face.size(); }
-};
-
 // A shading group as one object uses it, with the lights linked to that pair.
 struct MaterialSlot {
     uint32_t shadingGroup = 0;             // index into FrameScene::shadingGroups
@@ -56,7 +43,9 @@ struct RenderObject {
     int instance = 0;
     glm::dmat4 worldFromObject{1.0};
     geom::Bounds3 worldBounds;
-    RenderGeometry geometry;
+    // The shape's geometry (shared with the other instances that render the same faces with the
+    // same materials): bounds and cost known, triangles made on first need. Never null.
+    std::shared_ptr<const geom::GeometryHandle> geometry;
     std::vector<MaterialSlot> materials;
     // render stats (reference/nodes.md §1)
     bool primaryVisibility = true;
@@ -86,14 +75,12 @@ struct FrameScene {
     // nodes met in networks, replaced NaN/Inf values … one line each, for the log and --stats.
     std::vector<std::string> notes;
     size_t skippedShapes = 0;
-
-    std::vector<ObjectTopology> topology() const;  // per object, for PixelResolver
 };
 
 // Builds the frame: every mesh and nurbsSurface instance that is visible (Evaluator::visible), not
 // an intermediate object, with primaryVisibility on, and member of a shading group (an object in
-// no shading group is not rendered, reference/algorithms.md §1); its triangles (faces with holes
-// and concave faces triangulated exactly; degenerate faces dropped); its material per face from
+// no shading group is not rendered, reference/algorithms.md §1); its geometry handle (one per shape
+// and face-material assignment, shared by instances; degenerate faces dropped); its material per face from
 // whole-object and per-face (iog[i].og[j]) set membership; lights (supported types, world space)
 // with light linking from lightLinker connections and `relationship "link"/"ignore"` lines (a light
 // lights an (object, shading group) slot when a "link" pairs a light side containing the light —
@@ -109,18 +96,7 @@ struct FrameScene {
 // replaced by its default with a note. Never throws for bad scene content.
 FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup, const RenderSettings& settings);
 
-// A `faceMaterial` entry for a face that is not rendered (it belongs to no shading group).
-constexpr uint16_t kNoMaterial = 0xffff;
-
-// Triangulates one mesh (exported for tests and benchmarks): ear clipping of each face's outer
-// loop with its holes bridged in, in the face's best-fit plane; fills positions, normals
-// (Mesh::shadingNormals, or face normals when `smoothShading` is off), uvs, face, and neighbours
-// (triangles across an edge of the same face or across a soft mesh edge, flagged hard across hard
-// edges and where `faceMaterial` differs). `faceMaterial` has one entry per face (empty = all 0;
-// missing entries are 0); faces marked kNoMaterial and degenerate faces give no triangles. With
-// `smoothShading` off every edge between two faces is hard (each face has its own flat normal).
-// Triangles wind like their face: counter-clockwise seen from the side the face normal points to.
-// A mesh that fails Mesh::validate() (indices out of range, NaN/Inf points) gives empty geometry.
-RenderGeometry triangulateMesh(const geom::Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading);
+// A face material entry for a face that is not rendered (it belongs to no shading group).
+constexpr uint16_t kNoMaterial = geom::kNoFaceMaterial;
 
 }  // namespace pushpin::render

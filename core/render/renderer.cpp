@@ -1,5 +1,6 @@
 #include "core/render/renderer.h"
 
+#include "core/geom/tessellation.h"
 #include "core/render/tile_plan.h"
 #include "core/render/visibility.h"
 #include "core/util/json_writer.h"
@@ -27,8 +28,12 @@
 #include <optional>
 #include <span>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace pushpin::render {
+
+static_assert(kNoTriangle == geom::kNoNeighbor && kHardEdgeBit == geom::kHardNeighborBit,
+              "ObjectTopology reads Tessellation::neighbors as they are");
 
 namespace {
 
@@ -128,8 +133,9 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
 struct CameraObject {
     glm::dmat4 cameraFromObject{1.0};
     glm::dmat4 objectFromCamera{1.0};
-    std::vector<glm::dvec3> positions;  // per corner, camera space
-    std::vector<glm::vec3> normals;     // per corner, camera space, unit
+    std::shared_ptr<const geom::Tessellation> tessellation;  // while the object is kept
+    std::vector<glm::dvec3> positions;  // per vertex, camera space
+    std::vector<glm::vec3> normals;     // per vertex, camera space, unit
     std::vector<std::vector<shade::Light>> slotLights;  // per material slot, camera space
     std::vector<uint8_t> slotTransparent;                // per material slot
     bool kept = false;
@@ -267,7 +273,7 @@ void FrameRenderer::prepareObject(uint32_t index) {
     }
 
     // Far-plane culling per object, and objects wholly behind the near plane.
-    geom::Bounds3 cb = obj.geometry.bounds.transformed(co.cameraFromObject);
+    geom::Bounds3 cb = obj.geometry->bounds().transformed(co.cameraFromObject);
     if (cb.empty() || !std::isfinite(cb.lo.x) || !std::isfinite(cb.hi.x)) return;
     if (-cb.hi.z > m_camera.farClipPlane) return;  // wholly past the far plane (counted in prepare())
     if (-cb.lo.z < m_camera.nearClipPlane) return;  // wholly between the eye and the near plane, or behind
@@ -286,12 +292,13 @@ void FrameRenderer::prepareObject(uint32_t index) {
     }
     co.kept = true;
 
-    const RenderGeometry& g = obj.geometry;
-    size_t corners = g.positions.size();
-    co.positions.resize(corners);
-    co.normals.resize(corners);
+    co.tessellation = obj.geometry->tessellation();
+    const geom::Tessellation& g = *co.tessellation;
+    const size_t vertices = g.vertexCount();
+    co.positions.resize(vertices);
+    co.normals.resize(vertices);
     glm::dmat3 normalToCamera = glm::transpose(glm::inverse(glm::dmat3(co.cameraFromObject)));
-    for (size_t c = 0; c < corners; ++c) {
+    for (size_t c = 0; c < vertices; ++c) {
         co.positions[c] = glm::dvec3(co.cameraFromObject * glm::dvec4(glm::dvec3(g.positions[c]), 1.0));
         glm::dvec3 n = normalToCamera * glm::dvec3(c < g.normals.size() ? g.normals[c] : glm::vec3(0.0f));
         double len = glm::length(n);
@@ -315,7 +322,8 @@ void FrameRenderer::prepareObject(uint32_t index) {
     st.triangles = triangles;
     double nearZ = -m_camera.nearClipPlane;
     for (size_t t = 0; t < triangles; ++t) {
-        glm::dvec3 c[3] = {co.positions[3 * t], co.positions[3 * t + 1], co.positions[3 * t + 2]};
+        glm::dvec3 c[3] = {co.positions[g.corners[3 * t]], co.positions[g.corners[3 * t + 1]],
+                           co.positions[g.corners[3 * t + 2]]};
         glm::dvec3 n = glm::cross(c[1] - c[0], c[2] - c[0]);
         if (obj.opposite) n = -n;
         if (!obj.doubleSided) {
@@ -376,7 +384,7 @@ void FrameRenderer::prepare() {
     for (size_t i = 0; i < n; ++i) {
         const RenderStats& s = m_objectStats[i];
         if (!m_objects[i].kept) {
-            geom::Bounds3 cb = m_scene.objects[i].geometry.bounds.transformed(m_objects[i].cameraFromObject);
+            geom::Bounds3 cb = m_scene.objects[i].geometry->bounds().transformed(m_objects[i].cameraFromObject);
             if (!cb.empty() && -cb.hi.z > m_camera.farClipPlane)
                 ++m_stats.objectsCulledFar;
             else
@@ -419,11 +427,12 @@ void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, uint32_t object, u
                                double ry) const {
     const RenderObject& obj = m_scene.objects[object];
     const CameraObject& co = m_objects[object];
-    const RenderGeometry& g = obj.geometry;
-    size_t c0 = 3 * size_t(triangle);
-    const glm::dvec3& p0 = co.positions[c0];
-    const glm::dvec3& p1 = co.positions[c0 + 1];
-    const glm::dvec3& p2 = co.positions[c0 + 2];
+    const geom::Tessellation& g = *co.tessellation;
+    const uint32_t v0 = g.corners[3 * size_t(triangle)], v1 = g.corners[3 * size_t(triangle) + 1],
+                   v2 = g.corners[3 * size_t(triangle) + 2];
+    const glm::dvec3& p0 = co.positions[v0];
+    const glm::dvec3& p1 = co.positions[v1];
+    const glm::dvec3& p2 = co.positions[v2];
     glm::dvec3 origin, dir;
     m_camera.rayThrough(rx, ry, origin, dir);
     glm::dvec3 e1 = p1 - p0, e2 = p2 - p0;
@@ -454,8 +463,8 @@ void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, uint32_t object, u
         }
     }
     glm::dvec3 ng = nn > 0.0 ? n / std::sqrt(nn) : -dir;
-    glm::dvec3 ns = glm::dvec3(co.normals[c0]) * b0 + glm::dvec3(co.normals[c0 + 1]) * b1 +
-                    glm::dvec3(co.normals[c0 + 2]) * b2;
+    glm::dvec3 ns = glm::dvec3(co.normals[v0]) * b0 + glm::dvec3(co.normals[v1]) * b1 +
+                    glm::dvec3(co.normals[v2]) * b2;
     double nsLen = glm::length(ns);
     ns = nsLen > 1e-12 ? ns / nsLen : ng;
     if (obj.opposite) {
@@ -474,7 +483,7 @@ void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, uint32_t object, u
     b.rx[i] = float(dir.x), b.ry[i] = float(dir.y), b.rz[i] = float(dir.z);
     glm::dvec3 tu(0.0), tv(0.0);
     if (!g.uvs.empty()) {
-        glm::dvec2 uv0(g.uvs[c0]), uv1(g.uvs[c0 + 1]), uv2(g.uvs[c0 + 2]);
+        glm::dvec2 uv0(g.uvs[v0]), uv1(g.uvs[v1]), uv2(g.uvs[v2]);
         glm::dvec2 uv = uv0 * b0 + uv1 * b1 + uv2 * b2;
         b.u[i] = float(uv.x), b.v[i] = float(uv.y);
         glm::dvec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
@@ -518,7 +527,7 @@ void FrameRenderer::flushAll(Worker& w) {
 }
 
 void FrameRenderer::addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target) {
-    const RenderGeometry& g = m_scene.objects[object].geometry;
+    const geom::Tessellation& g = *m_objects[object].tessellation;
     uint32_t slot = triangle < g.material.size() ? g.material[triangle] : 0;
     auto [it, inserted] = w.pendingIndex.try_emplace((uint64_t(object) << 32) | slot, uint32_t(w.pendingCount));
     if (inserted) {
@@ -839,9 +848,11 @@ Framebuffer FrameRenderer::run() {
     m_marginBottom = layout.marginBottom;
     m_frame.resize(m_camera.width, m_camera.height, m_settings.depth.value_or(false));
     if (m_options.adaptiveMask) m_options.adaptiveMask->assign(size_t(m_camera.width) * m_camera.height, 0);
-    m_topology = m_scene.topology();
-
     prepare();
+    m_topology.assign(m_objects.size(), ObjectTopology{});
+    for (size_t i = 0; i < m_objects.size(); ++i)
+        if (const auto& t = m_objects[i].tessellation)
+            m_topology[i] = {t->neighbors.data(), uint32_t(t->triangleCount())};
     m_stats.pixels = uint64_t(m_region.width()) * m_region.height();
 
     auto tTiles = Clock::now();
@@ -903,11 +914,14 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
         m.tileBytes += uint64_t(std::max(1, threads)) * perThread;
     }
 
+    std::unordered_set<const geom::GeometryHandle*> handles;
     for (const RenderObject& o : scene.objects) {
-        const uint64_t corners = o.geometry.positions.size(), triangles = o.geometry.triangleCount();
+        const uint64_t vertices = o.geometry->vertexCountEstimate(), triangles = o.geometry->triangleCount();
         m.geometryBytes += sizeof(CameraObject) + sizeof(RenderStats) + sizeof(ObjectTopology) +
-                           corners * (sizeof(glm::dvec3) + sizeof(glm::vec3)) +
+                           vertices * (sizeof(glm::dvec3) + sizeof(glm::vec3)) +
                            triangles * (2 * sizeof(ScreenTriangle) + sizeof(uint32_t) /* one bin entry */);
+        // Each shape's tessellation once, whatever its number of instances.
+        if (handles.insert(o.geometry.get()).second) m.geometryBytes += o.geometry->tessellationBytesEstimate();
     }
     return m;
 }

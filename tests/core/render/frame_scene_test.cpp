@@ -1,4 +1,4 @@
-// Tests for core/render/frame_scene.h: triangulation, materials per face, skips, lights, light
+// Tests for core/render/frame_scene.h: geometry handles per instance, materials per face, skips, lights, light
 // linking and NURBS tessellation.
 #include "core/render/frame_scene.h"
 
@@ -53,19 +53,22 @@ std::string allNotes(const FrameScene& f) {
     return s;
 }
 
-double triangleArea(const RenderGeometry& g, size_t t) {
-    const glm::dvec3 a(g.positions[3 * t]), b(g.positions[3 * t + 1]), c(g.positions[3 * t + 2]);
+// An object's triangles (its handle keeps them once made).
+const geom::Tessellation& tess(const RenderObject& o) { return *o.geometry->tessellation(); }
+
+double triangleArea(const geom::Tessellation& g, size_t t) {
+    const glm::dvec3 a(g.position(3 * t)), b(g.position(3 * t + 1)), c(g.position(3 * t + 2));
     return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
-glm::dvec3 triangleNormal(const RenderGeometry& g, size_t t) {
-    const glm::dvec3 a(g.positions[3 * t]), b(g.positions[3 * t + 1]), c(g.positions[3 * t + 2]);
+glm::dvec3 triangleNormal(const geom::Tessellation& g, size_t t) {
+    const glm::dvec3 a(g.position(3 * t)), b(g.position(3 * t + 1)), c(g.position(3 * t + 2));
     return glm::cross(b - a, c - a);
 }
 
 // The shading group name of triangle t of an object.
 std::string groupOf(const FrameScene& f, const RenderObject& o, size_t t) {
-    return f.shadingGroups[o.materials[o.geometry.material[t]].shadingGroup].name;
+    return f.shadingGroups[o.materials[tess(o).material[t]].shadingGroup].name;
 }
 
 constexpr const char* kHeader = R"(//Maya ASCII 2018 scene
@@ -89,225 +92,6 @@ std::string assign(const std::string& shape, const std::string& sg) {
     return "connectAttr \"" + shape + ".iog\" \"" + sg + ".dsm\" -na;\n";
 }
 
-// Two unit quads side by side in the z = 0 plane sharing the edge 1–4.
-geom::Mesh twoQuads() {
-    geom::Mesh m;
-    m.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}};
-    m.addFace({0, 1, 4, 3});
-    m.addFace({1, 2, 5, 4});
-    geom::completeEdges(m, true);
-    return m;
-}
-
-// The neighbour entry of triangle t across the edge joining points a and b (by position), or
-// nullopt when t has no such edge.
-std::optional<uint32_t> neighborAcross(const RenderGeometry& g, size_t t, glm::vec3 a, glm::vec3 b) {
-    for (size_t k = 0; k < 3; ++k) {
-        const glm::vec3 p = g.positions[3 * t + k], q = g.positions[3 * t + (k + 1) % 3];
-        if ((p == a && q == b) || (p == b && q == a)) return g.neighbors[3 * t + k];
-    }
-    return std::nullopt;
-}
-
-// ------------------------------------------------------------------ triangulateMesh
-
-TEST(TriangulateMesh, SquareFaceGivesTwoTrianglesWithFaceNormals) {
-    geom::Mesh m;
-    m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-    m.addFace({0, 1, 2, 3});
-    const RenderGeometry g = triangulateMesh(m, {}, true);
-    ASSERT_EQ(g.triangleCount(), 2u);
-    ASSERT_EQ(g.positions.size(), 6u);
-    ASSERT_EQ(g.normals.size(), 6u);
-    EXPECT_TRUE(g.uvs.empty());
-    double area = 0.0;
-    for (size_t t = 0; t < 2; ++t) {
-        area += triangleArea(g, t);
-        EXPECT_GT(triangleNormal(g, t).z, 0.0) << "triangles wind like the face";
-        EXPECT_EQ(g.face[t], 0u);
-        EXPECT_EQ(g.material[t], 0u);
-    }
-    EXPECT_NEAR(area, 1.0, 1e-9);
-    for (const glm::vec3& n : g.normals) EXPECT_NEAR(n.z, 1.0f, 1e-6f);
-    EXPECT_EQ(g.bounds.lo, glm::dvec3(0, 0, 0));
-    EXPECT_EQ(g.bounds.hi, glm::dvec3(1, 1, 0));
-    // The diagonal is a soft edge between the two triangles; the outline is boundary.
-    int inner = 0, boundary = 0;
-    for (uint32_t n : g.neighbors) {
-        if (n == kNoTriangle) ++boundary;
-        else {
-            EXPECT_EQ(n & kHardEdgeBit, 0u);
-            ++inner;
-        }
-    }
-    EXPECT_EQ(inner, 2);
-    EXPECT_EQ(boundary, 4);
-}
-
-TEST(TriangulateMesh, ConcaveLShapeConservesArea) {
-    geom::Mesh m;
-    m.points = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
-    m.addFace({0, 1, 2, 3, 4, 5});
-    const RenderGeometry g = triangulateMesh(m, {}, true);
-    ASSERT_EQ(g.triangleCount(), 4u);
-    double area = 0.0;
-    for (size_t t = 0; t < g.triangleCount(); ++t) {
-        area += triangleArea(g, t);
-        EXPECT_GT(triangleNormal(g, t).z, 0.0);
-    }
-    EXPECT_NEAR(area, glm::length(m.faceAreaVector(0)), 1e-9);
-}
-
-TEST(TriangulateMesh, FaceWithHoleConservesArea) {
-    geom::Mesh m;
-    m.points = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {1, 1, 0}, {1, 3, 0}, {3, 3, 0}, {3, 1, 0}};
-    m.addFace({0, 1, 2, 3});
-    const uint32_t hole[] = {4, 5, 6, 7};
-    m.addHole(hole);
-    const RenderGeometry g = triangulateMesh(m, {}, true);
-    ASSERT_EQ(g.triangleCount(), 8u);
-    double area = 0.0;
-    for (size_t t = 0; t < g.triangleCount(); ++t) {
-        area += triangleArea(g, t);
-        EXPECT_GT(triangleNormal(g, t).z, 0.0);
-    }
-    EXPECT_NEAR(area, 12.0, 1e-9);
-    EXPECT_NEAR(area, glm::length(m.faceAreaVector(0)), 1e-9);
-}
-
-TEST(TriangulateMesh, DropsDegenerateFaces) {
-    geom::Mesh m;
-    m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}, {3, 0, 0}};
-    m.addFace({0, 1, 2});
-    m.addFace({1, 3, 4});  // collinear
-    m.addFace({0, 0, 1});  // repeated point
-    const RenderGeometry g = triangulateMesh(m, {}, true);
-    ASSERT_EQ(g.triangleCount(), 1u);
-    EXPECT_EQ(g.face[0], 0u);
-}
-
-TEST(TriangulateMesh, NonFinitePointsGiveNoGeometry) {
-    geom::Mesh m;
-    m.points = {{0, 0, 0}, {1, 0, 0}, {1, std::numeric_limits<float>::quiet_NaN(), 0}};
-    m.addFace({0, 1, 2});
-    EXPECT_EQ(triangulateMesh(m, {}, true).triangleCount(), 0u);
-    m.points[2] = {1, std::numeric_limits<float>::infinity(), 0};
-    EXPECT_EQ(triangulateMesh(m, {}, true).triangleCount(), 0u);
-    EXPECT_EQ(triangulateMesh(geom::Mesh{}, {}, true).triangleCount(), 0u);
-}
-
-TEST(TriangulateMesh, SoftEdgeJoinsFacesWithoutTheHardBit) {
-    const geom::Mesh m = twoQuads();
-    const RenderGeometry g = triangulateMesh(m, {}, true);
-    ASSERT_EQ(g.triangleCount(), 4u);
-    int across = 0;
-    for (size_t t = 0; t < 4; ++t)
-        if (auto n = neighborAcross(g, t, m.points[1], m.points[4])) {
-            ASSERT_NE(*n, kNoTriangle);
-            EXPECT_EQ(*n & kHardEdgeBit, 0u);
-            EXPECT_NE(g.face[*n & ~kHardEdgeBit], g.face[t]);
-            ++across;
-        }
-    EXPECT_EQ(across, 2);
-    // Smooth normals: the shared points average to +z as well (a flat sheet).
-    for (const glm::vec3& n : g.normals) EXPECT_NEAR(n.z, 1.0f, 1e-6f);
-}
-
-TEST(TriangulateMesh, HardEdgeSetsTheHardBit) {
-    geom::Mesh m = twoQuads();
-    m.edges[size_t(geom::findEdge(m, 1, 4))].smooth = false;
-    const RenderGeometry g = triangulateMesh(m, {}, true);
-    int across = 0;
-    for (size_t t = 0; t < g.triangleCount(); ++t)
-        if (auto n = neighborAcross(g, t, m.points[1], m.points[4])) {
-            ASSERT_NE(*n, kNoTriangle);
-            EXPECT_NE(*n & kHardEdgeBit, 0u);
-            ++across;
-        }
-    EXPECT_EQ(across, 2);
-}
-
-TEST(TriangulateMesh, MaterialBorderIsHard) {
-    const geom::Mesh m = twoQuads();
-    const RenderGeometry g = triangulateMesh(m, {0, 1}, true);
-    for (size_t t = 0; t < g.triangleCount(); ++t) {
-        EXPECT_EQ(g.material[t], g.face[t]);
-        if (auto n = neighborAcross(g, t, m.points[1], m.points[4])) {
-            EXPECT_NE(*n & kHardEdgeBit, 0u);
-        }
-    }
-}
-
-TEST(TriangulateMesh, FlatShadingUsesFaceNormalsAndHardEdges) {
-    geom::Mesh m = twoQuads();
-    m.points[2].z = 1.0f;  // fold the second quad up
-    m.points[5].z = 1.0f;
-    const RenderGeometry smooth = triangulateMesh(m, {}, true);
-    const RenderGeometry flat = triangulateMesh(m, {}, false);
-    ASSERT_EQ(flat.triangleCount(), 4u);
-    for (size_t t = 0; t < flat.triangleCount(); ++t) {
-        const glm::vec3 fn(glm::normalize(triangleNormal(flat, t)));
-        for (int k = 0; k < 3; ++k) EXPECT_NEAR(glm::dot(flat.normals[3 * t + k], fn), 1.0f, 1e-5f);
-        if (auto n = neighborAcross(flat, t, m.points[1], m.points[4])) {
-            EXPECT_NE(*n & kHardEdgeBit, 0u);
-        }
-    }
-    // Smooth shading averages the two faces at the fold.
-    bool averaged = false;
-    for (size_t c = 0; c < smooth.positions.size(); ++c)
-        if (smooth.positions[c] == m.points[1]) averaged |= smooth.normals[c].z < 0.99f && smooth.normals[c].z > 0.5f;
-    EXPECT_TRUE(averaged);
-}
-
-TEST(TriangulateMesh, NonManifoldEdgeHasNoNeighbour) {
-    geom::Mesh m;
-    m.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
-    m.addFace({0, 1, 2});
-    m.addFace({1, 0, 3});
-    m.addFace({0, 1, 4});
-    const RenderGeometry g = triangulateMesh(m, {}, true);
-    ASSERT_EQ(g.triangleCount(), 3u);
-    for (size_t t = 0; t < 3; ++t) {
-        auto n = neighborAcross(g, t, m.points[0], m.points[1]);
-        ASSERT_TRUE(n.has_value());
-        EXPECT_EQ(*n, kNoTriangle);
-    }
-}
-
-TEST(TriangulateMesh, UvsComeFromTheCurrentSetAndDefaultToZero) {
-    geom::Mesh m;
-    m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
-    m.addFace({0, 1, 2});
-    m.uvSets.push_back({"map1", {{0.1f, 0.2f}}, {0, -1, 0}});
-    m.uvSets.push_back({"other", {{0.5f, 0.5f}, {0.7f, 0.7f}}, {1, 1, 1}});
-    m.currentUvSet = 1;
-    RenderGeometry g = triangulateMesh(m, {}, true);
-    ASSERT_EQ(g.uvs.size(), 3u);
-    for (const glm::vec2& uv : g.uvs) EXPECT_EQ(uv, glm::vec2(0.7f, 0.7f));
-    m.currentUvSet = 0;
-    g = triangulateMesh(m, {}, true);
-    ASSERT_EQ(g.uvs.size(), 3u);
-    for (size_t c = 0; c < 3; ++c) {
-        const glm::vec2 expected = g.positions[c] == m.points[1] ? glm::vec2(0.0f) : glm::vec2(0.1f, 0.2f);
-        EXPECT_EQ(g.uvs[c], expected);
-    }
-}
-
-TEST(TriangulateMesh, FacesWithoutMaterialAreDropped) {
-    const geom::Mesh m = twoQuads();
-    const RenderGeometry g = triangulateMesh(m, {kNoMaterial, 3}, true);
-    ASSERT_EQ(g.triangleCount(), 2u);
-    for (size_t t = 0; t < 2; ++t) {
-        EXPECT_EQ(g.face[t], 1u);
-        EXPECT_EQ(g.material[t], 3u);
-    }
-    // The shared edge is now a boundary.
-    for (size_t t = 0; t < 2; ++t)
-        if (auto n = neighborAcross(g, t, m.points[1], m.points[4])) {
-            EXPECT_EQ(*n, kNoTriangle);
-        }
-}
-
 // ------------------------------------------------------------------ buildFrameScene: objects
 
 TEST(FrameScene, TwoMaterialCubeByFaceComponents) {
@@ -322,18 +106,18 @@ TEST(FrameScene, TwoMaterialCubeByFaceComponents) {
     ASSERT_EQ(b->frame.objects.size(), 1u) << allNotes(b->frame);
     const RenderObject& o = b->frame.objects[0];
     ASSERT_EQ(o.materials.size(), 2u);
-    ASSERT_EQ(o.geometry.triangleCount(), 12u);
-    for (size_t t = 0; t < o.geometry.triangleCount(); ++t)
-        EXPECT_EQ(groupOf(b->frame, o, t), o.geometry.face[t] < 2 ? "redSG" : "blueSG") << "triangle " << t;
+    ASSERT_EQ(tess(o).triangleCount(), 12u);
+    for (size_t t = 0; t < tess(o).triangleCount(); ++t)
+        EXPECT_EQ(groupOf(b->frame, o, t), tess(o).face[t] < 2 ? "redSG" : "blueSG") << "triangle " << t;
     ASSERT_EQ(b->frame.shadingGroups.size(), 2u);
     for (const RenderShadingGroup& sg : b->frame.shadingGroups) EXPECT_NE(sg.network, nullptr);
     // Material borders are hard, and every cube edge has a neighbour.
-    for (size_t t = 0; t < o.geometry.triangleCount(); ++t)
+    for (size_t t = 0; t < tess(o).triangleCount(); ++t)
         for (int k = 0; k < 3; ++k) {
-            const uint32_t n = o.geometry.neighbors[3 * t + k];
+            const uint32_t n = tess(o).neighbors[3 * t + k];
             ASSERT_NE(n, kNoTriangle);
             const uint32_t other = n & ~kHardEdgeBit;
-            if (o.geometry.material[t] != o.geometry.material[other]) {
+            if (tess(o).material[t] != tess(o).material[other]) {
                 EXPECT_NE(n & kHardEdgeBit, 0u);
             }
         }
@@ -347,16 +131,16 @@ TEST(FrameScene, PerFaceGroupOverridesTheWholeObjectGroupAndUnassignedFacesAreDr
     auto b = build(text);
     ASSERT_EQ(b->frame.objects.size(), 1u);
     const RenderObject& o = b->frame.objects[0];
-    for (size_t t = 0; t < o.geometry.triangleCount(); ++t)
-        EXPECT_EQ(groupOf(b->frame, o, t), o.geometry.face[t] == 4 ? "redSG" : "blueSG");
+    for (size_t t = 0; t < tess(o).triangleCount(); ++t)
+        EXPECT_EQ(groupOf(b->frame, o, t), tess(o).face[t] == 4 ? "redSG" : "blueSG");
 
     // Only per-face membership covering two faces: the other four are not rendered.
     text = std::string(kHeader) + cube("pCube1", "\tsetAttr \".iog[0].og[0].gcl\" -type \"componentList\" 1 \"f[1:2]\";\n") +
            material("red") + "connectAttr \"pCube1Shape.iog.og[0]\" \"redSG.dsm\" -na;\n";
     b = build(text);
     ASSERT_EQ(b->frame.objects.size(), 1u);
-    EXPECT_EQ(b->frame.objects[0].geometry.triangleCount(), 4u);
-    for (uint32_t f : b->frame.objects[0].geometry.face) EXPECT_TRUE(f == 1 || f == 2);
+    EXPECT_EQ(tess(b->frame.objects[0]).triangleCount(), 4u);
+    for (uint32_t f : tess(b->frame.objects[0]).face) EXPECT_TRUE(f == 1 || f == 2);
     EXPECT_TRUE(hasNote(b->frame, "4 face(s) in no shading group")) << allNotes(b->frame);
 }
 
@@ -388,9 +172,9 @@ connectAttr "pCubeShape1.iog.og[1]" "greenSG.dsm" -na;
     auto b = build(text);
     ASSERT_EQ(b->frame.objects.size(), 1u) << allNotes(b->frame);
     const RenderObject& o = b->frame.objects[0];
-    ASSERT_EQ(o.geometry.triangleCount(), 12u);
-    for (size_t t = 0; t < o.geometry.triangleCount(); ++t)
-        EXPECT_EQ(groupOf(b->frame, o, t), o.geometry.face[t] == 1 ? "redSG" : "greenSG");
+    ASSERT_EQ(tess(o).triangleCount(), 12u);
+    for (size_t t = 0; t < tess(o).triangleCount(); ++t)
+        EXPECT_EQ(groupOf(b->frame, o, t), tess(o).face[t] == 1 ? "redSG" : "greenSG");
 }
 
 TEST(FrameScene, OnlyShadingGroupsOfTheRenderPartitionRender) {
@@ -443,7 +227,10 @@ TEST(FrameScene, InstancedShapeGivesOneObjectPerInstance) {
     EXPECT_EQ(c->worldFromObject[3], glm::dvec4(5, 0, 0, 1));
     EXPECT_NEAR(c->worldBounds.lo.x, 4.5, 1e-9);
     EXPECT_NEAR(a->worldBounds.lo.x, -0.5, 1e-9);
-    EXPECT_EQ(a->geometry.triangleCount(), c->geometry.triangleCount());
+    // The instances share one geometry handle, and so one tessellation.
+    EXPECT_EQ(a->geometry.get(), c->geometry.get());
+    EXPECT_EQ(a->geometry->tessellation().get(), c->geometry->tessellation().get());
+    EXPECT_EQ(a->geometry->tessellationsMade(), 1u);
 }
 
 TEST(FrameScene, RenderStatsAreRead) {
@@ -524,17 +311,6 @@ createNode mesh -n "triShape" -p "tri";
     }
 }
 
-TEST(FrameScene, TopologyPointsAtEachObjectsNeighbours) {
-    auto b = build(std::string(kHeader) + cube("a") + cube("b") + material("m") + assign("aShape", "mSG") +
-                   assign("bShape", "mSG"));
-    const std::vector<ObjectTopology> topo = b->frame.topology();
-    ASSERT_EQ(topo.size(), 2u);
-    for (size_t o = 0; o < 2; ++o) {
-        EXPECT_EQ(topo[o].triangleCount, 12u);
-        EXPECT_EQ(topo[o].neighbors, b->frame.objects[o].geometry.neighbors.data());
-    }
-}
-
 // ------------------------------------------------------------------ NURBS
 
 TEST(FrameScene, NurbsSphereTessellatesWithOutwardNormals) {
@@ -547,21 +323,21 @@ connectAttr "makeNurbSphere1.os" "nurbsSphereShape1.cr";
 )" + material("m") + assign("nurbsSphereShape1", "mSG");
     auto b = build(text);
     ASSERT_EQ(b->frame.objects.size(), 1u) << allNotes(b->frame);
-    const RenderGeometry& g = b->frame.objects[0].geometry;
+    const geom::Tessellation& g = tess(b->frame.objects[0]);
     // Default sections 8, spans 4, numberU/V 3 × 1.5 → 5 divisions per span; the two pole rows
     // lose one triangle per quad.
     EXPECT_EQ(g.triangleCount(), 2u * 20u * 40u - 2u * 40u);
     ASSERT_EQ(g.uvs.size(), g.positions.size());
-    for (size_t c = 0; c < g.positions.size(); ++c) {
+    for (size_t c = 0; c < g.positions.size(); ++c) {  // per vertex
         const glm::vec3 p = g.positions[c];
         EXPECT_NEAR(glm::length(p), 2.0f, 0.05f);
-        EXPECT_GT(glm::dot(g.normals[c], glm::normalize(p)), 0.9f) << "corner " << c;
+        EXPECT_GT(glm::dot(g.normals[c], glm::normalize(p)), 0.9f) << "vertex " << c;
         EXPECT_NEAR(glm::length(g.normals[c]), 1.0f, 1e-5f);
         EXPECT_TRUE(g.uvs[c].x >= 0.0f && g.uvs[c].x <= 1.0f && g.uvs[c].y >= 0.0f && g.uvs[c].y <= 1.0f);
     }
     for (size_t t = 0; t < g.triangleCount(); ++t) {
-        const glm::dvec3 centre = (glm::dvec3(g.positions[3 * t]) + glm::dvec3(g.positions[3 * t + 1]) +
-                                   glm::dvec3(g.positions[3 * t + 2])) / 3.0;
+        const glm::dvec3 centre = (glm::dvec3(g.position(3 * t)) + glm::dvec3(g.position(3 * t + 1)) +
+                                   glm::dvec3(g.position(3 * t + 2))) / 3.0;
         EXPECT_GT(glm::dot(triangleNormal(g, t), centre), 0.0) << "triangle " << t << " winds inward";
     }
     // A closed surface: seams and poles welded, every edge soft.
@@ -586,7 +362,7 @@ connectAttr "makeNurbPlane1.os" "planeShape.cr";
 )" + material("m") + assign("planeShape", "mSG");
     auto b = build(text);
     ASSERT_EQ(b->frame.objects.size(), 1u) << allNotes(b->frame);
-    const RenderGeometry& g = b->frame.objects[0].geometry;
+    const geom::Tessellation& g = tess(b->frame.objects[0]);
     // u: 2 spans × 2 divisions; v: 3 spans × max(1, ceil(0.1)) = 1.
     EXPECT_EQ(g.triangleCount(), 2u * (2u * 2u) * (3u * 1u));
     double area = 0.0;
@@ -808,8 +584,12 @@ TEST(FrameScene, CorpusScenesBuildWithoutThrowing) {
         ASSERT_NO_THROW(f = buildFrameScene(ev, setup, RenderSettings{}));
         objects += f.objects.size();
         for (const RenderObject& o : f.objects) {
-            const RenderGeometry& g = o.geometry;
-            ASSERT_EQ(g.positions.size(), 3 * g.triangleCount());
+            const geom::Tessellation& g = tess(o);
+            ASSERT_EQ(g.corners.size(), 3 * g.triangleCount());
+            for (uint32_t v : g.corners) ASSERT_LT(v, g.vertexCount());
+            // The handle's count bounds the tessellation's (ear clipping gives up on a few real
+            // faces; NURBS poles drop triangles).
+            ASSERT_LE(g.triangleCount(), o.geometry->triangleCount()) << o.name;
             ASSERT_EQ(g.normals.size(), g.positions.size());
             ASSERT_TRUE(g.uvs.empty() || g.uvs.size() == g.positions.size());
             ASSERT_EQ(g.material.size(), g.triangleCount());
@@ -839,8 +619,8 @@ TEST(FrameScene, CorpusFaceMaterialsSceneUsesFourGroups) {
     const RenderObject* o = findObject(f, "|pCylinder1|pCylinderShape1");
     ASSERT_NE(o, nullptr) << allNotes(f);
     EXPECT_EQ(o->materials.size(), 4u);
-    for (size_t t = 0; t < o->geometry.triangleCount(); ++t) {
-        const uint32_t face = o->geometry.face[t];
+    for (size_t t = 0; t < tess(*o).triangleCount(); ++t) {
+        const uint32_t face = tess(*o).face[t];
         const std::string sg = groupOf(f, *o, t);
         std::string expected;
         if (face == 4 || face == 6 || face == 8) expected = "initialShadingGroup";

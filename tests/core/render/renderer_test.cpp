@@ -504,7 +504,7 @@ TEST(Renderer, EveryPublicSceneWithACameraAndPolygonsRenders) {
         render::FrameScene fs = render::buildFrameScene(ev, setup, s);
         bool polygons = false;
         for (const render::RenderObject& o : fs.objects)
-            polygons |= o.geometry.triangleCount() > 0 && ev.graph().node(o.shape).type == "mesh";
+            polygons |= o.geometry->triangleCount() > 0 && ev.graph().node(o.shape).type == "mesh";
         if (!polygons) continue;
         for (const scene::CameraInfo& c : setup.cameras) {
             if (!c.renderable) continue;

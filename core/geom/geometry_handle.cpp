@@ -1,0 +1,132 @@
+#include "core/geom/geometry_handle.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pushpin::geom {
+
+namespace {
+
+// Bytes of one tessellation vertex (position, normal, uv) and of one triangle's own arrays
+// (three corners, face, material, three neighbours).
+constexpr uint64_t kVertexBytes = 2 * sizeof(glm::vec3) + sizeof(glm::vec2);
+constexpr uint64_t kTriangleBytes = 3 * sizeof(uint32_t) + sizeof(uint32_t) + sizeof(uint16_t) + 3 * sizeof(uint32_t);
+
+}  // namespace
+
+std::shared_ptr<GeometryHandle> GeometryHandle::fromMesh(std::shared_ptr<const Mesh> mesh,
+                                                         std::vector<uint16_t> faceMaterial,
+                                                         std::shared_ptr<const std::vector<bool>> degenerate,
+                                                         bool smoothShading) {
+    std::shared_ptr<GeometryHandle> h(new GeometryHandle());
+    static const std::vector<bool> kNone;
+    const std::vector<bool>& drop = degenerate ? *degenerate : kNone;
+    h->m_triangles = meshTriangleCount(*mesh, faceMaterial, drop);
+    uint32_t materials = 0;
+    std::vector<uint8_t> used(mesh->points.size(), 0);
+    uint64_t usedPoints = 0;
+    for (size_t f = 0; f < mesh->faceCount(); ++f) {
+        const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
+        if (material == kNoFaceMaterial || (f < drop.size() && drop[f])) continue;
+        materials = std::max<uint32_t>(materials, uint32_t(material) + 1);
+        for (uint32_t c = mesh->faceVertexBegin(f); c < mesh->faceVertexEnd(f); ++c) {
+            const uint32_t p = mesh->faceVertices[c];
+            if (used[p]) continue;
+            used[p] = 1;
+            ++usedPoints;
+            h->m_bounds.extend(glm::dvec3(mesh->points[p]));
+        }
+    }
+    h->m_materials = std::max<uint32_t>(materials, 1);
+    // Hard edges and uv seams split some points into several vertices.
+    h->m_vertices = usedPoints + usedPoints / 8;
+    h->m_mesh = std::move(mesh);
+    h->m_faceMaterial = std::move(faceMaterial);
+    h->m_degenerate = std::move(degenerate);
+    h->m_smooth = smoothShading;
+    return h;
+}
+
+std::shared_ptr<GeometryHandle> GeometryHandle::fromNurbs(std::shared_ptr<const NurbsSurface> surface, int divU,
+                                                          int divV) {
+    std::shared_ptr<GeometryHandle> h(new GeometryHandle());
+    h->m_divU = std::max(divU, 1);
+    h->m_divV = std::max(divV, 1);
+    h->m_bounds = surface->bounds();
+    h->m_triangles = nurbsTriangleCount(*surface, h->m_divU, h->m_divV);
+    h->m_vertices = h->m_triangles / 2 + 1;
+    h->m_surface = std::move(surface);
+    return h;
+}
+
+double GeometryHandle::trianglesPerScanline(double screenHeight) const {
+    const double triangles = double(m_triangles);
+    if (triangles <= 0.0) return 0.0;
+    if (!(screenHeight > 1.0)) return triangles;
+    // A square grid of T triangles has sqrt(T / 2) rows of cells; a scanline meets the triangles
+    // of every row whose height range holds it: T · (cell height + 1 row) / box height.
+    const double rows = std::sqrt(triangles * 0.5);
+    const double cellHeight = screenHeight / std::max(rows, 1.0);
+    return std::min(triangles, triangles * (cellHeight + 1.0) / screenHeight);
+}
+
+uint64_t GeometryHandle::tessellationBytesEstimate() const {
+    return m_vertices * kVertexBytes + m_triangles * kTriangleBytes;
+}
+
+uint64_t GeometryHandle::sourceBytes() const {
+    if (m_mesh) {
+        const Mesh& m = *m_mesh;
+        uint64_t bytes = uint64_t(m.points.capacity()) * sizeof(glm::vec3) +
+                         uint64_t(m.faceVertices.capacity()) * sizeof(uint32_t) +
+                         uint64_t(m.loopStarts.capacity() + m.faceLoopStarts.capacity()) * sizeof(uint32_t) +
+                         uint64_t(m.edges.capacity()) * sizeof(MeshEdge);
+        for (const UvSet& s : m.uvSets)
+            bytes += uint64_t(s.uvs.capacity()) * sizeof(glm::vec2) + uint64_t(s.faceVertexUvs.capacity()) * sizeof(int32_t);
+        return bytes + m_faceMaterial.capacity() * sizeof(uint16_t);
+    }
+    if (m_surface) return uint64_t(m_surface->cvs().capacity()) * sizeof(glm::dvec4);
+    return 0;
+}
+
+Tessellation GeometryHandle::tessellate(std::string* problem) const {
+    if (m_mesh) {
+        static const std::vector<bool> kNone;
+        return triangulateValidMesh(*m_mesh, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone);
+    }
+    if (m_surface) {
+        std::string why;
+        std::optional<Tessellation> t = tessellateNurbs(*m_surface, m_divU, m_divV, why);
+        if (t) return std::move(*t);
+        if (problem) *problem = why;
+    }
+    return {};
+}
+
+std::shared_ptr<const Tessellation> GeometryHandle::tessellation() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    if (!m_tessellation) {
+        m_tessellation = std::make_shared<const Tessellation>(tessellate());
+        ++m_made;
+    }
+    return m_tessellation;
+}
+
+bool GeometryHandle::hasTessellation() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_tessellation != nullptr;
+}
+
+uint64_t GeometryHandle::releaseTessellation() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    const uint64_t bytes = m_tessellation ? m_tessellation->bytes() : 0;
+    m_tessellation.reset();
+    return bytes;
+}
+
+uint64_t GeometryHandle::tessellationsMade() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_made;
+}
+
+}  // namespace pushpin::geom

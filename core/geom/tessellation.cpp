@@ -1,0 +1,350 @@
+#include "core/geom/tessellation.h"
+
+#include "core/geom/finite.h"
+#include "core/geom/triangulate.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+namespace pushpin::geom {
+
+namespace {
+
+template <class T>
+uint64_t capacityBytes(const std::vector<T>& v) {
+    return uint64_t(v.capacity()) * sizeof(T);
+}
+
+// Fills t.neighbors from the identity of the point each corner sits on (`cornerPoint`, 3 per
+// triangle): two triangles whose edges join the same two points are neighbours, flagged with
+// kHardNeighborBit when `hard(t0, t1, p0, p1)` says so; edges used by one triangle or by more
+// than two get kNoNeighbor.
+template <class HardFn>
+void buildNeighbors(Tessellation& t, const std::vector<uint32_t>& cornerPoint, HardFn&& hard) {
+    const size_t triangles = t.triangleCount();
+    t.neighbors.assign(3 * triangles, kNoNeighbor);
+    struct EdgeUse {
+        uint64_t key;
+        uint32_t slot;  // 3·t + k
+    };
+    std::vector<EdgeUse> uses;
+    uses.reserve(3 * triangles);
+    for (size_t i = 0; i < triangles; ++i)
+        for (uint32_t k = 0; k < 3; ++k) {
+            const uint32_t a = cornerPoint[3 * i + k], b = cornerPoint[3 * i + (k + 1) % 3];
+            if (a != b) uses.push_back({edgeKey(a, b), uint32_t(3 * i + k)});
+        }
+    std::sort(uses.begin(), uses.end(),
+              [](const EdgeUse& x, const EdgeUse& y) { return x.key != y.key ? x.key < y.key : x.slot < y.slot; });
+    for (size_t i = 0; i < uses.size();) {
+        size_t j = i + 1;
+        while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+        if (j - i == 2) {
+            const uint32_t s0 = uses[i].slot, s1 = uses[i + 1].slot;
+            const uint32_t t0 = s0 / 3, t1 = s1 / 3;
+            if (t0 != t1) {
+                const bool isHard = hard(t0, t1, uint32_t(uses[i].key >> 32), uint32_t(uses[i].key & 0xffffffffu));
+                const uint32_t bit = isHard ? kHardNeighborBit : 0u;
+                t.neighbors[s0] = t1 | bit;
+                t.neighbors[s1] = t0 | bit;
+            }
+        }
+        i = j;
+    }
+}
+
+void computeBounds(Tessellation& t) {
+    t.bounds = Bounds3();
+    for (const glm::vec3& p : t.positions) t.bounds.extend(glm::dvec3(p));
+}
+
+bool sameBits(const glm::vec3& a, const glm::vec3& b) {
+    return std::bit_cast<uint32_t>(a.x) == std::bit_cast<uint32_t>(b.x) &&
+           std::bit_cast<uint32_t>(a.y) == std::bit_cast<uint32_t>(b.y) &&
+           std::bit_cast<uint32_t>(a.z) == std::bit_cast<uint32_t>(b.z);
+}
+
+bool sameBits(const glm::vec2& a, const glm::vec2& b) {
+    return std::bit_cast<uint32_t>(a.x) == std::bit_cast<uint32_t>(b.x) &&
+           std::bit_cast<uint32_t>(a.y) == std::bit_cast<uint32_t>(b.y);
+}
+
+// Sorted distinct knot values of a direction's domain [lo, hi] (the span boundaries).
+std::vector<double> spanBreaks(const std::vector<double>& knots, double lo, double hi) {
+    std::vector<double> breaks;
+    for (double k : knots)
+        if (k >= lo && k <= hi && (breaks.empty() || k > breaks.back())) breaks.push_back(k);
+    if (breaks.empty() || breaks.front() > lo) breaks.insert(breaks.begin(), lo);
+    if (breaks.back() < hi) breaks.push_back(hi);
+    return breaks;
+}
+
+// Grid parameters: `divisions` steps in every non-empty span; `span` receives each step's span.
+std::vector<double> gridParameters(const std::vector<double>& breaks, int divisions, std::vector<uint32_t>& span) {
+    std::vector<double> params;
+    span.clear();
+    for (size_t s = 0; s + 1 < breaks.size(); ++s) {
+        for (int d = 0; d < divisions; ++d) {
+            params.push_back(breaks[s] + (breaks[s + 1] - breaks[s]) * double(d) / double(divisions));
+            span.push_back(uint32_t(s));
+        }
+    }
+    params.push_back(breaks.back());
+    return params;
+}
+
+}  // namespace
+
+uint64_t Tessellation::bytes() const {
+    return capacityBytes(positions) + capacityBytes(normals) + capacityBytes(uvs) + capacityBytes(corners) +
+           capacityBytes(face) + capacityBytes(material) + capacityBytes(neighbors);
+}
+
+Tessellation triangulateMesh(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading) {
+    const MeshValidation validation = mesh.validate();
+    if (!validation.ok()) return {};
+    std::vector<bool> degenerate(mesh.faceCount(), false);
+    for (uint32_t f : validation.degenerateFaces) degenerate[f] = true;
+    return triangulateValidMesh(mesh, faceMaterial, smoothShading, degenerate);
+}
+
+uint64_t meshTriangleCount(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
+                           const std::vector<bool>& degenerate) {
+    uint64_t count = 0;
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
+        if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) continue;
+        const uint64_t corners = mesh.faceVertexEnd(f) - mesh.faceVertexBegin(f);
+        const uint64_t holes = mesh.holeCount(f);
+        if (corners + 2 * holes >= 3) count += corners + 2 * holes - 2;
+    }
+    return count;
+}
+
+Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
+                                  const std::vector<bool>& degenerate) {
+    Tessellation out;
+    const size_t faces = mesh.faceCount();
+    std::vector<glm::vec3> shading;
+    if (smoothShading) shading = mesh.shadingNormals();
+    const UvSet* uvSet = nullptr;
+    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
+        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount())
+        uvSet = &mesh.uvSets[size_t(mesh.currentUvSet)];
+
+    const uint64_t triangles = meshTriangleCount(mesh, faceMaterial, degenerate);
+    std::vector<uint32_t> cornerPoint;
+    cornerPoint.reserve(3 * triangles);
+    out.corners.reserve(3 * triangles);
+    out.face.reserve(triangles);
+    out.material.reserve(triangles);
+    // Vertices by point: the first vertex made at each point, then a chain through the others
+    // (points where normals or uvs split: hard edges, uv seams).
+    std::vector<uint32_t> firstVertex(mesh.points.size(), kNoNeighbor);
+    std::vector<uint32_t> nextVertex;
+    const size_t expectedVertices = std::min<size_t>(mesh.faceVertexCount(), mesh.points.size() + triangles / 4);
+    out.positions.reserve(expectedVertices);
+    out.normals.reserve(expectedVertices);
+    if (uvSet) out.uvs.reserve(expectedVertices);
+    nextVertex.reserve(expectedVertices);
+    auto vertexFor = [&](uint32_t point, const glm::vec3& n, const glm::vec2& uv) {
+        for (uint32_t v = firstVertex[point]; v != kNoNeighbor; v = nextVertex[v])
+            if (sameBits(out.normals[v], n) && (!uvSet || sameBits(out.uvs[v], uv))) return v;
+        const uint32_t v = uint32_t(out.positions.size());
+        out.positions.push_back(mesh.points[point]);
+        out.normals.push_back(n);
+        if (uvSet) out.uvs.push_back(uv);
+        nextVertex.push_back(firstVertex[point]);
+        firstVertex[point] = v;
+        return v;
+    };
+
+    PolygonTriangulator triangulator;
+    std::vector<glm::dvec3> points;
+    std::vector<uint32_t> loops, local;
+    for (size_t f = 0; f < faces; ++f) {
+        const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
+        if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) continue;
+        const uint32_t begin = mesh.faceVertexBegin(f), end = mesh.faceVertexEnd(f);
+        const glm::dvec3 areaVector = mesh.faceAreaVector(f);
+        local.clear();
+        if (mesh.holeCount(f) == 0 && end - begin == 3) {
+            local = {0, 1, 2};
+        } else {
+            points.clear();
+            for (uint32_t c = begin; c < end; ++c) points.push_back(glm::dvec3(mesh.points[mesh.faceVertices[c]]));
+            loops.clear();
+            for (uint32_t l = mesh.faceLoopStarts[f]; l <= mesh.faceLoopStarts[f + 1]; ++l)
+                loops.push_back(mesh.loopStarts[l] - begin);
+            triangulator.triangulate(points, loops, areaVector, local);
+        }
+        if (local.empty()) continue;
+        const double areaLength = glm::length(areaVector);
+        const glm::vec3 faceNormal = areaLength > 0.0 ? glm::vec3(areaVector / areaLength) : glm::vec3(0, 0, 1);
+        for (size_t i = 0; i < local.size(); ++i) {
+            const uint32_t fv = begin + local[i];
+            const uint32_t point = mesh.faceVertices[fv];
+            glm::vec3 n = faceNormal;
+            if (smoothShading) {
+                const glm::vec3 s = shading[fv];
+                const float length = glm::length(s);
+                if (std::isfinite(length) && length > 1e-20f) n = s / length;
+            }
+            glm::vec2 uv(0.0f);
+            if (uvSet) {
+                const int32_t id = uvSet->faceVertexUvs[fv];
+                if (id >= 0) uv = uvSet->uvs[size_t(id)];
+            }
+            out.corners.push_back(vertexFor(point, n, uv));
+            cornerPoint.push_back(point);
+        }
+        for (size_t t = 0; t < local.size() / 3; ++t) {
+            out.face.push_back(uint32_t(f));
+            out.material.push_back(material);
+        }
+    }
+    computeBounds(out);
+
+    std::unordered_map<uint64_t, bool> smoothByEdge;
+    smoothByEdge.reserve(mesh.edges.size());
+    for (const MeshEdge& e : mesh.edges) smoothByEdge[edgeKey(e.v0, e.v1)] = e.smooth;
+    buildNeighbors(out, cornerPoint, [&](uint32_t t0, uint32_t t1, uint32_t a, uint32_t b) {
+        if (out.face[t0] == out.face[t1]) return false;  // a diagonal inside one face
+        if (out.material[t0] != out.material[t1]) return true;
+        if (!smoothShading) return true;
+        const auto it = smoothByEdge.find(edgeKey(a, b));
+        return it != smoothByEdge.end() && !it->second;
+    });
+    return out;
+}
+
+uint64_t nurbsTriangleCount(const NurbsSurface& s, int divU, int divV) {
+    const uint64_t spansU = spanBreaks(s.knotsU(), s.uMin(), s.uMax()).size() - 1;
+    const uint64_t spansV = spanBreaks(s.knotsV(), s.vMin(), s.vMax()).size() - 1;
+    return 2 * spansU * uint64_t(std::max(divU, 1)) * spansV * uint64_t(std::max(divV, 1));
+}
+
+std::optional<Tessellation> tessellateNurbs(const NurbsSurface& s, int divU, int divV, std::string& problem) {
+    std::vector<uint32_t> spanOfU, spanOfV;
+    const std::vector<double> breaksU = spanBreaks(s.knotsU(), s.uMin(), s.uMax());
+    const std::vector<double> breaksV = spanBreaks(s.knotsV(), s.vMin(), s.vMax());
+    const std::vector<double> us = gridParameters(breaksU, divU, spanOfU);
+    const std::vector<double> vs = gridParameters(breaksV, divV, spanOfV);
+    const size_t nu = us.size(), nv = vs.size();
+    const size_t spansV = breaksV.size() - 1;
+    if (nu < 2 || nv < 2) {
+        problem = "the surface has an empty parameter domain";
+        return std::nullopt;
+    }
+    std::vector<glm::dvec3> pos(nu * nv), nrm(nu * nv);
+    Bounds3 box;
+    for (size_t i = 0; i < nu; ++i)
+        for (size_t j = 0; j < nv; ++j) {
+            const glm::dvec3 p = s.point(us[i], vs[j]);
+            const glm::dvec3 n = s.normal(us[i], vs[j]);
+            if (!isFinite(p) || !isFinite(n)) {
+                problem = "the surface evaluates to NaN/Inf";
+                return std::nullopt;
+            }
+            pos[i * nv + j] = p;
+            nrm[i * nv + j] = n;
+            box.extend(p);
+        }
+    // Poles: the nearest grid normal that is not zero, searching outwards ring by ring.
+    for (size_t i = 0; i < nu; ++i)
+        for (size_t j = 0; j < nv; ++j) {
+            if (glm::dot(nrm[i * nv + j], nrm[i * nv + j]) > 0.0) continue;
+            bool found = false;
+            for (size_t r = 1; r < std::max(nu, nv) && !found; ++r)
+                for (size_t a = (i >= r ? i - r : 0); a <= std::min(nu - 1, i + r) && !found; ++a)
+                    for (size_t b = (j >= r ? j - r : 0); b <= std::min(nv - 1, j + r) && !found; ++b) {
+                        const glm::dvec3& q = nrm[a * nv + b];
+                        if (glm::dot(q, q) > 0.0) {
+                            nrm[i * nv + j] = q;
+                            found = true;
+                        }
+                    }
+        }
+
+    // Point identities for adjacency: seams of closed directions and collapsed rows (poles) are
+    // welded so that the triangles around them are neighbours.
+    const double tol = 1e-6 * std::max({box.size().x, box.size().y, box.size().z, 1e-30});
+    std::vector<uint32_t> id(nu * nv);
+    std::iota(id.begin(), id.end(), 0u);
+    auto close = [&](size_t a, size_t b) { return glm::length(pos[a] - pos[b]) <= tol; };
+    auto root = [&](uint32_t x) {
+        while (id[x] != x) x = id[x];
+        return x;
+    };
+    auto weld = [&](size_t a, size_t b) {
+        const uint32_t ra = root(uint32_t(a)), rb = root(uint32_t(b));
+        if (ra != rb) id[std::max(ra, rb)] = std::min(ra, rb);
+    };
+    for (size_t j = 0; j < nv; ++j)
+        if (close(j, (nu - 1) * nv + j)) weld(j, (nu - 1) * nv + j);
+    for (size_t i = 0; i < nu; ++i)
+        if (close(i * nv, i * nv + nv - 1)) weld(i * nv, i * nv + nv - 1);
+    for (size_t i = 0; i < nu; ++i) {
+        bool collapsed = true;
+        for (size_t j = 1; j < nv && collapsed; ++j) collapsed = close(i * nv, i * nv + j);
+        if (collapsed)
+            for (size_t j = 1; j < nv; ++j) weld(i * nv, i * nv + j);
+    }
+    for (size_t j = 0; j < nv; ++j) {
+        bool collapsed = true;
+        for (size_t i = 1; i < nu && collapsed; ++i) collapsed = close(j, i * nv + j);
+        if (collapsed)
+            for (size_t i = 1; i < nu; ++i) weld(j, i * nv + j);
+    }
+
+    Tessellation out;
+    const uint64_t cells = uint64_t(nu - 1) * uint64_t(nv - 1);
+    out.corners.reserve(6 * cells);
+    out.face.reserve(2 * cells);
+    out.material.reserve(2 * cells);
+    std::vector<uint32_t> cornerPoint;
+    cornerPoint.reserve(6 * cells);
+    // One vertex per grid point a triangle uses, made on first use.
+    std::vector<uint32_t> vertexOf(nu * nv, kNoNeighbor);
+    const double du = s.uMax() - s.uMin(), dv = s.vMax() - s.vMin();
+    const double minArea2 = 1e-24 * std::pow(std::max({box.size().x, box.size().y, box.size().z}), 4.0);
+    auto corner = [&](size_t i, size_t j) {
+        const size_t k = i * nv + j;
+        if (vertexOf[k] == kNoNeighbor) {
+            vertexOf[k] = uint32_t(out.positions.size());
+            out.positions.push_back(glm::vec3(pos[k]));
+            out.normals.push_back(
+                glm::vec3(glm::normalize(glm::dot(nrm[k], nrm[k]) > 0.0 ? nrm[k] : glm::dvec3(0, 0, 1))));
+            out.uvs.push_back(glm::vec2(float((us[i] - s.uMin()) / du), float((vs[j] - s.vMin()) / dv)));
+        }
+        out.corners.push_back(vertexOf[k]);
+        cornerPoint.push_back(root(uint32_t(k)));
+    };
+    // Quad (i, j)–(i+1, j+1) splits into (a, b, c) and (a, c, d), counter-clockwise in (u, v):
+    // their geometric normal is dP/du × dP/dv, the surface normal. Zero-area halves (poles) go.
+    for (size_t i = 0; i + 1 < nu; ++i)
+        for (size_t j = 0; j + 1 < nv; ++j) {
+            const size_t quad[4][2] = {{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}};
+            const int tris[2][3] = {{0, 1, 2}, {0, 2, 3}};
+            for (const auto& t : tris) {
+                const glm::dvec3& p0 = pos[quad[t[0]][0] * nv + quad[t[0]][1]];
+                const glm::dvec3& p1 = pos[quad[t[1]][0] * nv + quad[t[1]][1]];
+                const glm::dvec3& p2 = pos[quad[t[2]][0] * nv + quad[t[2]][1]];
+                const glm::dvec3 c = glm::cross(p1 - p0, p2 - p0);
+                if (!(glm::dot(c, c) > minArea2)) continue;
+                for (int k = 0; k < 3; ++k) corner(quad[t[k]][0], quad[t[k]][1]);
+                out.face.push_back(spanOfU[i] * uint32_t(spansV) + spanOfV[j]);
+                out.material.push_back(0);
+            }
+        }
+    computeBounds(out);
+    buildNeighbors(out, cornerPoint, [](uint32_t, uint32_t, uint32_t, uint32_t) { return false; });
+    return out;
+}
+
+}  // namespace pushpin::geom
