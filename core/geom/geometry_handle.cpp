@@ -10,7 +10,8 @@ namespace {
 // Bytes of one tessellation vertex (position, normal, uv) and of one triangle's own arrays
 // (three corners, face, material, three neighbours).
 constexpr uint64_t kVertexBytes = 2 * sizeof(glm::vec3) + sizeof(glm::vec2);
-constexpr uint64_t kTriangleBytes = 3 * sizeof(uint32_t) + sizeof(uint32_t) + sizeof(uint16_t) + 3 * sizeof(uint32_t);
+constexpr uint64_t kTriangleBytes = 3 * sizeof(uint32_t) + sizeof(uint32_t) + sizeof(uint16_t) + 3 * sizeof(uint32_t) +
+                                    sizeof(Bounds3) / Tessellation::kClusterTriangles;
 
 }  // namespace
 
@@ -101,32 +102,6 @@ Tessellation GeometryHandle::tessellate(std::string* problem) const {
         if (problem) *problem = why;
     }
     return {};
-}
-
-std::shared_ptr<const Tessellation> GeometryHandle::tessellation() const {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    if (!m_tessellation) {
-        m_tessellation = std::make_shared<const Tessellation>(tessellate());
-        ++m_made;
-    }
-    return m_tessellation;
-}
-
-bool GeometryHandle::hasTessellation() const {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    return m_tessellation != nullptr;
-}
-
-uint64_t GeometryHandle::releaseTessellation() const {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    const uint64_t bytes = m_tessellation ? m_tessellation->bytes() : 0;
-    m_tessellation.reset();
-    return bytes;
-}
-
-uint64_t GeometryHandle::tessellationsMade() const {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    return m_made;
 }
 
 }  // namespace pushpin::geom

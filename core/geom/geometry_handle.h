@@ -2,12 +2,11 @@
 // step 2): its source (an evaluated polygon mesh with the material of each face, or a NURBS surface
 // with its per-span divisions), its object-space bounds, how many triangles it will make and how
 // many of them a scanline crosses at a given screen size — all known without tessellating — and
-// its tessellation, made on first need, once, and shared by every instance that uses the handle.
-// Thread safety: every method may be called from any thread at once; the first tessellation()
-// call tessellates while later callers wait for it.
+// tessellate(), which the renderer calls when a tile first needs the shape (its tessellation cache
+// keeps one per handle, shared by every instance that uses the handle).
+// Thread safety: immutable after creation; every method may be called from any thread at once.
 // Memory: a handle shares its source (std::shared_ptr) with the other handles of the same shape
-// and keeps the tessellation it made until releaseTessellation(); sourceBytes() and
-// tessellationBytes() are what the render's budget is charged with.
+// and keeps no triangles; sourceBytes() and tessellationBytesEstimate() are what it costs.
 #pragma once
 
 #include "core/geom/bounds.h"
@@ -17,7 +16,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -59,19 +57,9 @@ public:
     const std::shared_ptr<const Mesh>& mesh() const { return m_mesh; }
     const std::shared_ptr<const NurbsSurface>& surface() const { return m_surface; }
 
-    // Makes the tessellation anew, without keeping it. For NURBS surfaces that evaluate to
+    // Makes the tessellation, without keeping it. For NURBS surfaces that evaluate to
     // NaN/Inf the result is empty and `problem` (when given) says why.
     Tessellation tessellate(std::string* problem = nullptr) const;
-
-    // The handle's tessellation: made by the first caller, kept, and returned to every later one.
-    std::shared_ptr<const Tessellation> tessellation() const;
-    // Whether tessellation() has made one that is still kept.
-    bool hasTessellation() const;
-    // Drops the kept tessellation (holders of the shared_ptr keep theirs); the next
-    // tessellation() call makes it again. Returns its bytes (0 when none was kept).
-    uint64_t releaseTessellation() const;
-    // How many tessellations this handle has made through tessellation().
-    uint64_t tessellationsMade() const;
 
 private:
     GeometryHandle() = default;
@@ -86,10 +74,6 @@ private:
     uint64_t m_triangles = 0;
     uint64_t m_vertices = 0;  // estimate
     uint32_t m_materials = 1;
-
-    mutable std::mutex m_mutex;
-    mutable std::shared_ptr<const Tessellation> m_tessellation;
-    mutable uint64_t m_made = 0;
 };
 
 }  // namespace pushpin::geom

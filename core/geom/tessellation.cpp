@@ -61,6 +61,11 @@ void buildNeighbors(Tessellation& t, const std::vector<uint32_t>& cornerPoint, H
 void computeBounds(Tessellation& t) {
     t.bounds = Bounds3();
     for (const glm::vec3& p : t.positions) t.bounds.extend(glm::dvec3(p));
+    const size_t triangles = t.triangleCount();
+    const size_t clusters = (triangles + Tessellation::kClusterTriangles - 1) / Tessellation::kClusterTriangles;
+    t.clusterBounds.assign(clusters, Bounds3());
+    for (size_t c = 0; c < 3 * triangles; ++c)
+        t.clusterBounds[c / (3 * Tessellation::kClusterTriangles)].extend(glm::dvec3(t.positions[t.corners[c]]));
 }
 
 bool sameBits(const glm::vec3& a, const glm::vec3& b) {
@@ -102,7 +107,7 @@ std::vector<double> gridParameters(const std::vector<double>& breaks, int divisi
 
 uint64_t Tessellation::bytes() const {
     return capacityBytes(positions) + capacityBytes(normals) + capacityBytes(uvs) + capacityBytes(corners) +
-           capacityBytes(face) + capacityBytes(material) + capacityBytes(neighbors);
+           capacityBytes(face) + capacityBytes(material) + capacityBytes(neighbors) + capacityBytes(clusterBounds);
 }
 
 Tessellation triangulateMesh(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading) {

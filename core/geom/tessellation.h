@@ -43,6 +43,10 @@ struct Tessellation {
     // on a boundary.
     std::vector<uint32_t> neighbors;
     Bounds3 bounds;                    // object space, of the vertices
+    // Object-space bounds of each run of kClusterTriangles consecutive triangles (the last run may
+    // be shorter), so that a tile finds the triangles it needs without testing every one.
+    std::vector<Bounds3> clusterBounds;
+    static constexpr size_t kClusterTriangles = 64;
 
     size_t triangleCount() const { return face.size(); }
     size_t vertexCount() const { return positions.size(); }

@@ -6,6 +6,7 @@
 #include "core/util/json_writer.h"
 
 #include "cache/error.h"
+#include "cache/lru_cache.h"
 #include "cache/memory_budget.h"
 
 #include <glm/geometric.hpp>
@@ -17,7 +18,12 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
+#include <atomic>
+#include <deque>
+#include <mutex>
 #include <array>
 #include <bit>
 #include <chrono>
@@ -129,17 +135,37 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
     return l;
 }
 
-// ---------------------------------------------------------------- per-object camera-space data
-struct CameraObject {
+// ---------------------------------------------------------------- per-object view data
+// Where one object sits for this camera, found once per frame without its triangles: the
+// matrices, the lights of each material slot in camera space, and its screen box. Each tile
+// projects the triangles it needs from the object's tessellation.
+struct ObjectView {
     glm::dmat4 cameraFromObject{1.0};
     glm::dmat4 objectFromCamera{1.0};
-    std::shared_ptr<const geom::Tessellation> tessellation;  // while the object is kept
-    std::vector<glm::dvec3> positions;  // per vertex, camera space
-    std::vector<glm::vec3> normals;     // per vertex, camera space, unit
+    glm::dmat3 normalToCamera{1.0};
     std::vector<std::vector<shade::Light>> slotLights;  // per material slot, camera space
     std::vector<uint8_t> slotTransparent;                // per material slot
     bool kept = false;
+    bool culledFar = false;
+    // Screen box in raster space (the whole plane when the bounds cross the near plane) and the
+    // smallest depth key of the bounds (front-to-back order of a tile's objects).
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    double nearKey = 0;
+    // Screen boxes of the tessellation's clusters, made by the first tile that needs them.
+    std::once_flag clustersMade;
+    std::vector<glm::dvec4> clusterBoxes;  // (x0, y0, x1, y1)
 };
+
+// The camera-space position of an object-space point, and the unit camera-space normal of an
+// object-space normal (zero when it has no direction), exactly as every stage computes them.
+glm::dvec3 cameraPoint(const glm::dmat4& cameraFromObject, const glm::vec3& p) {
+    return glm::dvec3(cameraFromObject * glm::dvec4(glm::dvec3(p), 1.0));
+}
+glm::vec3 cameraNormal(const glm::dmat3& normalToCamera, const glm::vec3& n) {
+    const glm::dvec3 c = normalToCamera * glm::dvec3(n);
+    const double len = glm::length(c);
+    return len > 0.0 && std::isfinite(len) ? glm::vec3(c / len) : glm::vec3(0.0f);
+}
 
 // Near-plane clip of a camera-space triangle (keeps z <= -near). Returns 0, 3 or 4 vertices.
 int clipNear(const glm::dvec3 in[3], double nearZ, glm::dvec3 out[4]) {
@@ -170,10 +196,25 @@ struct PendingBatch {
     std::array<uint32_t, shade::kBatchSize> target{};  // index into the tile's sample results
 };
 
+using TessellationCache = cache::LruCache<const geom::GeometryHandle*, geom::Tessellation>;
+
+// A tile whose tessellations do not fit in the memory budget beside what other tiles hold.
+struct TileDoesNotFit {
+    std::string object;  // the object whose tessellation found no room
+    uint64_t bytes = 0;  // its estimated size
+    PixelRect tile;
+};
+
 // One thread's reusable state.
 struct Worker {
-    Worker(const SubsamplePattern& pattern, std::span<const ObjectTopology> topology)
-        : rasterizer(pattern), resolver(pattern, topology) {}
+    Worker(const SubsamplePattern& pattern, size_t objects)
+        : tessellation(objects, nullptr), topology(objects), rasterizer(pattern), resolver(pattern, topology) {}
+    // The tile's objects, front to back, with their tessellations pinned for the tile's life;
+    // `tessellation` and `topology` are indexed by object and set for the tile's objects only.
+    std::vector<uint32_t> tileObjects;
+    std::vector<TessellationCache::Pin> pins;
+    std::vector<const geom::Tessellation*> tessellation;
+    std::vector<ObjectTopology> topology;
     TileRasterizer rasterizer;
     PixelResolver resolver;
     shade::ShadingScratch scratch;
@@ -203,23 +244,30 @@ struct Worker {
 class FrameRenderer {
 public:
     FrameRenderer(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
-                  RenderStats& stats, const RenderOptions& options)
+                  RenderStats& stats, const RenderOptions& options, cache::MemoryBudget& budget)
         : m_scene(scene), m_camera(camera), m_settings(settings), m_stats(stats), m_options(options),
-          m_pattern(SubsamplePattern::forEdgeAntiAliasing(settings.edgeAntiAliasing)),
-          m_filter(makePixelFilter(settings)) {}
+          m_budget(budget), m_pattern(SubsamplePattern::forEdgeAntiAliasing(settings.edgeAntiAliasing)),
+          m_filter(makePixelFilter(settings)),
+          m_tessellations(&budget, cache::MemoryCategory::Tessellation) {}
 
     Framebuffer run();
+    // Fills the memory figures of the stats from the budget and the process.
+    void finishStats(const cache::MemoryBudget& budget) const;
 
 private:
     void prepare();
     void prepareObject(uint32_t index);
     void renderTile(const PixelRect& tile, Worker& w);
+    void rasterizeTile(const PixelRect& base, Worker& w);
+    void addObjectTriangles(uint32_t object, const PixelRect& base, Worker& w);
+    const std::vector<glm::dvec4>& clusterBoxes(uint32_t object, const geom::Tessellation& g);
     void requestSamples(Worker& w, uint32_t groupIndex, int px, int py, int first, int last, bool extra,
                         uint32_t firstTarget);
     void addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target);
     void flush(Worker& w, PendingBatch& p);
     void flushAll(Worker& w);
-    void fillSample(shade::ShadingBatch& b, int i, uint32_t object, uint32_t triangle, double rx, double ry) const;
+    void fillSample(shade::ShadingBatch& b, int i, const Worker& w, uint32_t object, uint32_t triangle, double rx,
+                    double ry) const;
     int baseSamples(const RenderObject& o) const;
     int maxSamples(const RenderObject& o) const;
 
@@ -228,16 +276,14 @@ private:
     const RenderSettings& m_settings;
     RenderStats& m_stats;
     const RenderOptions& m_options;
+    cache::MemoryBudget& m_budget;
     SubsamplePattern m_pattern;
     PixelFilter m_filter;
     PixelRect m_region;                     // pixels rendered (the render region or the whole image)
-    std::vector<ObjectTopology> m_topology;
-    std::vector<CameraObject> m_objects;
-    std::vector<std::vector<ScreenTriangle>> m_objectTriangles;
-    std::vector<RenderStats> m_objectStats;  // per object, merged in object order
-    std::vector<ScreenTriangle> m_triangles;
+    std::deque<ObjectView> m_views;         // per object (a deque: views do not move)
     std::vector<PixelRect> m_tiles;
-    std::vector<std::vector<uint32_t>> m_bins;  // per tile: indices into m_triangles
+    TessellationCache m_tessellations;      // one per geometry handle, shared by instances
+    std::atomic<uint64_t> m_trianglesMade{0};
     int m_marginLeft = 0, m_marginRight = 0, m_marginTop = 0, m_marginBottom = 0;
     bool m_adaptive = false;
     Framebuffer m_frame;
@@ -255,184 +301,220 @@ int FrameRenderer::maxSamples(const RenderObject& o) const {
 
 void FrameRenderer::prepareObject(uint32_t index) {
     const RenderObject& obj = m_scene.objects[index];
-    CameraObject& co = m_objects[index];
-    std::vector<ScreenTriangle>& out = m_objectTriangles[index];
-    co.cameraFromObject = m_camera.cameraFromWorld * obj.worldFromObject;
-    co.objectFromCamera = glm::inverse(co.cameraFromObject);
+    ObjectView& v = m_views[index];
+    v.cameraFromObject = m_camera.cameraFromWorld * obj.worldFromObject;
+    v.objectFromCamera = glm::inverse(v.cameraFromObject);
     // An object flattened by a scale of 0 still renders (Maya shows it flat) but has no inverse;
     // its object-space shading positions are then the origin rather than NaN or overflowing
     // floats. The same goes for a scale so small that the inverse leaves the scene range.
     bool invertible = true;
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
-            invertible = invertible && std::isfinite(co.objectFromCamera[c][r]) &&
-                         std::abs(co.objectFromCamera[c][r]) <= kMaxSceneCoordinate;
+            invertible = invertible && std::isfinite(v.objectFromCamera[c][r]) &&
+                         std::abs(v.objectFromCamera[c][r]) <= kMaxSceneCoordinate;
     if (!invertible) {
-        co.objectFromCamera = glm::dmat4(0.0);
-        co.objectFromCamera[3][3] = 1.0;
+        v.objectFromCamera = glm::dmat4(0.0);
+        v.objectFromCamera[3][3] = 1.0;
     }
+    v.normalToCamera = glm::transpose(glm::inverse(glm::dmat3(v.cameraFromObject)));
 
     // Far-plane culling per object, and objects wholly behind the near plane.
-    geom::Bounds3 cb = obj.geometry->bounds().transformed(co.cameraFromObject);
+    geom::Bounds3 cb = obj.geometry->bounds().transformed(v.cameraFromObject);
     if (cb.empty() || !std::isfinite(cb.lo.x) || !std::isfinite(cb.hi.x)) return;
-    if (-cb.hi.z > m_camera.farClipPlane) return;  // wholly past the far plane (counted in prepare())
+    if (-cb.hi.z > m_camera.farClipPlane) {  // wholly past the far plane
+        v.culledFar = true;
+        return;
+    }
     if (-cb.lo.z < m_camera.nearClipPlane) return;  // wholly between the eye and the near plane, or behind
     // Frustum culling by screen-space bounds: exact for boxes wholly past the near plane;
-    // a box that crosses it is kept.
+    // a box that crosses it is kept and reaches everywhere.
+    v.x0 = v.y0 = -std::numeric_limits<double>::infinity();
+    v.x1 = v.y1 = std::numeric_limits<double>::infinity();
+    v.nearKey = -std::numeric_limits<double>::infinity();
     if (-cb.hi.z >= m_camera.nearClipPlane) {
-        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300, z0 = 1e300;
         for (int c = 0; c < 8; ++c) {
             glm::dvec3 p((c & 1) ? cb.hi.x : cb.lo.x, (c & 2) ? cb.hi.y : cb.lo.y, (c & 4) ? cb.hi.z : cb.lo.z);
             glm::dvec2 r = m_camera.rasterFromCamera(p);
             x0 = std::min(x0, r.x), x1 = std::max(x1, r.x), y0 = std::min(y0, r.y), y1 = std::max(y1, r.y);
+            z0 = std::min(z0, m_camera.depthKey(p));
         }
         if (x1 < m_region.x0 - m_marginRight || x0 > m_region.x1 + m_marginLeft ||
             y1 < m_region.y0 - m_marginBottom || y0 > m_region.y1 + m_marginTop)
             return;
+        v.x0 = x0, v.y0 = y0, v.x1 = x1, v.y1 = y1, v.nearKey = z0;
     }
-    co.kept = true;
+    v.kept = true;
 
-    co.tessellation = obj.geometry->tessellation();
-    const geom::Tessellation& g = *co.tessellation;
-    const size_t vertices = g.vertexCount();
-    co.positions.resize(vertices);
-    co.normals.resize(vertices);
-    glm::dmat3 normalToCamera = glm::transpose(glm::inverse(glm::dmat3(co.cameraFromObject)));
-    for (size_t c = 0; c < vertices; ++c) {
-        co.positions[c] = glm::dvec3(co.cameraFromObject * glm::dvec4(glm::dvec3(g.positions[c]), 1.0));
-        glm::dvec3 n = normalToCamera * glm::dvec3(c < g.normals.size() ? g.normals[c] : glm::vec3(0.0f));
-        double len = glm::length(n);
-        co.normals[c] = len > 0.0 && std::isfinite(len) ? glm::vec3(n / len) : glm::vec3(0.0f);
-    }
-
-    co.slotLights.resize(obj.materials.size());
-    co.slotTransparent.resize(obj.materials.size());
+    v.slotLights.resize(obj.materials.size());
+    v.slotTransparent.resize(obj.materials.size());
     for (size_t s = 0; s < obj.materials.size(); ++s) {
         const MaterialSlot& slot = obj.materials[s];
         for (uint32_t li : slot.lights)
             if (li < m_scene.lights.size())
-                co.slotLights[s].push_back(shade::transformed(m_scene.lights[li], m_camera.cameraFromWorld));
-        if (m_scene.usesDefaultLight) co.slotLights[s].push_back(shade::defaultLight(glm::dvec3(0.0, 0.0, -1.0)));
+                v.slotLights[s].push_back(shade::transformed(m_scene.lights[li], m_camera.cameraFromWorld));
+        if (m_scene.usesDefaultLight) v.slotLights[s].push_back(shade::defaultLight(glm::dvec3(0.0, 0.0, -1.0)));
         const auto& network = m_scene.shadingGroups[slot.shadingGroup].network;
-        co.slotTransparent[s] = network && network->mayBeTransparent();
-    }
-
-    RenderStats& st = m_objectStats[index];
-    size_t triangles = g.triangleCount();
-    st.triangles = triangles;
-    double nearZ = -m_camera.nearClipPlane;
-    for (size_t t = 0; t < triangles; ++t) {
-        glm::dvec3 c[3] = {co.positions[g.corners[3 * t]], co.positions[g.corners[3 * t + 1]],
-                           co.positions[g.corners[3 * t + 2]]};
-        glm::dvec3 n = glm::cross(c[1] - c[0], c[2] - c[0]);
-        if (obj.opposite) n = -n;
-        if (!obj.doubleSided) {
-            glm::dvec3 view = m_camera.orthographic ? glm::dvec3(0.0, 0.0, -1.0) : c[0];
-            if (glm::dot(n, view) >= 0.0) {
-                ++st.trianglesBackfacing;
-                continue;
-            }
-        }
-        glm::dvec3 poly[4];
-        int count = clipNear(c, nearZ, poly);
-        if (count < 3) {
-            ++st.trianglesOutside;
-            continue;
-        }
-        if (count != 3 || poly[0] != c[0] || poly[1] != c[1] || poly[2] != c[2]) ++st.trianglesNearClipped;
-        ScreenTriangle base;
-        base.object = index;
-        base.triangle = uint32_t(t);
-        uint16_t slot = t < g.material.size() ? g.material[t] : 0;
-        base.transparent = slot < co.slotTransparent.size() && co.slotTransparent[slot];
-        glm::dvec2 r[4];
-        double z[4];
-        for (int k = 0; k < count; ++k) {
-            r[k] = m_camera.rasterFromCamera(poly[k]);
-            z[k] = m_camera.depthKey(poly[k]);
-        }
-        for (int k = 1; k + 1 < count; ++k) {
-            ScreenTriangle s = base;
-            const int idx[3] = {0, k, k + 1};
-            double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-            for (int j = 0; j < 3; ++j) {
-                s.x[j] = r[idx[j]].x;
-                s.y[j] = r[idx[j]].y;
-                s.z[j] = z[idx[j]];
-                x0 = std::min(x0, s.x[j]), x1 = std::max(x1, s.x[j]);
-                y0 = std::min(y0, s.y[j]), y1 = std::max(y1, s.y[j]);
-            }
-            if (x1 < m_region.x0 - m_marginRight || x0 > m_region.x1 + m_marginLeft ||
-                y1 < m_region.y0 - m_marginBottom || y0 > m_region.y1 + m_marginTop) {
-                ++st.trianglesOutside;
-                continue;
-            }
-            out.push_back(s);
-        }
+        v.slotTransparent[s] = network && network->mayBeTransparent();
     }
 }
 
 void FrameRenderer::prepare() {
     auto t0 = Clock::now();
-    size_t n = m_scene.objects.size();
-    m_objects.assign(n, CameraObject{});
-    m_objectTriangles.assign(n, {});
-    m_objectStats.assign(n, RenderStats{});
+    const size_t n = m_scene.objects.size();
+    for (size_t i = 0; i < n; ++i) m_views.emplace_back();
     tbb::parallel_for(size_t(0), n, [&](size_t i) { prepareObject(uint32_t(i)); });
-
     m_stats.objects = n;
+    std::unordered_set<const geom::GeometryHandle*> shapes;
     for (size_t i = 0; i < n; ++i) {
-        const RenderStats& s = m_objectStats[i];
-        if (!m_objects[i].kept) {
-            geom::Bounds3 cb = m_scene.objects[i].geometry->bounds().transformed(m_objects[i].cameraFromObject);
-            if (!cb.empty() && -cb.hi.z > m_camera.farClipPlane)
-                ++m_stats.objectsCulledFar;
-            else
-                ++m_stats.objectsCulledFrustum;
+        const ObjectView& v = m_views[i];
+        if (!v.kept) {
+            ++(v.culledFar ? m_stats.objectsCulledFar : m_stats.objectsCulledFrustum);
             continue;
         }
-        m_stats.triangles += s.triangles;
-        m_stats.trianglesBackfacing += s.trianglesBackfacing;
-        m_stats.trianglesNearClipped += s.trianglesNearClipped;
-        m_stats.trianglesOutside += s.trianglesOutside;
-        m_triangles.insert(m_triangles.end(), m_objectTriangles[i].begin(), m_objectTriangles[i].end());
-        std::vector<ScreenTriangle>().swap(m_objectTriangles[i]);
+        m_stats.triangles += m_scene.objects[i].geometry->triangleCount();
+        ++m_stats.tessellationInstances;
+        shapes.insert(m_scene.objects[i].geometry.get());
     }
-
-    // Bin the triangles: a tile takes every triangle that touches its region or its apron.
-    int tw = std::max(1, m_settings.tileWidth), th = std::max(1, m_settings.tileHeight);
-    m_tiles = planTiles(m_region, tw, th);
-    int cols = (m_region.width() + tw - 1) / tw;
-    int rows = (m_region.height() + th - 1) / th;
-    m_bins.assign(m_tiles.size(), {});
-    for (uint32_t i = 0; i < m_triangles.size(); ++i) {
-        const ScreenTriangle& s = m_triangles[i];
-        double x0 = std::min({s.x[0], s.x[1], s.x[2]}) - m_marginRight;
-        double x1 = std::max({s.x[0], s.x[1], s.x[2]}) + m_marginLeft;
-        double y0 = std::min({s.y[0], s.y[1], s.y[2]}) - m_marginBottom;
-        double y1 = std::max({s.y[0], s.y[1], s.y[2]}) + m_marginTop;
-        if (!(x0 <= x1) || !(y0 <= y1)) continue;  // NaN
-        // Clamped in double before converting: a triangle reaching far off screen has raster
-        // positions no int can hold.
-        auto cell = [](double v, int count) { return int(std::clamp(std::floor(v), 0.0, double(count - 1))); };
-        int c0 = cell((x0 - m_region.x0) / tw, cols), c1 = cell((x1 - m_region.x0) / tw, cols);
-        int r0 = cell((y0 - m_region.y0) / th, rows), r1 = cell((y1 - m_region.y0) / th, rows);
-        for (int r = r0; r <= r1; ++r)
-            for (int c = c0; c <= c1; ++c) m_bins[size_t(r) * cols + c].push_back(i);
-    }
+    m_stats.tessellationShapes = shapes.size();
+    m_tiles = planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
     m_stats.prepareSeconds += secondsSince(t0);
 }
 
-void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, uint32_t object, uint32_t triangle, double rx,
-                               double ry) const {
+const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t object, const geom::Tessellation& g) {
+    ObjectView& v = m_views[object];
+    std::call_once(v.clustersMade, [&] {
+        v.clusterBoxes.resize(g.clusterBounds.size());
+        const double inf = std::numeric_limits<double>::infinity();
+        for (size_t c = 0; c < g.clusterBounds.size(); ++c) {
+            const geom::Bounds3 cb = g.clusterBounds[c].transformed(v.cameraFromObject);
+            glm::dvec4 box(inf, inf, -inf, -inf);  // reaches no tile
+            if (cb.empty() || -cb.lo.z < m_camera.nearClipPlane) {
+                // empty, or wholly in front of the near plane: every triangle would be clipped away
+            } else if (!std::isfinite(cb.lo.x + cb.lo.y + cb.hi.x + cb.hi.y + cb.lo.z + cb.hi.z) ||
+                       -cb.hi.z < m_camera.nearClipPlane) {
+                box = glm::dvec4(-inf, -inf, inf, inf);  // crosses the near plane: clipped per triangle
+            } else {
+                for (int k = 0; k < 8; ++k) {
+                    glm::dvec3 p((k & 1) ? cb.hi.x : cb.lo.x, (k & 2) ? cb.hi.y : cb.lo.y, (k & 4) ? cb.hi.z : cb.lo.z);
+                    const glm::dvec2 r = m_camera.rasterFromCamera(p);
+                    box = glm::dvec4(std::min(box.x, r.x), std::min(box.y, r.y), std::max(box.z, r.x), std::max(box.w, r.y));
+                }
+            }
+            v.clusterBoxes[c] = box;
+        }
+    });
+    return v.clusterBoxes;
+}
+
+// Projects the triangles of one object that may reach `base` (the tile and its apron) into the
+// tile's rasterizer: clusters whose screen box misses `base` are passed over, then each triangle
+// is culled (back faces of single-sided objects), clipped at the near plane and projected, the
+// same arithmetic whichever tile does it.
+void FrameRenderer::addObjectTriangles(uint32_t index, const PixelRect& base, Worker& w) {
+    const RenderObject& obj = m_scene.objects[index];
+    const ObjectView& v = m_views[index];
+    const geom::Tessellation& g = *w.tessellation[index];
+    const std::vector<glm::dvec4>& boxes = clusterBoxes(index, g);
+    RenderStats& st = w.stats;
+    const double nearZ = -m_camera.nearClipPlane;
+    const size_t triangles = g.triangleCount();
+    for (size_t cluster = 0; cluster < boxes.size(); ++cluster) {
+        const glm::dvec4& box = boxes[cluster];
+        if (box.z < base.x0 || box.x > base.x1 || box.w < base.y0 || box.y > base.y1) continue;
+        const size_t end = std::min(triangles, (cluster + 1) * geom::Tessellation::kClusterTriangles);
+        for (size_t t = cluster * geom::Tessellation::kClusterTriangles; t < end; ++t) {
+            glm::dvec3 c[3];
+            for (int k = 0; k < 3; ++k) c[k] = cameraPoint(v.cameraFromObject, g.position(3 * t + size_t(k)));
+            glm::dvec3 n = glm::cross(c[1] - c[0], c[2] - c[0]);
+            if (obj.opposite) n = -n;
+            if (!obj.doubleSided) {
+                glm::dvec3 view = m_camera.orthographic ? glm::dvec3(0.0, 0.0, -1.0) : c[0];
+                if (glm::dot(n, view) >= 0.0) {
+                    ++st.trianglesBackfacing;
+                    continue;
+                }
+            }
+            glm::dvec3 poly[4];
+            int count = clipNear(c, nearZ, poly);
+            if (count < 3) {
+                ++st.trianglesOutside;
+                continue;
+            }
+            if (count != 3 || poly[0] != c[0] || poly[1] != c[1] || poly[2] != c[2]) ++st.trianglesNearClipped;
+            ScreenTriangle s;
+            s.object = index;
+            s.triangle = uint32_t(t);
+            const uint16_t slot = t < g.material.size() ? g.material[t] : 0;
+            s.transparent = slot < v.slotTransparent.size() && v.slotTransparent[slot];
+            glm::dvec2 r[4];
+            double z[4];
+            for (int k = 0; k < count; ++k) {
+                r[k] = m_camera.rasterFromCamera(poly[k]);
+                z[k] = m_camera.depthKey(poly[k]);
+            }
+            for (int k = 1; k + 1 < count; ++k) {
+                const int idx[3] = {0, k, k + 1};
+                double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+                for (int j = 0; j < 3; ++j) {
+                    s.x[j] = r[idx[j]].x;
+                    s.y[j] = r[idx[j]].y;
+                    s.z[j] = z[idx[j]];
+                    x0 = std::min(x0, s.x[j]), x1 = std::max(x1, s.x[j]);
+                    y0 = std::min(y0, s.y[j]), y1 = std::max(y1, s.y[j]);
+                }
+                if (x1 < base.x0 || x0 > base.x1 || y1 < base.y0 || y0 > base.y1) continue;
+                w.rasterizer.add(s);
+            }
+        }
+    }
+}
+
+// The tile's objects front to back, their tessellations pinned (made on first need, shared by
+// instances), their triangles rasterized into `base`. Throws TileDoesNotFit when a tessellation
+// cannot be made room for in the budget.
+void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
+    w.tileObjects.clear();
+    for (uint32_t i = 0; i < m_views.size(); ++i) {
+        const ObjectView& v = m_views[i];
+        if (!v.kept) continue;
+        if (v.x1 < base.x0 || v.x0 > base.x1 || v.y1 < base.y0 || v.y0 > base.y1) continue;
+        w.tileObjects.push_back(i);
+    }
+    std::sort(w.tileObjects.begin(), w.tileObjects.end(), [&](uint32_t a, uint32_t b) {
+        return m_views[a].nearKey != m_views[b].nearKey ? m_views[a].nearKey < m_views[b].nearKey : a < b;
+    });
+    w.rasterizer.reset(base);
+    for (uint32_t i : w.tileObjects) {
+        const geom::GeometryHandle* handle = m_scene.objects[i].geometry.get();
+        std::optional<TessellationCache::Pin> pin = m_tessellations.tryAcquire(
+            handle,
+            [&] {
+                geom::Tessellation t = handle->tessellate();
+                m_trianglesMade.fetch_add(t.triangleCount(), std::memory_order_relaxed);
+                return t;
+            },
+            [](const geom::Tessellation& t) { return t.bytes(); });
+        if (!pin) throw TileDoesNotFit{m_scene.objects[i].name, handle->tessellationBytesEstimate()};
+        w.tessellation[i] = pin->get();
+        w.topology[i] = {(*pin)->neighbors.data(), uint32_t((*pin)->triangleCount())};
+        w.pins.push_back(std::move(*pin));
+        ++w.stats.objectTileVisits;
+        addObjectTriangles(i, base, w);
+    }
+    w.rasterizer.finish();
+}
+
+void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, const Worker& w, uint32_t object, uint32_t triangle,
+                               double rx, double ry) const {
     const RenderObject& obj = m_scene.objects[object];
-    const CameraObject& co = m_objects[object];
-    const geom::Tessellation& g = *co.tessellation;
+    const ObjectView& co = m_views[object];
+    const geom::Tessellation& g = *w.tessellation[object];
     const uint32_t v0 = g.corners[3 * size_t(triangle)], v1 = g.corners[3 * size_t(triangle) + 1],
                    v2 = g.corners[3 * size_t(triangle) + 2];
-    const glm::dvec3& p0 = co.positions[v0];
-    const glm::dvec3& p1 = co.positions[v1];
-    const glm::dvec3& p2 = co.positions[v2];
+    const glm::dvec3 p0 = cameraPoint(co.cameraFromObject, g.positions[v0]);
+    const glm::dvec3 p1 = cameraPoint(co.cameraFromObject, g.positions[v1]);
+    const glm::dvec3 p2 = cameraPoint(co.cameraFromObject, g.positions[v2]);
     glm::dvec3 origin, dir;
     m_camera.rayThrough(rx, ry, origin, dir);
     glm::dvec3 e1 = p1 - p0, e2 = p2 - p0;
@@ -463,8 +545,9 @@ void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, uint32_t object, u
         }
     }
     glm::dvec3 ng = nn > 0.0 ? n / std::sqrt(nn) : -dir;
-    glm::dvec3 ns = glm::dvec3(co.normals[v0]) * b0 + glm::dvec3(co.normals[v1]) * b1 +
-                    glm::dvec3(co.normals[v2]) * b2;
+    glm::dvec3 ns = glm::dvec3(cameraNormal(co.normalToCamera, g.normals[v0])) * b0 +
+                    glm::dvec3(cameraNormal(co.normalToCamera, g.normals[v1])) * b1 +
+                    glm::dvec3(cameraNormal(co.normalToCamera, g.normals[v2])) * b2;
     double nsLen = glm::length(ns);
     ns = nsLen > 1e-12 ? ns / nsLen : ng;
     if (obj.opposite) {
@@ -512,7 +595,7 @@ void FrameRenderer::flush(Worker& w, PendingBatch& p) {
     const MaterialSlot& slot = obj.materials[p.slot];
     const auto& network = m_scene.shadingGroups[slot.shadingGroup].network;
     shade::ShadingResult& r = *w.result;
-    network->evaluate(b, m_objects[p.object].slotLights[p.slot], w.scratch, r);
+    network->evaluate(b, m_views[p.object].slotLights[p.slot], w.scratch, r);
     for (int i = 0; i < b.count; ++i) {
         uint32_t t = p.target[size_t(i)];
         SampleResult& s = (t & 0x80000000u) ? w.extraSamples[t & 0x7fffffffu] : w.samples[t];
@@ -527,7 +610,7 @@ void FrameRenderer::flushAll(Worker& w) {
 }
 
 void FrameRenderer::addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target) {
-    const geom::Tessellation& g = *m_objects[object].tessellation;
+    const geom::Tessellation& g = *w.tessellation[object];
     uint32_t slot = triangle < g.material.size() ? g.material[triangle] : 0;
     auto [it, inserted] = w.pendingIndex.try_emplace((uint64_t(object) << 32) | slot, uint32_t(w.pendingCount));
     if (inserted) {
@@ -540,7 +623,7 @@ void FrameRenderer::addSample(Worker& w, uint32_t object, uint32_t triangle, dou
     }
     PendingBatch* p = &w.pending[it->second];
     shade::ShadingBatch& b = *p->batch;
-    fillSample(b, b.count, object, triangle, rx, ry);
+    fillSample(b, b.count, w, object, triangle, rx, ry);
     p->target[size_t(b.count)] = target;
     if (++b.count == shade::kBatchSize) flush(w, *p);
 }
@@ -586,11 +669,20 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
     const int bw = base.width(), bh = base.height();
     auto baseIndex = [&](int x, int y) { return size_t(y - base.y0) * bw + (x - base.x0); };
 
+    // The tile's pins and per-object entries are given back however the tile ends.
+    struct TileScope {
+        Worker& w;
+        ~TileScope() {
+            for (uint32_t i : w.tileObjects) {
+                w.tessellation[i] = nullptr;
+                w.topology[i] = ObjectTopology{};
+            }
+            w.tileObjects.clear();
+            w.pins.clear();
+        }
+    } scope{w};
     TileRasterizer& rast = w.rasterizer;
-    rast.reset(base);
-    const size_t tileIndex = size_t(&tile - m_tiles.data());
-    for (uint32_t i : m_bins[tileIndex]) rast.add(m_triangles[i]);
-    rast.finish();
+    rasterizeTile(base, w);
     w.stats.rasterSeconds += secondsSince(tRaster);
 
     // Resolve every pixel of the base region and keep its surfaces.
@@ -849,19 +941,40 @@ Framebuffer FrameRenderer::run() {
     m_frame.resize(m_camera.width, m_camera.height, m_settings.depth.value_or(false));
     if (m_options.adaptiveMask) m_options.adaptiveMask->assign(size_t(m_camera.width) * m_camera.height, 0);
     prepare();
-    m_topology.assign(m_objects.size(), ObjectTopology{});
-    for (size_t i = 0; i < m_objects.size(); ++i)
-        if (const auto& t = m_objects[i].tessellation)
-            m_topology[i] = {t->neighbors.data(), uint32_t(t->triangleCount())};
     m_stats.pixels = uint64_t(m_region.width()) * m_region.height();
 
     auto tTiles = Clock::now();
+    const size_t objects = m_scene.objects.size();
     tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers(
-        [&] { return std::make_unique<Worker>(m_pattern, std::span<const ObjectTopology>(m_topology)); });
+        [&] { return std::make_unique<Worker>(m_pattern, objects); });
+    // Tiles whose tessellations do not fit beside what the other threads' tiles hold are
+    // rendered again afterwards, one at a time, with the whole budget to themselves.
+    std::mutex deferredMutex;
+    std::vector<size_t> deferred;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, m_tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
         Worker& w = *workers.local();
-        for (size_t i = r.begin(); i != r.end(); ++i) renderTile(m_tiles[i], w);
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            const RenderStats before = w.stats;
+            try {
+                renderTile(m_tiles[i], w);
+            } catch (const TileDoesNotFit&) {
+                w.stats = before;
+                std::lock_guard<std::mutex> lock(deferredMutex);
+                deferred.push_back(i);
+            }
+        }
     });
+    std::sort(deferred.begin(), deferred.end());
+    m_stats.tilesDeferred = deferred.size();
+    for (size_t i : deferred) {
+        Worker& w = *workers.local();
+        try {
+            renderTile(m_tiles[i], w);
+        } catch (TileDoesNotFit& e) {
+            e.tile = m_tiles[i];
+            throw;
+        }
+    }
     m_stats.tilesSeconds += secondsSince(tTiles);
     for (auto& wp : workers) {
         const Worker& w = *wp;
@@ -874,6 +987,10 @@ Framebuffer FrameRenderer::run() {
         m_stats.shadingSamplesAdaptive += w.stats.shadingSamplesAdaptive;
         m_stats.adaptivePixels += w.stats.adaptivePixels;
         m_stats.apronPixels += w.stats.apronPixels;
+        m_stats.trianglesBackfacing += w.stats.trianglesBackfacing;
+        m_stats.trianglesNearClipped += w.stats.trianglesNearClipped;
+        m_stats.trianglesOutside += w.stats.trianglesOutside;
+        m_stats.objectTileVisits += w.stats.objectTileVisits;
         const RasterStats& rs = w.rasterizer.stats();
         m_stats.trianglesRasterized += rs.trianglesRasterized;
         m_stats.fragments += rs.fragments;
@@ -881,7 +998,27 @@ Framebuffer FrameRenderer::run() {
         m_stats.mergedFragments += vs.mergedFragments;
         m_stats.surfaces += vs.surfaces;
     }
+    const cache::LruCacheStats ts = m_tessellations.stats();
+    m_stats.tessellationsMade = ts.made;
+    m_stats.tessellationsEvicted = ts.evicted;
+    m_stats.tessellationsRecomputed = ts.recomputed;
+    m_stats.trianglesMade = m_trianglesMade.load();
+    m_stats.tileMinSize = m_stats.tileMaxSize = 0;
+    for (const PixelRect& t : m_tiles) {
+        const int lo = std::min(t.width(), t.height()), hi = std::max(t.width(), t.height());
+        m_stats.tileMinSize = m_stats.tileMinSize == 0 ? lo : std::min(m_stats.tileMinSize, lo);
+        m_stats.tileMaxSize = std::max(m_stats.tileMaxSize, hi);
+    }
     return std::move(m_frame);
+}
+
+void FrameRenderer::finishStats(const cache::MemoryBudget& budget) const {
+    const cache::MemoryBudgetSnapshot snap = budget.snapshot();
+    m_stats.memoryCapBytes = snap.capBytes;
+    m_stats.memoryPeakCharged = snap.peakBytes;
+    m_stats.memoryPeakByCategory = snap.categoryPeakBytes;
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) == 0) m_stats.peakRssBytes = uint64_t(usage.ru_maxrss) * 1024;
 }
 
 }  // namespace
@@ -914,14 +1051,11 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
         m.tileBytes += uint64_t(std::max(1, threads)) * perThread;
     }
 
-    std::unordered_set<const geom::GeometryHandle*> handles;
     for (const RenderObject& o : scene.objects) {
-        const uint64_t vertices = o.geometry->vertexCountEstimate(), triangles = o.geometry->triangleCount();
-        m.geometryBytes += sizeof(CameraObject) + sizeof(RenderStats) + sizeof(ObjectTopology) +
-                           vertices * (sizeof(glm::dvec3) + sizeof(glm::vec3)) +
-                           triangles * (2 * sizeof(ScreenTriangle) + sizeof(uint32_t) /* one bin entry */);
-        // Each shape's tessellation once, whatever its number of instances.
-        if (handles.insert(o.geometry.get()).second) m.geometryBytes += o.geometry->tessellationBytesEstimate();
+        // The object's view and its entries in every thread's tile tables.
+        m.geometryBytes += sizeof(ObjectView) + o.materials.size() * sizeof(std::vector<shade::Light>) +
+                           uint64_t(std::max(1, threads)) * (sizeof(const geom::Tessellation*) + sizeof(ObjectTopology));
+        m.largestTessellationBytes = std::max(m.largestTessellationBytes, o.geometry->tessellationBytesEstimate());
     }
     return m;
 }
@@ -963,6 +1097,18 @@ std::vector<cache::MemoryCharge> chargeFrame(cache::MemoryBudget& budget, const 
         }
         charges.push_back(std::move(*charge));
     }
+    // The tessellation cache charges what it makes as tiles need it; the largest single shape
+    // must fit beside the buffers, or no tile that sees it can render.
+    if (budget.availableBytes() < need.largestTessellationBytes) {
+        const uint64_t cap = budget.capBytes();
+        const std::string capText = cap % (uint64_t(1) << 20) == 0 ? std::to_string(cap >> 20) + " MB" : formatBytes(cap);
+        throw MemoryCapError("the " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " frame needs " +
+                                 formatBytes(need.totalBytes()) + " of buffers and " +
+                                 formatBytes(need.largestTessellationBytes) + " for its largest shape's triangles" +
+                                 (inUse > 0 ? " (with " + formatBytes(inUse) + " already in use)" : "") +
+                                 ", over the memory cap of " + capText + (capSource.empty() ? "" : " (" + capSource + ")"),
+                             need.totalBytes() + need.largestTessellationBytes + inUse, cap);
+    }
     return charges;
 }
 
@@ -981,10 +1127,24 @@ Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, con
                     budget.capBytes() == cap.bytes ? cap.source : std::string());
     tbb::task_arena arena(threads);
     Framebuffer out;
-    arena.execute([&] {
-        FrameRenderer renderer(scene, camera, settings, stats, options);
-        out = renderer.run();
-    });
+    try {
+        arena.execute([&] {
+            FrameRenderer renderer(scene, camera, settings, stats, options, budget);
+            out = renderer.run();
+            renderer.finishStats(budget);
+        });
+    } catch (const TileDoesNotFit& e) {
+        const uint64_t capBytes = budget.capBytes();
+        const std::string capText =
+            capBytes % (uint64_t(1) << 20) == 0 ? std::to_string(capBytes >> 20) + " MB" : formatBytes(capBytes);
+        const std::string source = budget.capBytes() == cap.bytes ? cap.source : std::string();
+        throw MemoryCapError("the " + std::to_string(e.tile.width()) + "x" + std::to_string(e.tile.height()) +
+                                 " tile at (" + std::to_string(e.tile.x0) + ", " + std::to_string(e.tile.y0) +
+                                 ") needs about " + formatBytes(e.bytes) + " more for the triangles of " + e.object +
+                                 ", beyond the memory cap of " + capText + (source.empty() ? "" : " (" + source + ")") +
+                                 " with the frame's buffers held",
+                             budget.usedBytes() + e.bytes, capBytes);
+    }
     return out;
 }
 
@@ -995,7 +1155,25 @@ void writeRenderStats(util::JsonWriter& j, const RenderStats& s) {
     j.field("rasterThreadSum", s.rasterSeconds).field("resolveThreadSum", s.resolveSeconds);
     j.field("shadeThreadSum", s.shadeSeconds).field("filterThreadSum", s.filterSeconds);
     j.endObject();
-    j.field("tiles", s.tiles).field("pixels", s.pixels).field("apronPixels", s.apronPixels);
+    j.key("tiles").beginObject();
+    j.field("count", s.tiles).field("minSize", uint64_t(s.tileMinSize)).field("maxSize", uint64_t(s.tileMaxSize));
+    j.field("maxTileCost", s.maxTileCost).field("deferred", s.tilesDeferred);
+    j.endObject();
+    j.key("tessellation").beginObject();
+    j.field("objects", s.tessellationShapes).field("instances", s.tessellationInstances);
+    j.field("skippedOccluded", s.skippedOccluded).field("skippedOffscreen", s.objectsCulledFrustum + s.objectsCulledFar);
+    j.field("trianglesMade", s.trianglesMade).field("made", s.tessellationsMade);
+    j.field("evicted", s.tessellationsEvicted).field("recomputed", s.tessellationsRecomputed);
+    j.field("tileVisits", s.objectTileVisits);
+    j.endObject();
+    j.key("memory").beginObject();
+    j.field("cap", s.memoryCapBytes).field("peakCharged", s.memoryPeakCharged).field("peakRss", s.peakRssBytes);
+    j.key("byCategory").beginObject();
+    for (size_t c = 0; c < cache::kMemoryCategoryCount; ++c)
+        j.field(cache::memoryCategoryName(cache::MemoryCategory(c)), s.memoryPeakByCategory[c]);
+    j.endObject();
+    j.endObject();
+    j.field("pixels", s.pixels).field("apronPixels", s.apronPixels);
     j.field("objects", s.objects).field("objectsCulledFrustum", s.objectsCulledFrustum);
     j.field("objectsCulledFar", s.objectsCulledFar);
     j.field("triangles", s.triangles).field("trianglesBackfacing", s.trianglesBackfacing);

@@ -24,13 +24,12 @@
 #include "core/render/render_settings.h"
 #include "core/util/json_writer.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
-namespace pushpin::cache {
-class MemoryBudget;
-}
+#include "cache/memory_budget.h"
 
 namespace pushpin::render {
 
@@ -52,6 +51,24 @@ struct RenderStats {
     uint64_t shadingSamplesBase = 0, shadingSamplesAdaptive = 0;
     uint64_t adaptivePixels = 0;           // pixels that took extra samples
     uint64_t apronPixels = 0;              // pixels rendered outside their tile for filters/contrast
+    // tiles
+    int tileMinSize = 0, tileMaxSize = 0;  // shortest and longest tile side, pixels
+    double maxTileCost = 0.0;              // the plan's cost limit (triangles per tile scanline); 0: fixed tiles
+    uint64_t tilesDeferred = 0;            // rendered again alone: their triangles did not fit beside other tiles'
+    // tessellation (made per tile on first need, shared by instances, dropped under memory pressure)
+    uint64_t tessellationShapes = 0;       // distinct shapes among the objects kept
+    uint64_t tessellationInstances = 0;    // objects kept (instances of those shapes)
+    uint64_t objectTileVisits = 0;         // objects rasterized per tile, summed over tiles
+    uint64_t skippedOccluded = 0;          // object-tile visits skipped: hidden by opaque geometry
+    uint64_t tessellationsMade = 0;        // tessellations made (first time and again)
+    uint64_t trianglesMade = 0;            // their triangles
+    uint64_t tessellationsEvicted = 0;     // dropped to make room
+    uint64_t tessellationsRecomputed = 0;  // made again after being dropped
+    // memory
+    uint64_t memoryCapBytes = 0;           // 0: unlimited
+    uint64_t memoryPeakCharged = 0;        // most the render's budget held at once
+    std::array<uint64_t, cache::kMemoryCategoryCount> memoryPeakByCategory{};
+    uint64_t peakRssBytes = 0;             // the process's peak resident size when the render ended
 };
 
 struct RenderOptions {
@@ -71,10 +88,13 @@ struct FrameMemory {
     // fragments: the tile list and bins, and one set of tile buffers (the tile plus its apron:
     // surface indices, nearest depths, contrast colours, shading batch and results) per thread.
     uint64_t tileBytes = 0;
-    // tessellation: each object's corners in camera space (position and normal) and its screen
-    // triangles (two per triangle when the near plane cuts it).
+    // tessellation: each object's view (matrices, lights per material slot) and its entries in
+    // every thread's tile tables.
     uint64_t geometryBytes = 0;
     uint64_t totalBytes() const { return framebufferBytes + tileBytes + geometryBytes; }
+    // Not charged up front: the estimated bytes of the largest shape's tessellation, which must
+    // fit beside the buffers above (the tessellation cache charges what it makes, tile by tile).
+    uint64_t largestTessellationBytes = 0;
 };
 
 // What renderFrame will charge for this scene, camera and settings with `threads` threads.

@@ -318,6 +318,26 @@ TEST(Tessellation, MeshTriangleCountMatchesTheTriangulation) {
     EXPECT_EQ(meshTriangleCount(m, {}, {false, true, false}), 8u + 1u);
 }
 
+TEST(Tessellation, ClusterBoundsHoldTheirTriangles) {
+    PolySphereParams p;
+    p.subdivisionsAxis = 30;
+    p.subdivisionsHeight = 7;  // 360 triangles: five full clusters and a short one
+    const Tessellation g = triangulateMesh(*makePolySphere(p), {}, true);
+    ASSERT_EQ(g.triangleCount(), 360u);
+    ASSERT_EQ(g.clusterBounds.size(), 6u);
+    for (size_t t = 0; t < g.triangleCount(); ++t) {
+        const Bounds3& b = g.clusterBounds[t / Tessellation::kClusterTriangles];
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 q(g.position(3 * t + size_t(k)));
+            ASSERT_TRUE(q.x >= b.lo.x && q.y >= b.lo.y && q.z >= b.lo.z && q.x <= b.hi.x && q.y <= b.hi.y && q.z <= b.hi.z)
+                << "triangle " << t;
+        }
+    }
+    // Tight: a cluster's box is the box of its corners, so it is much smaller than the sphere's.
+    EXPECT_LT(g.clusterBounds[2].size().y, 0.5 * g.bounds.size().y);
+    EXPECT_TRUE(triangulateMesh(Mesh{}, {}, true).clusterBounds.empty());
+}
+
 TEST(Tessellation, BytesCountEveryArray) {
     const Tessellation g = triangulateMesh(*makePolySphere(PolySphereParams{}), {}, true);
     const uint64_t atLeast = g.positions.size() * 12 + g.normals.size() * 12 + g.uvs.size() * 8 +
@@ -361,8 +381,6 @@ std::shared_ptr<const Mesh> sharedSphere(int axis, int height) {
 TEST(GeometryHandle, KnowsBoundsAndTrianglesBeforeTessellating) {
     const auto mesh = sharedSphere(16, 8);
     const auto h = GeometryHandle::fromMesh(mesh, {}, nullptr, true);
-    EXPECT_FALSE(h->hasTessellation());
-    EXPECT_EQ(h->tessellationsMade(), 0u);
     EXPECT_EQ(h->triangleCount(), uint64_t(2 * 16 * 8 - 2 * 16));
     EXPECT_NEAR(h->bounds().lo.x, -1.0, 1e-6);
     EXPECT_NEAR(h->bounds().hi.y, 1.0, 1e-6);
@@ -375,7 +393,6 @@ TEST(GeometryHandle, KnowsBoundsAndTrianglesBeforeTessellating) {
     // The estimate is within a factor of two of what the tessellation holds.
     EXPECT_GT(h->tessellationBytesEstimate(), t.bytes() / 2);
     EXPECT_LT(h->tessellationBytesEstimate(), t.bytes() * 2);
-    EXPECT_FALSE(h->hasTessellation()) << "tessellate() keeps nothing";
 }
 
 TEST(GeometryHandle, UnassignedFacesLeaveTheBoundsAndTheCount) {
@@ -389,23 +406,17 @@ TEST(GeometryHandle, UnassignedFacesLeaveTheBoundsAndTheCount) {
     EXPECT_EQ(h->bounds().hi, glm::dvec3(1, 1, 0));
 }
 
-TEST(GeometryHandle, TessellatesOnceForEveryCallerAndThreadAndAgainAfterRelease) {
+TEST(GeometryHandle, TessellatesTheSameWhateverTheThread) {
     const auto h = GeometryHandle::fromMesh(sharedSphere(64, 32), {}, nullptr, true);
-    std::vector<std::shared_ptr<const Tessellation>> got(4);
+    std::vector<Tessellation> got(3);
     std::vector<std::thread> threads;
-    for (size_t i = 0; i < got.size(); ++i) threads.emplace_back([&, i] { got[i] = h->tessellation(); });
+    for (size_t i = 0; i < got.size(); ++i) threads.emplace_back([&, i] { got[i] = h->tessellate(); });
     for (std::thread& t : threads) t.join();
-    for (const auto& g : got) EXPECT_EQ(g.get(), got[0].get());
-    EXPECT_EQ(h->tessellationsMade(), 1u);
-    EXPECT_TRUE(h->hasTessellation());
-    EXPECT_EQ(h->releaseTessellation(), got[0]->bytes());
-    EXPECT_FALSE(h->hasTessellation());
-    EXPECT_EQ(got[0]->triangleCount(), h->triangleCount()) << "holders keep theirs";
-    const auto again = h->tessellation();
-    EXPECT_EQ(h->tessellationsMade(), 2u);
-    EXPECT_EQ(again->corners, got[0]->corners) << "made again, the same";
-    EXPECT_EQ(h->releaseTessellation(), again->bytes());
-    EXPECT_EQ(h->releaseTessellation(), 0u);
+    for (const Tessellation& g : got) {
+        EXPECT_EQ(g.corners, got[0].corners);
+        EXPECT_EQ(g.positions, got[0].positions);
+        EXPECT_EQ(g.neighbors, got[0].neighbors);
+    }
 }
 
 TEST(GeometryHandle, NurbsHandleCountsItsGridAndBoundsByTheHull) {

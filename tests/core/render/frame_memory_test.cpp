@@ -183,10 +183,14 @@ TEST(FrameMemory, CapThatFitsGivesTheSameImageAndReleasesEveryCharge) {
     const int threads = 2;
     f.settings.numCpusToUse = threads;
     const FrameMemory need = frameMemory(f.frameScene, cam, f.settings, {}, threads);
-    MemoryBudget budget(need.totalBytes());  // exactly what the frame charges
+    uint64_t tessellations = 0;  // what the tessellation cache will hold: every shape once
+    for (const RenderObject& o : f.frameScene.objects) tessellations += o.geometry->tessellate().bytes();
+    ASSERT_GT(need.largestTessellationBytes, 0u);
+    MemoryBudget budget(need.totalBytes() + tessellations);  // exactly what the frame charges
     RenderOptions options;
     options.memoryBudget = &budget;
     const Framebuffer capped = renderFrame(f.frameScene, cam, f.settings, stats, options);
+    EXPECT_EQ(stats.tessellationsEvicted, 0u);
 
     ASSERT_EQ(capped.rgba.size(), free.rgba.size());
     ASSERT_EQ(capped.depth.size(), free.depth.size());
@@ -194,10 +198,12 @@ TEST(FrameMemory, CapThatFitsGivesTheSameImageAndReleasesEveryCharge) {
     EXPECT_EQ(std::memcmp(capped.depth.data(), free.depth.data(), free.depth.size() * sizeof(float)), 0);
     // Charged equals released: nothing is held after the render, and the peaks show what was.
     EXPECT_EQ(budget.usedBytes(), 0u);
-    EXPECT_EQ(budget.peakBytes(), need.totalBytes());
+    EXPECT_EQ(budget.peakBytes(), need.totalBytes() + tessellations);
     EXPECT_EQ(budget.peakBytes(MemoryCategory::Framebuffer), need.framebufferBytes);
     EXPECT_EQ(budget.peakBytes(MemoryCategory::Fragments), need.tileBytes);
-    EXPECT_EQ(budget.peakBytes(MemoryCategory::Tessellation), need.geometryBytes);
+    EXPECT_EQ(budget.peakBytes(MemoryCategory::Tessellation), need.geometryBytes + tessellations);
+    EXPECT_EQ(stats.memoryPeakCharged, budget.peakBytes());
+    EXPECT_EQ(stats.memoryCapBytes, budget.capBytes());
     for (size_t c = 0; c < cache::kMemoryCategoryCount; ++c) EXPECT_EQ(budget.usedBytes(MemoryCategory(c)), 0u);
 }
 
