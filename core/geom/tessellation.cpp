@@ -213,6 +213,10 @@ Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>&
             out.material.push_back(material);
         }
     }
+    // The vertex arrays were reserved by a guess: give back what the guess left over.
+    out.positions.shrink_to_fit();
+    out.normals.shrink_to_fit();
+    out.uvs.shrink_to_fit();
     computeBounds(out);
 
     std::unordered_map<uint64_t, bool> smoothByEdge;
@@ -347,6 +351,9 @@ std::optional<Tessellation> tessellateNurbs(const NurbsSurface& s, int divU, int
                 out.material.push_back(0);
             }
         }
+    out.positions.shrink_to_fit();
+    out.normals.shrink_to_fit();
+    out.uvs.shrink_to_fit();
     computeBounds(out);
     buildNeighbors(out, cornerPoint, [](uint32_t, uint32_t, uint32_t, uint32_t) { return false; });
     return out;

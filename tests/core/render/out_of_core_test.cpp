@@ -1,0 +1,222 @@
+// Out-of-core rendering (core/render/renderer.h with a MemoryBudget): tessellations made per tile
+// on first need, once per shape whatever its instances, dropped under a tight cap and made again,
+// the same image whatever the cap, thread count and tile size, every charge released, and a tile
+// whose triangles cannot fit at all stopping the render with MemoryCapError.
+#include "core/render/renderer.h"
+
+#include "cache/error.h"
+#include "cache/memory_budget.h"
+#include "core/render/camera.h"
+#include "core/render/frame_scene.h"
+#include "core/render/render_settings.h"
+#include "core/scene/ma_reader.h"
+#include "core/scene/render_setup.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pushpin::render {
+namespace {
+
+using cache::MemoryBudget;
+using cache::MemoryCategory;
+
+// A `columns` × `rows` grid of polygon spheres `spacing` radii apart, each its own shape with
+// `subdivisions` steps around and up; the last shape also has a second instance behind the
+// others. Seen by a perspective camera, lit by a directional light.
+std::string sphereGrid(int columns, int rows, int subdivisions, double radius, double spacing) {
+    std::string text = R"(//Maya ASCII 2018 scene
+requires maya "2018";
+currentUnit -l centimeter -a degree -t film;
+createNode transform -n "persp";
+	setAttr ".t" -type "double3" 0 0 7;
+createNode camera -n "perspShape" -p "persp";
+	setAttr ".rnd" yes;
+createNode transform -n "sun";
+	setAttr ".r" -type "double3" -40 30 0;
+createNode directionalLight -n "sunShape" -p "sun";
+createNode lambert -n "grey";
+createNode shadingEngine -n "greySG";
+connectAttr "greySG.pa" ":renderPartition.st" -na;
+connectAttr "grey.oc" "greySG.ss";
+)";
+    int n = 0;
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < columns; ++c, ++n) {
+            const std::string id = std::to_string(n);
+            const double x = (c - (columns - 1) * 0.5) * spacing * radius, y = (r - (rows - 1) * 0.5) * spacing * radius;
+            text += "createNode transform -n \"ball" + id + "\";\n\tsetAttr \".t\" -type \"double3\" " +
+                    std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(-0.3 * ((c + r) % 3)) + ";\n";
+            text += "createNode mesh -n \"ball" + id + "Shape\" -p \"ball" + id + "\";\n";
+            text += "createNode polySphere -n \"ballCreator" + id + "\";\n\tsetAttr \".r\" " + std::to_string(radius) +
+                    ";\n\tsetAttr \".sa\" " + std::to_string(subdivisions) + ";\n\tsetAttr \".sh\" " +
+                    std::to_string(subdivisions) + ";\n";
+            text += "connectAttr \"ballCreator" + id + ".out\" \"ball" + id + "Shape.i\";\n";
+            text += "connectAttr \"ball" + id + "Shape.iog\" \"greySG.dsm\" -na;\n";
+        }
+    const std::string last = std::to_string(n - 1);
+    text += "createNode transform -n \"copy\";\n\tsetAttr \".t\" -type \"double3\" 0.5 0.2 -3;\n";
+    text += "parent -s -nc -r -add \"|ball" + last + "|ball" + last + "Shape\" \"copy\";\n";
+    text += "connectAttr \"ball" + last + "Shape.iog[1]\" \"greySG.dsm\" -na;\n";
+    return text;
+}
+
+struct Grid {
+    scene::Graph graph;
+    scene::RenderSetup setup;
+    scene::Evaluator ev;
+    RenderSettings settings;
+    FrameScene frameScene;
+    RenderCamera camera;
+
+    Grid(int columns, int rows, int subdivisions, double radius, int width, int height, double spacing = 2.5)
+        : graph(scene::MaReader::readString(sphereGrid(columns, rows, subdivisions, radius, spacing), "grid.ma")),
+          setup(scene::extractRenderSetup(graph)), ev(graph, 1.0) {
+        settings.width = width;
+        settings.height = height;
+        settings.deviceAspectRatio = double(width) / height;
+        settings.tileWidth = settings.tileHeight = 16;
+        frameScene = buildFrameScene(ev, setup, settings);
+        camera = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), width, height,
+                                  settings.deviceAspectRatio);
+    }
+    Framebuffer render(const RenderSettings& s, RenderStats& stats, MemoryBudget* budget = nullptr) const {
+        RenderOptions options;
+        options.memoryBudget = budget;
+        return renderFrame(frameScene, camera, s, stats, options);
+    }
+    // Bytes of every shape's tessellation, each shape once.
+    uint64_t allTessellationBytes() const {
+        uint64_t bytes = 0;
+        std::vector<const geom::GeometryHandle*> seen;
+        for (const RenderObject& o : frameScene.objects) {
+            if (std::find(seen.begin(), seen.end(), o.geometry.get()) != seen.end()) continue;
+            seen.push_back(o.geometry.get());
+            bytes += o.geometry->tessellate().bytes();
+        }
+        return bytes;
+    }
+};
+
+bool sameImage(const Framebuffer& a, const Framebuffer& b) {
+    return a.width == b.width && a.height == b.height && a.rgba.size() == b.rgba.size() &&
+           std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
+}
+
+TEST(OutOfCore, EachShapeIsTessellatedOnceAndInstancesShareIt) {
+    const Grid g(4, 3, 16, 0.6, 96, 64);
+    ASSERT_EQ(g.frameScene.objects.size(), 13u);
+    RenderSettings s = g.settings;
+    s.numCpusToUse = 1;
+    RenderStats stats;
+    MemoryBudget budget;
+    (void)g.render(s, stats, &budget);
+    EXPECT_EQ(stats.tessellationShapes, 12u);
+    EXPECT_EQ(stats.tessellationInstances, 13u);
+    EXPECT_EQ(stats.tessellationsMade, 12u) << "the two instances of the last shape share one";
+    EXPECT_EQ(stats.tessellationsEvicted, 0u);
+    EXPECT_EQ(stats.tessellationsRecomputed, 0u);
+    EXPECT_GT(stats.objectTileVisits, stats.tessellationInstances) << "spheres reach several 16x16 tiles";
+    EXPECT_EQ(stats.trianglesMade, 12u * (2 * 16 * 16 - 2 * 16));
+    EXPECT_EQ(budget.usedBytes(), 0u);
+    EXPECT_EQ(budget.peakBytes(MemoryCategory::Tessellation),
+              frameMemory(g.frameScene, g.camera, s, {}, 1).geometryBytes + g.allTessellationBytes())
+        << "every tessellation charged once, with the objects' views";
+}
+
+TEST(OutOfCore, TightCapDropsAndRemakesTessellationsAndKeepsTheImage) {
+    const Grid g(4, 3, 24, 0.6, 192, 128);
+    RenderSettings s = g.settings;
+    s.numCpusToUse = 2;
+    RenderStats freeStats;
+    const Framebuffer free = g.render(s, freeStats);
+    const FrameMemory need = frameMemory(g.frameScene, g.camera, s, {}, 2);
+    // Room for the buffers and about five spheres' triangles: enough for the shapes that reach
+    // one tile (at most four), far from all twelve.
+    const uint64_t cap = need.totalBytes() + 5 * need.largestTessellationBytes;
+    ASSERT_LT(cap, need.totalBytes() + g.allTessellationBytes() / 2);
+    MemoryBudget budget(cap);
+    RenderStats stats;
+    const Framebuffer capped = g.render(s, stats, &budget);
+    EXPECT_TRUE(sameImage(capped, free));
+    EXPECT_GT(stats.tessellationsEvicted, 0u);
+    EXPECT_GT(stats.tessellationsRecomputed, 0u);
+    EXPECT_EQ(stats.tessellationsMade, 12u + stats.tessellationsRecomputed);
+    EXPECT_LE(budget.peakBytes(), cap);
+    EXPECT_EQ(budget.usedBytes(), 0u) << "charged equals released";
+    EXPECT_EQ(stats.memoryCapBytes, cap);
+    EXPECT_EQ(stats.memoryPeakCharged, budget.peakBytes());
+}
+
+TEST(OutOfCore, SameImageWithAnyThreadCountTileSizeAndCap) {
+    const Grid g(3, 2, 20, 1.2, 160, 112);
+    RenderStats stats;
+    const Framebuffer reference = g.render(g.settings, stats);
+    const FrameMemory need = frameMemory(g.frameScene, g.camera, g.settings, {}, 2);
+    struct Case {
+        int threads, tileWidth, tileHeight;
+        uint64_t extra;  // bytes beyond the buffers; 0: unlimited
+    };
+    const Case cases[] = {{1, 16, 16, 0}, {2, 16, 16, 0}, {2, 64, 64, 0}, {1, 23, 17, 0}, {2, 160, 112, 0},
+                          {1, 16, 16, 5 * need.largestTessellationBytes}, {2, 16, 16, 5 * need.largestTessellationBytes},
+                          {2, 23, 17, 6 * need.largestTessellationBytes}};
+    for (const Case& c : cases) {
+        RenderSettings s = g.settings;
+        s.numCpusToUse = c.threads;
+        s.tileWidth = c.tileWidth;
+        s.tileHeight = c.tileHeight;
+        const FrameMemory n = frameMemory(g.frameScene, g.camera, s, {}, c.threads);
+        MemoryBudget budget(c.extra ? n.totalBytes() + c.extra : 0);
+        RenderStats st;
+        const Framebuffer image = g.render(s, st, &budget);
+        EXPECT_TRUE(sameImage(image, reference)) << c.threads << " threads, " << c.tileWidth << "x" << c.tileHeight
+                                                 << " tiles, " << c.extra << " bytes over the buffers";
+        EXPECT_EQ(budget.usedBytes(), 0u);
+    }
+}
+
+TEST(OutOfCore, TileWhoseTrianglesCannotFitStopsTheRenderWithMemoryCapError) {
+    // Two large spheres overlapping everywhere on screen: every tile needs both tessellations.
+    const Grid g(2, 1, 40, 4.0, 48, 32, 0.3);
+    const FrameMemory need = frameMemory(g.frameScene, g.camera, g.settings, {}, 1);
+    RenderSettings s = g.settings;
+    s.numCpusToUse = 1;
+    // The buffers and the largest shape fit (so the frame starts), two shapes do not.
+    MemoryBudget budget(need.totalBytes() + need.largestTessellationBytes + need.largestTessellationBytes / 4);
+    RenderStats stats;
+    try {
+        (void)g.render(s, stats, &budget);
+        FAIL() << "expected MemoryCapError";
+    } catch (const MemoryCapError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("tile at"), std::string::npos) << message;
+        EXPECT_NE(message.find("ball"), std::string::npos) << message;
+        EXPECT_NE(message.find("memory cap"), std::string::npos) << message;
+    }
+    EXPECT_EQ(budget.usedBytes(), 0u) << "charged equals released, also on failure";
+    EXPECT_LE(budget.peakBytes(), budget.capBytes());
+}
+
+TEST(OutOfCore, CapBelowTheLargestShapeFailsBeforeAnyTile) {
+    const Grid g(2, 1, 40, 1.0, 48, 32);
+    const FrameMemory need = frameMemory(g.frameScene, g.camera, g.settings, {}, 1);
+    RenderSettings s = g.settings;
+    s.numCpusToUse = 1;
+    MemoryBudget budget(need.totalBytes() + need.largestTessellationBytes / 2);
+    RenderStats stats;
+    try {
+        (void)g.render(s, stats, &budget);
+        FAIL() << "expected MemoryCapError";
+    } catch (const MemoryCapError& e) {
+        EXPECT_NE(std::string(e.what()).find("largest shape"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(stats.tiles, 0u);
+    EXPECT_EQ(budget.usedBytes(), 0u);
+}
+
+}  // namespace
+}  // namespace pushpin::render
