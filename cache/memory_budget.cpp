@@ -29,6 +29,7 @@ const char* memoryCategoryName(MemoryCategory category) {
         case MemoryCategory::ShadowMaps: return "shadowMaps";
         case MemoryCategory::Framebuffer: return "framebuffer";
         case MemoryCategory::Other: return "other";
+        case MemoryCategory::Geometry: return "geometry";
     }
     return "?";
 }

@@ -24,11 +24,12 @@ enum class MemoryCategory : uint8_t {
     ShadowMaps,    // depth maps
     Framebuffer,   // the finished frame (colour, alpha, depth) and the image writer's copy of it
     Other,
+    Geometry,      // what tessellations are made from: meshes and surfaces kept or being evaluated
 };
-constexpr size_t kMemoryCategoryCount = 8;
+constexpr size_t kMemoryCategoryCount = 9;
 
 // "textures", "tessellation", "rayTracing", "fragments", "shading", "shadowMaps", "framebuffer",
-// "other".
+// "other", "geometry".
 const char* memoryCategoryName(MemoryCategory category);
 
 // What a budget held at one moment (plain data).

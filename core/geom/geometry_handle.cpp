@@ -13,38 +13,73 @@ constexpr uint64_t kVertexBytes = 2 * sizeof(glm::vec3) + sizeof(glm::vec2);
 constexpr uint64_t kTriangleBytes = 3 * sizeof(uint32_t) + sizeof(uint32_t) + sizeof(uint16_t) + 3 * sizeof(uint32_t) +
                                     sizeof(Bounds3) / Tessellation::kClusterTriangles;
 
+// A mesh kept in memory.
+class KeptMesh final : public MeshSource {
+public:
+    explicit KeptMesh(std::shared_ptr<const Mesh> mesh) : m_mesh(std::move(mesh)) {}
+    std::shared_ptr<const Mesh> mesh() const override { return m_mesh; }
+    bool keepsMesh() const override { return true; }
+
+private:
+    std::shared_ptr<const Mesh> m_mesh;
+};
+
+uint64_t meshBytes(const Mesh& m) {
+    uint64_t bytes = uint64_t(m.points.capacity()) * sizeof(glm::vec3) +
+                     uint64_t(m.faceVertices.capacity()) * sizeof(uint32_t) +
+                     uint64_t(m.loopStarts.capacity() + m.faceLoopStarts.capacity()) * sizeof(uint32_t) +
+                     uint64_t(m.edges.capacity()) * sizeof(MeshEdge);
+    for (const UvSet& s : m.uvSets)
+        bytes += uint64_t(s.uvs.capacity()) * sizeof(glm::vec2) + uint64_t(s.faceVertexUvs.capacity()) * sizeof(int32_t);
+    return bytes;
+}
+
 }  // namespace
+
+void GeometryHandle::measureMesh(const Mesh& mesh) {
+    static const std::vector<bool> kNone;
+    const std::vector<bool>& drop = m_degenerate ? *m_degenerate : kNone;
+    m_triangles = meshTriangleCount(mesh, m_faceMaterial, drop);
+    uint32_t materials = 0;
+    std::vector<uint8_t> used(mesh.points.size(), 0);
+    uint64_t usedPoints = 0;
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        const uint16_t material = f < m_faceMaterial.size() ? m_faceMaterial[f] : uint16_t(0);
+        if (material == kNoFaceMaterial || (f < drop.size() && drop[f])) continue;
+        materials = std::max<uint32_t>(materials, uint32_t(material) + 1);
+        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) {
+            const uint32_t p = mesh.faceVertices[c];
+            if (used[p]) continue;
+            used[p] = 1;
+            ++usedPoints;
+            m_bounds.extend(glm::dvec3(mesh.points[p]));
+        }
+    }
+    m_materials = std::max<uint32_t>(materials, 1);
+    // Hard edges and uv seams split some points into several vertices.
+    m_vertices = usedPoints + usedPoints / 8;
+    m_sourceBytes = meshBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t);
+}
 
 std::shared_ptr<GeometryHandle> GeometryHandle::fromMesh(std::shared_ptr<const Mesh> mesh,
                                                          std::vector<uint16_t> faceMaterial,
                                                          std::shared_ptr<const std::vector<bool>> degenerate,
                                                          bool smoothShading) {
+    const Mesh& m = *mesh;
+    return fromMeshSource(std::make_shared<KeptMesh>(std::move(mesh)), m, std::move(faceMaterial),
+                          std::move(degenerate), smoothShading);
+}
+
+std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshSource(std::shared_ptr<const MeshSource> source,
+                                                               const Mesh& mesh, std::vector<uint16_t> faceMaterial,
+                                                               std::shared_ptr<const std::vector<bool>> degenerate,
+                                                               bool smoothShading) {
     std::shared_ptr<GeometryHandle> h(new GeometryHandle());
-    static const std::vector<bool> kNone;
-    const std::vector<bool>& drop = degenerate ? *degenerate : kNone;
-    h->m_triangles = meshTriangleCount(*mesh, faceMaterial, drop);
-    uint32_t materials = 0;
-    std::vector<uint8_t> used(mesh->points.size(), 0);
-    uint64_t usedPoints = 0;
-    for (size_t f = 0; f < mesh->faceCount(); ++f) {
-        const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
-        if (material == kNoFaceMaterial || (f < drop.size() && drop[f])) continue;
-        materials = std::max<uint32_t>(materials, uint32_t(material) + 1);
-        for (uint32_t c = mesh->faceVertexBegin(f); c < mesh->faceVertexEnd(f); ++c) {
-            const uint32_t p = mesh->faceVertices[c];
-            if (used[p]) continue;
-            used[p] = 1;
-            ++usedPoints;
-            h->m_bounds.extend(glm::dvec3(mesh->points[p]));
-        }
-    }
-    h->m_materials = std::max<uint32_t>(materials, 1);
-    // Hard edges and uv seams split some points into several vertices.
-    h->m_vertices = usedPoints + usedPoints / 8;
-    h->m_mesh = std::move(mesh);
     h->m_faceMaterial = std::move(faceMaterial);
     h->m_degenerate = std::move(degenerate);
     h->m_smooth = smoothShading;
+    h->measureMesh(mesh);
+    h->m_source = std::move(source);
     return h;
 }
 
@@ -56,6 +91,7 @@ std::shared_ptr<GeometryHandle> GeometryHandle::fromNurbs(std::shared_ptr<const 
     h->m_bounds = surface->bounds();
     h->m_triangles = nurbsTriangleCount(*surface, h->m_divU, h->m_divV);
     h->m_vertices = h->m_triangles / 2 + 1;
+    h->m_sourceBytes = uint64_t(surface->cvs().capacity()) * sizeof(glm::dvec4);
     h->m_surface = std::move(surface);
     return h;
 }
@@ -75,25 +111,11 @@ uint64_t GeometryHandle::tessellationBytesEstimate() const {
     return m_vertices * kVertexBytes + m_triangles * kTriangleBytes;
 }
 
-uint64_t GeometryHandle::sourceBytes() const {
-    if (m_mesh) {
-        const Mesh& m = *m_mesh;
-        uint64_t bytes = uint64_t(m.points.capacity()) * sizeof(glm::vec3) +
-                         uint64_t(m.faceVertices.capacity()) * sizeof(uint32_t) +
-                         uint64_t(m.loopStarts.capacity() + m.faceLoopStarts.capacity()) * sizeof(uint32_t) +
-                         uint64_t(m.edges.capacity()) * sizeof(MeshEdge);
-        for (const UvSet& s : m.uvSets)
-            bytes += uint64_t(s.uvs.capacity()) * sizeof(glm::vec2) + uint64_t(s.faceVertexUvs.capacity()) * sizeof(int32_t);
-        return bytes + m_faceMaterial.capacity() * sizeof(uint16_t);
-    }
-    if (m_surface) return uint64_t(m_surface->cvs().capacity()) * sizeof(glm::dvec4);
-    return 0;
-}
-
 Tessellation GeometryHandle::tessellate(std::string* problem) const {
-    if (m_mesh) {
+    if (m_source) {
         static const std::vector<bool> kNone;
-        return triangulateValidMesh(*m_mesh, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone);
+        const std::shared_ptr<const Mesh> mesh = m_source->mesh();
+        return triangulateValidMesh(*mesh, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone);
     }
     if (m_surface) {
         std::string why;

@@ -6,7 +6,8 @@
 // keeps one per handle, shared by every instance that uses the handle).
 // Thread safety: immutable after creation; every method may be called from any thread at once.
 // Memory: a handle shares its source (std::shared_ptr) with the other handles of the same shape
-// and keeps no triangles; sourceBytes() and tessellationBytesEstimate() are what it costs.
+// and keeps no triangles; a MeshSource that evaluates on demand keeps no mesh either.
+// sourceBytes() and tessellationBytesEstimate() are what it costs while it tessellates.
 #pragma once
 
 #include "core/geom/bounds.h"
@@ -21,20 +22,40 @@
 
 namespace pushpin::geom {
 
+// Where a handle gets its mesh when it tessellates: a mesh kept in memory, or one evaluated again
+// on demand (a creator or history result, a stored mesh decoded from the scene), so that no
+// mesh needs to stay resident between tessellations. Every call returns the same mesh.
+// Thread safety: mesh() may be called from any thread at once.
+class MeshSource {
+public:
+    virtual ~MeshSource() = default;
+    // The mesh (never null; empty when it can no longer be made).
+    virtual std::shared_ptr<const Mesh> mesh() const = 0;
+    // Whether the source holds its mesh in memory all along.
+    virtual bool keepsMesh() const = 0;
+};
+
 class GeometryHandle {
 public:
     // A mesh that passed Mesh::validate(), with one material slot per face (kNoFaceMaterial: not
     // rendered; empty: all 0) and the faces to drop (MeshValidation::degenerateFaces, or empty).
+    // The handle keeps the mesh.
     static std::shared_ptr<GeometryHandle> fromMesh(std::shared_ptr<const Mesh> mesh, std::vector<uint16_t> faceMaterial,
                                                     std::shared_ptr<const std::vector<bool>> degenerate,
                                                     bool smoothShading);
+    // The same for a mesh the handle asks `source` for each time it tessellates; `mesh` is that
+    // mesh, made once now for the bounds and counts and not kept.
+    static std::shared_ptr<GeometryHandle> fromMeshSource(std::shared_ptr<const MeshSource> source, const Mesh& mesh,
+                                                          std::vector<uint16_t> faceMaterial,
+                                                          std::shared_ptr<const std::vector<bool>> degenerate,
+                                                          bool smoothShading);
     // A NURBS surface tessellated on a uniform grid of divU × divV steps per span (material 0).
     static std::shared_ptr<GeometryHandle> fromNurbs(std::shared_ptr<const NurbsSurface> surface, int divU, int divV);
 
     GeometryHandle(const GeometryHandle&) = delete;
     GeometryHandle& operator=(const GeometryHandle&) = delete;
 
-    bool isMesh() const { return m_mesh != nullptr; }
+    bool isMesh() const { return m_source != nullptr; }
     // Object space, conservative: the points of the faces kept (meshes), the control hull (NURBS
     // surfaces with positive weights, which lie inside it).
     const Bounds3& bounds() const { return m_bounds; }
@@ -52,10 +73,14 @@ public:
     uint64_t vertexCountEstimate() const { return m_vertices; }
     // Bytes the tessellation will hold (an estimate from the triangle and vertex counts).
     uint64_t tessellationBytesEstimate() const;
-    // Bytes of the source (the mesh or surface), shared by the handles of one shape.
-    uint64_t sourceBytes() const;
-    const std::shared_ptr<const Mesh>& mesh() const { return m_mesh; }
+    // Bytes of the source (the mesh or surface), shared by the handles of one shape; for a mesh
+    // made on demand, what it holds while the handle tessellates.
+    uint64_t sourceBytes() const { return m_sourceBytes; }
     const std::shared_ptr<const NurbsSurface>& surface() const { return m_surface; }
+    // Whether the source stays in memory (a kept mesh, a NURBS surface) rather than being made
+    // only while the handle tessellates; handles sharing a source give the same sourceId().
+    bool keepsSource() const { return m_surface != nullptr || m_source->keepsMesh(); }
+    const void* sourceId() const { return m_surface ? static_cast<const void*>(m_surface.get()) : m_source.get(); }
 
     // Makes the tessellation, without keeping it. For NURBS surfaces that evaluate to
     // NaN/Inf the result is empty and `problem` (when given) says why.
@@ -64,7 +89,9 @@ public:
 private:
     GeometryHandle() = default;
 
-    std::shared_ptr<const Mesh> m_mesh;
+    void measureMesh(const Mesh& mesh);
+
+    std::shared_ptr<const MeshSource> m_source;
     std::vector<uint16_t> m_faceMaterial;
     std::shared_ptr<const std::vector<bool>> m_degenerate;
     bool m_smooth = true;
@@ -74,6 +101,7 @@ private:
     uint64_t m_triangles = 0;
     uint64_t m_vertices = 0;  // estimate
     uint32_t m_materials = 1;
+    uint64_t m_sourceBytes = 0;
 };
 
 }  // namespace pushpin::geom

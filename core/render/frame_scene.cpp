@@ -12,8 +12,10 @@
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
+#include <oneapi/tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <new>
 #include <numbers>
@@ -240,12 +242,45 @@ void readLights(scene::Evaluator& ev, const scene::RenderSetup& setup, FrameScen
     }
 }
 
+// One Evaluator per thread over the scene at the frame, for meshes evaluated again when a tile
+// needs their triangles (an Evaluator is not thread-safe; the Graph is only read).
+class EvaluatorPool {
+public:
+    EvaluatorPool(const Graph& graph, double frame) : m_graph(graph), m_frame(frame) {}
+    scene::Evaluator& local() {
+        std::unique_ptr<scene::Evaluator>& ev = m_evaluators.local();
+        if (!ev) ev = std::make_unique<scene::Evaluator>(m_graph, m_frame);
+        return *ev;
+    }
+
+private:
+    const Graph& m_graph;
+    double m_frame;
+    tbb::enumerable_thread_specific<std::unique_ptr<scene::Evaluator>> m_evaluators;
+};
+
+// A mesh shape evaluated again, on the calling thread's Evaluator, each time it is asked for.
+class EvaluatedMesh final : public geom::MeshSource {
+public:
+    EvaluatedMesh(std::shared_ptr<EvaluatorPool> pool, NodeId shape) : m_pool(std::move(pool)), m_shape(shape) {}
+    std::shared_ptr<const geom::Mesh> mesh() const override {
+        scene::MeshEvaluation e = scene::evaluateMeshShape(m_pool->local(), m_shape);
+        return std::make_shared<const geom::Mesh>(e.mesh ? std::move(*e.mesh) : geom::Mesh{});
+    }
+    bool keepsMesh() const override { return false; }
+
+private:
+    std::shared_ptr<EvaluatorPool> m_pool;
+    NodeId m_shape;
+};
+
 // Geometry of one shape, evaluated once whatever its number of instances.
 struct ShapeGeometry {
     bool failed = false;
     std::string skipReason;
     scene::MeshEvaluation evaluation;                    // meshes: groups, face origins (mesh moved out)
     std::shared_ptr<const geom::Mesh> mesh;              // meshes, validated
+    std::shared_ptr<const geom::MeshSource> source;      // meshes: where the handles get them again
     std::shared_ptr<const std::vector<bool>> degenerate;  // meshes: faces to drop
     std::shared_ptr<const geom::NurbsSurface> surface;   // NURBS surfaces (one material)
     int divU = 1, divV = 1;
@@ -366,6 +401,10 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
     };
 
     const auto memberships = membershipsByShape(setup);
+    // Under a memory cap no evaluated mesh stays resident: the handles evaluate their shape again
+    // when a tile needs its triangles. Without one, each shape keeps the mesh evaluated here.
+    const bool keepMeshes = memoryCapBytes(settings) == 0;
+    const auto evaluators = std::make_shared<EvaluatorPool>(g, ev.frame());
     std::vector<std::vector<NodeId>> objectPaths;
     scene::DagPathBudget pathBudget;  // one bound for every shape's instance paths together
     for (const scene::Node& node : g.nodes()) {
@@ -511,8 +550,14 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                                           " face(s) in no shading group not rendered");
                 if (!shape.lastHandle || shape.lastMaterials != faceMaterial ||
                     shape.lastSmooth != object.smoothShading) {
-                    shape.lastHandle =
-                        geom::GeometryHandle::fromMesh(shape.mesh, faceMaterial, shape.degenerate, object.smoothShading);
+                    if (!shape.source)
+                        shape.source = keepMeshes ? std::shared_ptr<const geom::MeshSource>()
+                                                  : std::make_shared<EvaluatedMesh>(evaluators, node.id);
+                    shape.lastHandle = shape.source ? geom::GeometryHandle::fromMeshSource(shape.source, mesh, faceMaterial,
+                                                                                           shape.degenerate,
+                                                                                           object.smoothShading)
+                                                    : geom::GeometryHandle::fromMesh(shape.mesh, faceMaterial,
+                                                                                     shape.degenerate, object.smoothShading);
                     shape.lastMaterials = std::move(faceMaterial);
                     shape.lastSmooth = object.smoothShading;
                 }

@@ -9,7 +9,9 @@
 // here (kMaxSceneCoordinate, camera.h); what cannot be rendered without overflow is skipped with
 // a note naming the node, so nothing past this point meets NaN, Inf or an overflowing number.
 // Memory: each object refers to a geom::GeometryHandle, shared by the instances of a shape; no
-// triangles are made here (the renderer tessellates what a tile needs).
+// triangles are made here (the renderer tessellates what a tile needs). Under a memory cap
+// (memoryCap(settings)) no evaluated mesh is kept either: a handle evaluates its shape again, on
+// the tessellating thread, from the Graph, which must therefore outlive the FrameScene.
 #pragma once
 
 #include "core/geom/bounds.h"

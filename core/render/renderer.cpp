@@ -1051,12 +1051,20 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
         m.tileBytes += uint64_t(std::max(1, threads)) * perThread;
     }
 
+    std::unordered_set<const void*> sources;
+    uint64_t largestEvaluated = 0;
     for (const RenderObject& o : scene.objects) {
+        const geom::GeometryHandle& h = *o.geometry;
+        if (!h.keepsSource())
+            largestEvaluated = std::max(largestEvaluated, h.sourceBytes());
+        else if (sources.insert(h.sourceId()).second)
+            m.sourceBytes += h.sourceBytes();
         // The object's view and its entries in every thread's tile tables.
         m.geometryBytes += sizeof(ObjectView) + o.materials.size() * sizeof(std::vector<shade::Light>) +
                            uint64_t(std::max(1, threads)) * (sizeof(const geom::Tessellation*) + sizeof(ObjectTopology));
         m.largestTessellationBytes = std::max(m.largestTessellationBytes, o.geometry->tessellationBytesEstimate());
     }
+    m.sourceBytes += uint64_t(std::max(1, threads)) * largestEvaluated;
     return m;
 }
 
@@ -1081,6 +1089,7 @@ std::vector<cache::MemoryCharge> chargeFrame(cache::MemoryBudget& budget, const 
         {cache::MemoryCategory::Framebuffer, need.framebufferBytes},
         {cache::MemoryCategory::Fragments, need.tileBytes},
         {cache::MemoryCategory::Tessellation, need.geometryBytes},
+        {cache::MemoryCategory::Geometry, need.sourceBytes},
     };
     std::vector<cache::MemoryCharge> charges;
     for (const auto& [category, bytes] : parts) {

@@ -91,7 +91,10 @@ struct FrameMemory {
     // tessellation: each object's view (matrices, lights per material slot) and its entries in
     // every thread's tile tables.
     uint64_t geometryBytes = 0;
-    uint64_t totalBytes() const { return framebufferBytes + tileBytes + geometryBytes; }
+    // geometry: the sources tessellations are made from — every kept mesh and surface once, and
+    // for meshes evaluated on demand, room for the largest one on every thread at once.
+    uint64_t sourceBytes = 0;
+    uint64_t totalBytes() const { return framebufferBytes + tileBytes + geometryBytes + sourceBytes; }
     // Not charged up front: the estimated bytes of the largest shape's tessellation, which must
     // fit beside the buffers above (the tessellation cache charges what it makes, tile by tile).
     uint64_t largestTessellationBytes = 0;

@@ -110,7 +110,36 @@ TEST(FrameMemory, CountsTheFramebufferAndTheWritersCopyPerPixel) {
     const FrameMemory four = frameMemory(f.frameScene, cam, f.settings, {}, 4);
     EXPECT_GT(four.tileBytes, one.tileBytes);
     EXPECT_GT(one.geometryBytes, 0u);
-    EXPECT_EQ(one.totalBytes(), one.framebufferBytes + one.tileBytes + one.geometryBytes);
+    // No cap: the box's evaluated mesh is kept, and counted once whatever the threads.
+    ASSERT_EQ(f.frameScene.objects.size(), 1u);
+    EXPECT_TRUE(f.frameScene.objects[0].geometry->keepsSource());
+    EXPECT_EQ(one.sourceBytes, f.frameScene.objects[0].geometry->sourceBytes());
+    EXPECT_EQ(four.sourceBytes, one.sourceBytes);
+    EXPECT_EQ(one.totalBytes(), one.framebufferBytes + one.tileBytes + one.geometryBytes + one.sourceBytes);
+}
+
+TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandWithRoomForOnePerThread) {
+    Frame f(64, 48);
+    f.settings.maximumMemoryBytes = uint64_t(512) << 20;
+    f.frameScene = buildFrameScene(f.ev, f.setup, f.settings);
+    ASSERT_EQ(f.frameScene.objects.size(), 1u);
+    const geom::GeometryHandle& h = *f.frameScene.objects[0].geometry;
+    EXPECT_FALSE(h.keepsSource());
+    EXPECT_GT(h.sourceBytes(), 0u);
+    const RenderCamera cam = f.camera();
+    EXPECT_EQ(frameMemory(f.frameScene, cam, f.settings, {}, 3).sourceBytes, 3 * h.sourceBytes());
+    // Evaluated again, the mesh tessellates exactly as the kept one does.
+    RenderSettings free = f.settings;
+    free.maximumMemoryBytes = 0;
+    const FrameScene kept = buildFrameScene(f.ev, f.setup, free);
+    const geom::Tessellation a = h.tessellate(), b = kept.objects[0].geometry->tessellate();
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.corners, b.corners);
+    EXPECT_EQ(a.neighbors, b.neighbors);
+    RenderStats s1, s2;
+    const Framebuffer capped = renderFrame(f.frameScene, cam, f.settings, s1);
+    const Framebuffer whole = renderFrame(kept, cam, free, s2);
+    EXPECT_EQ(std::memcmp(capped.rgba.data(), whole.rgba.data(), whole.rgba.size() * sizeof(float)), 0);
 }
 
 TEST(FrameMemory, FrameOverTheCapFailsAtOnceWithNothingAllocated) {

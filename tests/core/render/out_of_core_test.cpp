@@ -73,14 +73,18 @@ struct Grid {
     FrameScene frameScene;
     RenderCamera camera;
 
-    Grid(int columns, int rows, int subdivisions, double radius, int width, int height, double spacing = 2.5)
+    // `onDemand`: built as under a memory cap, with meshes evaluated again by each tessellation.
+    Grid(int columns, int rows, int subdivisions, double radius, int width, int height, double spacing = 2.5,
+         bool onDemand = false)
         : graph(scene::MaReader::readString(sphereGrid(columns, rows, subdivisions, radius, spacing), "grid.ma")),
           setup(scene::extractRenderSetup(graph)), ev(graph, 1.0) {
         settings.width = width;
         settings.height = height;
         settings.deviceAspectRatio = double(width) / height;
         settings.tileWidth = settings.tileHeight = 16;
+        if (onDemand) settings.maximumMemoryBytes = uint64_t(1) << 40;
         frameScene = buildFrameScene(ev, setup, settings);
+        settings.maximumMemoryBytes = 0;
         camera = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), width, height,
                                   settings.deviceAspectRatio);
     }
@@ -164,19 +168,23 @@ TEST(OutOfCore, SameImageWithAnyThreadCountTileSizeAndCap) {
     const Case cases[] = {{1, 16, 16, 0}, {2, 16, 16, 0}, {2, 64, 64, 0}, {1, 23, 17, 0}, {2, 160, 112, 0},
                           {1, 16, 16, 5 * need.largestTessellationBytes}, {2, 16, 16, 5 * need.largestTessellationBytes},
                           {2, 23, 17, 6 * need.largestTessellationBytes}};
-    for (const Case& c : cases) {
-        RenderSettings s = g.settings;
-        s.numCpusToUse = c.threads;
-        s.tileWidth = c.tileWidth;
-        s.tileHeight = c.tileHeight;
-        const FrameMemory n = frameMemory(g.frameScene, g.camera, s, {}, c.threads);
-        MemoryBudget budget(c.extra ? n.totalBytes() + c.extra : 0);
-        RenderStats st;
-        const Framebuffer image = g.render(s, st, &budget);
-        EXPECT_TRUE(sameImage(image, reference)) << c.threads << " threads, " << c.tileWidth << "x" << c.tileHeight
-                                                 << " tiles, " << c.extra << " bytes over the buffers";
-        EXPECT_EQ(budget.usedBytes(), 0u);
-    }
+    const Grid onDemand(3, 2, 20, 1.2, 160, 112, 2.5, true);
+    ASSERT_FALSE(onDemand.frameScene.objects.at(0).geometry->keepsSource());
+    for (const Case& c : cases)
+        for (const Grid* grid : {&g, &onDemand}) {
+            RenderSettings s = grid->settings;
+            s.numCpusToUse = c.threads;
+            s.tileWidth = c.tileWidth;
+            s.tileHeight = c.tileHeight;
+            const FrameMemory n = frameMemory(grid->frameScene, grid->camera, s, {}, c.threads);
+            MemoryBudget budget(c.extra ? n.totalBytes() + c.extra : 0);
+            RenderStats st;
+            const Framebuffer image = grid->render(s, st, &budget);
+            EXPECT_TRUE(sameImage(image, reference)) << c.threads << " threads, " << c.tileWidth << "x" << c.tileHeight
+                                                     << " tiles, " << c.extra << " bytes over the buffers"
+                                                     << (grid == &onDemand ? ", meshes evaluated on demand" : "");
+            EXPECT_EQ(budget.usedBytes(), 0u);
+        }
 }
 
 TEST(OutOfCore, TileWhoseTrianglesCannotFitStopsTheRenderWithMemoryCapError) {
