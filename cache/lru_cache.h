@@ -131,6 +131,15 @@ public:
         return Pin(this, &e, e.value);
     }
 
+    // Drops unpinned values, least recently used first, until the budget has `bytes` available or
+    // nothing unpinned is left, for memory another consumer needs. Returns whether it has them.
+    bool reclaim(uint64_t bytes) {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        if (!m_budget) return true;
+        while (m_budget->availableBytes() < bytes && !m_lru.empty()) evictOne();
+        return m_budget->availableBytes() >= bytes;
+    }
+
     // Drops every unpinned value (for tests and for a caller that wants its memory back now).
     void dropUnpinned() {
         std::lock_guard<std::mutex> lock(m_mutex);

@@ -59,6 +59,10 @@ void GeometryHandle::measureMesh(const Mesh& mesh) {
     // Hard edges and uv seams split some points into several vertices.
     m_vertices = usedPoints + usedPoints / 8;
     m_sourceBytes = meshBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t);
+    // Shading normals per face-vertex, the smooth-edge table (a hash node per edge), the
+    // adjacency sort (an edge use per corner) with the point of each corner, the vertex chains.
+    m_workBytes = uint64_t(mesh.faceVertexCount()) * sizeof(glm::vec3) + uint64_t(mesh.edges.size()) * 48 +
+                  m_triangles * 3 * (16 + sizeof(uint32_t)) + uint64_t(mesh.points.size()) * 2 * sizeof(uint32_t);
 }
 
 std::shared_ptr<GeometryHandle> GeometryHandle::fromMesh(std::shared_ptr<const Mesh> mesh,
@@ -92,6 +96,9 @@ std::shared_ptr<GeometryHandle> GeometryHandle::fromNurbs(std::shared_ptr<const 
     h->m_triangles = nurbsTriangleCount(*surface, h->m_divU, h->m_divV);
     h->m_vertices = h->m_triangles / 2 + 1;
     h->m_sourceBytes = uint64_t(surface->cvs().capacity()) * sizeof(glm::dvec4);
+    // The grid's positions, normals, point identities and vertex map, the adjacency sort.
+    const uint64_t gridPoints = h->m_triangles / 2 + 64;
+    h->m_workBytes = gridPoints * (2 * sizeof(glm::dvec3) + 2 * sizeof(uint32_t)) + h->m_triangles * 3 * (16 + sizeof(uint32_t));
     h->m_surface = std::move(surface);
     return h;
 }

@@ -73,6 +73,9 @@ public:
     uint64_t vertexCountEstimate() const { return m_vertices; }
     // Bytes the tessellation will hold (an estimate from the triangle and vertex counts).
     uint64_t tessellationBytesEstimate() const;
+    // Bytes tessellate() holds while it runs besides the result and the source: shading normals,
+    // the edge table and the adjacency sort of a mesh, the evaluated grid of a surface.
+    uint64_t tessellationWorkBytesEstimate() const { return m_workBytes; }
     // Bytes of the source (the mesh or surface), shared by the handles of one shape; for a mesh
     // made on demand, what it holds while the handle tessellates.
     uint64_t sourceBytes() const { return m_sourceBytes; }
@@ -102,6 +105,7 @@ private:
     uint64_t m_vertices = 0;  // estimate
     uint32_t m_materials = 1;
     uint64_t m_sourceBytes = 0;
+    uint64_t m_workBytes = 0;
 };
 
 }  // namespace pushpin::geom

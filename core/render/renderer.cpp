@@ -239,6 +239,19 @@ struct Worker {
     std::vector<glm::vec3> baseColor;        // per base-region pixel, for the contrast test
     std::vector<uint8_t> adaptive;           // per base-region pixel
     RenderStats stats;
+    // What the buffers above hold beyond the fixed share frameMemory() charges per thread; they
+    // grow with the fragments of the busiest tile so far.
+    cache::MemoryCharge bufferCharge;
+
+    uint64_t bytes() const {
+        auto cap = [](const auto& v) { return uint64_t(v.capacity()) * sizeof(v[0]); };
+        uint64_t b = rasterizer.bytes() + resolver.bytes() + cap(pixelGroupStart) + cap(groups) + cap(members) +
+                     cap(nearestDepth) + cap(groupSampleStart) + cap(samples) + cap(groupExtraStart) + cap(extraSamples) +
+                     cap(shades) + cap(contributions) + cap(contributionNorm) + cap(baseColor) + cap(adaptive) +
+                     cap(tileObjects) + cap(pins) + cap(tessellation) + cap(topology);
+        b += uint64_t(pending.size()) * (sizeof(shade::ShadingBatch) + sizeof(PendingBatch));
+        return b;
+    }
 };
 
 class FrameRenderer {
@@ -283,6 +296,7 @@ private:
     std::deque<ObjectView> m_views;         // per object (a deque: views do not move)
     std::vector<PixelRect> m_tiles;
     TessellationCache m_tessellations;      // one per geometry handle, shared by instances
+    uint64_t m_perThreadBytes = 0;          // the share of each worker's buffers charged up front
     std::atomic<uint64_t> m_trianglesMade{0};
     int m_marginLeft = 0, m_marginRight = 0, m_marginTop = 0, m_marginBottom = 0;
     bool m_adaptive = false;
@@ -928,6 +942,11 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
     w.stats.filterSeconds += secondsSince(tFilter);
     w.stats.apronPixels += uint64_t(base.width()) * base.height() - uint64_t(tile.width()) * tile.height();
     ++w.stats.tiles;
+    // The buffers have grown to hold this tile: charge the growth, making room for it by dropping
+    // other tiles' tessellations.
+    const uint64_t held = w.bytes(), extra = held > m_perThreadBytes ? held - m_perThreadBytes : 0;
+    if (extra > w.bufferCharge.bytes()) m_tessellations.reclaim(extra - w.bufferCharge.bytes());
+    w.bufferCharge.resize(extra);
 }
 
 Framebuffer FrameRenderer::run() {
@@ -945,8 +964,12 @@ Framebuffer FrameRenderer::run() {
 
     auto tTiles = Clock::now();
     const size_t objects = m_scene.objects.size();
-    tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers(
-        [&] { return std::make_unique<Worker>(m_pattern, objects); });
+    m_perThreadBytes = frameMemory(m_scene, m_camera, m_settings, m_options, 1).perThreadBytes;
+    tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers([&] {
+        auto w = std::make_unique<Worker>(m_pattern, objects);
+        w->bufferCharge = cache::MemoryCharge(&m_budget, cache::MemoryCategory::Fragments, 0);
+        return w;
+    });
     // Tiles whose tessellations do not fit beside what the other threads' tiles hold are
     // rendered again afterwards, one at a time, with the whole budget to themselves.
     std::mutex deferredMutex;
@@ -1049,12 +1072,14 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
         const uint64_t perThread = basePixels * perBasePixel + sizeof(Worker) + sizeof(shade::ShadingBatch) +
                                    sizeof(shade::ShadingResult);
         m.tileBytes += uint64_t(std::max(1, threads)) * perThread;
+        m.perThreadBytes = perThread;
     }
 
     std::unordered_set<const void*> sources;
-    uint64_t largestEvaluated = 0;
+    uint64_t largestEvaluated = 0, largestWork = 0;
     for (const RenderObject& o : scene.objects) {
         const geom::GeometryHandle& h = *o.geometry;
+        largestWork = std::max(largestWork, h.tessellationWorkBytesEstimate());
         if (!h.keepsSource())
             largestEvaluated = std::max(largestEvaluated, h.sourceBytes());
         else if (sources.insert(h.sourceId()).second)
@@ -1064,7 +1089,7 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
                            uint64_t(std::max(1, threads)) * (sizeof(const geom::Tessellation*) + sizeof(ObjectTopology));
         m.largestTessellationBytes = std::max(m.largestTessellationBytes, o.geometry->tessellationBytesEstimate());
     }
-    m.sourceBytes += uint64_t(std::max(1, threads)) * largestEvaluated;
+    m.sourceBytes += uint64_t(std::max(1, threads)) * (largestEvaluated + largestWork);
     return m;
 }
 

@@ -88,11 +88,14 @@ struct FrameMemory {
     // fragments: the tile list and bins, and one set of tile buffers (the tile plus its apron:
     // surface indices, nearest depths, contrast colours, shading batch and results) per thread.
     uint64_t tileBytes = 0;
+    uint64_t perThreadBytes = 0;  // of tileBytes, one thread's share (a worker's buffers beyond it are
+                                  // charged as they grow, to "fragments")
     // tessellation: each object's view (matrices, lights per material slot) and its entries in
     // every thread's tile tables.
     uint64_t geometryBytes = 0;
     // geometry: the sources tessellations are made from — every kept mesh and surface once, and
-    // for meshes evaluated on demand, room for the largest one on every thread at once.
+    // for meshes evaluated on demand, room for the largest one on every thread at once — and
+    // room on every thread for the largest tessellation's working memory.
     uint64_t sourceBytes = 0;
     uint64_t totalBytes() const { return framebufferBytes + tileBytes + geometryBytes + sourceBytes; }
     // Not charged up front: the estimated bytes of the largest shape's tessellation, which must

@@ -12,6 +12,22 @@
 namespace pushpin::render {
 
 namespace {
+template <class T>
+uint64_t capacityBytes(const std::vector<T>& v) {
+    return uint64_t(v.capacity()) * sizeof(T);
+}
+}  // namespace
+
+uint64_t TileRasterizer::bytes() const {
+    return capacityBytes(m_fragments) + capacityBytes(m_pixelOf) + capacityBytes(m_sorted) + capacityBytes(m_pixelStart);
+}
+
+uint64_t PixelResolver::bytes() const {
+    return capacityBytes(m_groups) + capacityBytes(m_members) + capacityBytes(m_parent) + capacityBytes(m_visible) +
+           capacityBytes(m_sorted) + capacityBytes(m_order);
+}
+
+namespace {
 
 constexpr double kMinFragmentArea = 1e-12;     // pixels²; smaller clipped areas are dropped
 constexpr double kFullPixelArea = 1.0 - 1e-6;  // a group at least this large covers the pixel

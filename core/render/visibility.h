@@ -50,6 +50,8 @@ public:
     std::span<const Fragment> fragments(int x, int y) const;
 
     const RasterStats& stats() const { return m_stats; }
+    // Heap bytes the rasterizer's buffers hold (their capacities).
+    uint64_t bytes() const;
 
 private:
     SubsamplePattern m_pattern;
@@ -126,6 +128,8 @@ public:
     void composite(std::span<const SurfaceShade> shades, std::span<SurfaceContribution> out) const;
 
     const ResolveStats& stats() const { return m_stats; }
+    // Heap bytes the resolver's buffers hold (their capacities).
+    uint64_t bytes() const;
 
 private:
     SubsamplePattern m_pattern;

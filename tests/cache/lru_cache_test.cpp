@@ -106,6 +106,20 @@ TEST(LruCache, PinnedValuesAreNeverDroppedAndAValueThatCannotFitIsRefused) {
     EXPECT_FALSE(cache.tryAcquire(9, m.make(9, 1000), sizeOf)) << "larger than the cap";
 }
 
+TEST(LruCache, ReclaimDropsUnpinnedValuesForAnotherConsumer) {
+    MemoryBudget budget(300);
+    Maker m;
+    Cache cache(&budget, MemoryCategory::Tessellation);
+    auto pinned = cache.tryAcquire(1, m.make(1, 100), sizeOf);
+    cache.tryAcquire(2, m.make(2, 100), sizeOf);
+    cache.tryAcquire(3, m.make(3, 100), sizeOf);
+    EXPECT_TRUE(cache.reclaim(100));
+    EXPECT_EQ(cache.stats().evicted, 1u);
+    EXPECT_EQ(budget.availableBytes(), 100u);
+    EXPECT_FALSE(cache.reclaim(250)) << "the pinned value stays";
+    EXPECT_EQ(budget.usedBytes(), 100u);
+}
+
 TEST(LruCache, UnlimitedBudgetNeverEvictsAndDestructionReleasesEveryCharge) {
     MemoryBudget budget;
     {
