@@ -522,8 +522,9 @@ anti-aliasing and sampling (defaultRenderQuality):
 performance:
   -n N                threads, 0 = all cores (numCpusToUse)
   -tw N, -th N        force the tile width/height, 16..256 pixels
-  -mm MB              memory cap in MiB (default $SLURM_MEM_PER_NODE, else none); a frame
-                      that needs more stops with exit 33
+  -mm MB              memory cap in MiB (default $SLURM_MEM_PER_NODE, else none): unused
+                      tessellations are dropped and made again to stay under it; a frame
+                      that cannot fit stops with exit 33 and writes no image
 
 accepted, not rendered yet (each is reported once and listed under notRendered in --stats):
   ray tracing         -ert BOOL (off leaves nothing out), -rfl N, -rfr N, -sl N

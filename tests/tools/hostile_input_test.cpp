@@ -4,6 +4,7 @@
 // Bounds are about three times what these inputs take on a 2-core machine running the suite two
 // tests at a time, so they catch a return of quadratic or unbounded work, not a slow day.
 #include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
 
 #include "tests/support/temp_folder.h"
 
@@ -245,6 +246,63 @@ TEST(HostileScene, FrameOverTheMemoryCapExits33) {
     EXPECT_EQ(o.exitCode, 33) << o;
     EXPECT_LT(o.peakMiB, 1024) << o;
     EXPECT_TRUE(filesIn(dir.path / "out").empty()) << o;
+}
+
+// A scene whose tessellations need several times the cap renders under it: the peak resident
+// size stays near an empty render's plus the cap, the image is the same as without a cap, and a
+// cap too small for any tile stops with exit 33 and no image.
+TEST(HostileScene, MemoryCapHoldsAndKeepsTheImage) {
+    TempDir dir;
+    std::string spheres = kHeader;
+    const int count = 40;
+    for (int i = 0; i < count; ++i) {
+        const std::string id = std::to_string(i);
+        spheres += "createNode transform -n \"s" + id + "\";\n\tsetAttr \".t\" -type \"double3\" " +
+                   std::to_string((i % 8) * 2.2 - 7.7) + " " + std::to_string((i / 8) * 2.2 - 4.4) + " 0 ;\n";
+        spheres += "createNode mesh -n \"s" + id + "Shape\" -p \"s" + id + "\";\n";
+        spheres += "createNode polySphere -n \"ps" + id + "\";\n\tsetAttr \".sa\" 150;\n\tsetAttr \".sh\" 150;\n";
+        spheres += "connectAttr \"ps" + id + ".out\" \"s" + id + "Shape.i\";\n";
+        spheres += "connectAttr \"s" + id + "Shape.iog\" \":initialShadingGroup.dsm\" -na;\n";
+    }
+    writeFile(dir.path / "spheres.ma", spheres + "// End of hostile.ma\n");
+    writeFile(dir.path / "empty.ma", std::string(kHeader) + "// End of hostile.ma\n");
+    const std::vector<std::string> size = {"-x", "320", "-y", "240", "-of", "exr"};
+    auto run = [&](std::vector<std::string> args) {
+        args.insert(args.begin(), size.begin(), size.end());
+        return runPushpin(args, dir.path, 60);
+    };
+    const Outcome empty = run({"-rd", "empty", "empty.ma"});
+    const Outcome free = run({"-rd", "free", "--stats", "free.json", "spheres.ma"});
+    // 16x16 tiles: each holds few spheres and few fragments (tiles sized by the cap are not there yet).
+    const Outcome capped =
+        run({"-mm", "48", "-tw", "16", "-th", "16", "-rd", "capped", "--stats", "capped.json", "spheres.ma"});
+    ASSERT_EQ(empty.exitCode, 0) << empty;
+    ASSERT_EQ(free.exitCode, 0) << free;
+    ASSERT_EQ(capped.exitCode, 0) << capped;
+    // 1.8M triangles: about 100 MB of tessellations and as much again of evaluated meshes.
+    EXPECT_GT(free.peakMiB, empty.peakMiB + 150) << free;
+    EXPECT_LT(capped.peakMiB, empty.peakMiB + 48 + 64) << capped << "\nempty: " << empty;
+    const std::string stats = pushpin::test::readWholeFile(dir.path / "capped.json");
+    EXPECT_EQ(stats.find("\"evicted\": 0,"), std::string::npos) << stats.substr(0, 2000);
+    EXPECT_NE(stats.find("\"cap\": 50331648"), std::string::npos) << stats.substr(0, 2000);
+    // The same pixels.
+    auto pixels = [](const fs::path& p) {
+        std::vector<float> out;
+        auto in = OIIO::ImageInput::open(p.string());
+        if (!in) return out;
+        const OIIO::ImageSpec& spec = in->spec();
+        out.resize(size_t(spec.width) * spec.height * spec.nchannels);
+        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out.data())) out.clear();
+        return out;
+    };
+    const std::vector<float> a = pixels(dir.path / "free" / "spheres.exr"), b = pixels(dir.path / "capped" / "spheres.exr");
+    ASSERT_FALSE(a.empty());
+    EXPECT_TRUE(a == b);
+
+    const Outcome tiny = run({"-mm", "2", "-rd", "tiny", "spheres.ma"});
+    EXPECT_EQ(tiny.exitCode, 33) << tiny;
+    EXPECT_NE(tiny.output.find("memory cap of 2 MB (-mm)"), std::string::npos) << tiny;
+    EXPECT_TRUE(!fs::exists(dir.path / "tiny") || filesIn(dir.path / "tiny").empty()) << tiny;
 }
 
 // Numbers that overflow: the camera and the object are reported, not rendered into NaN, and
