@@ -271,6 +271,7 @@ private:
     void prepare();
     void prepareObject(uint32_t index);
     void renderTile(const PixelRect& tile, Worker& w);
+    void planFrameTiles();
     void rasterizeTile(const PixelRect& base, Worker& w);
     void addObjectTriangles(uint32_t object, const PixelRect& base, Worker& w);
     const std::vector<glm::dvec4>& clusterBoxes(uint32_t object, const geom::Tessellation& g);
@@ -391,8 +392,41 @@ void FrameRenderer::prepare() {
         shapes.insert(m_scene.objects[i].geometry.get());
     }
     m_stats.tessellationShapes = shapes.size();
-    m_tiles = planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
+    planFrameTiles();
     m_stats.prepareSeconds += secondsSince(t0);
+}
+
+// Fixed tiles (forceTileSize, -tw/-th) or without a cap; under a cap, the memory-driven plan:
+// each kept object's screen box with its triangles per scanline at its screen height, against
+// the maxTileCost the budget left after the frame's own charges allows. An object's cost per
+// scanline is its triangle crossings weighed by the fragments each leaves (1 + the width of a
+// cell of the square grid its triangles make over its box).
+void FrameRenderer::planFrameTiles() {
+    if (m_settings.forceTileSize || m_budget.capBytes() == 0) {
+        m_tiles = planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
+        return;
+    }
+    std::vector<ScreenCost> costs;
+    const double far = 1e7;  // boxes that reach everywhere (crossing the near plane) are clamped
+    for (uint32_t i = 0; i < m_views.size(); ++i) {
+        const ObjectView& v = m_views[i];
+        if (!v.kept) continue;
+        ScreenCost c;
+        c.x0 = std::clamp(v.x0, -far, far), c.x1 = std::clamp(v.x1, -far, far);
+        c.y0 = std::clamp(v.y0, -far, far), c.y1 = std::clamp(v.y1, -far, far);
+        // A triangle meets a row in about (its width + 1) fragments: weigh the crossings by the
+        // width of a cell of the square grid its triangles make over the box.
+        const geom::GeometryHandle& h = *m_scene.objects[i].geometry;
+        const double columns = std::max(1.0, std::sqrt(double(h.triangleCount()) * 0.5));
+        const double width = std::min(c.x1, double(m_region.x1)) - std::max(c.x0, double(m_region.x0));
+        c.trianglesPerScanline = h.trianglesPerScanline(c.y1 - c.y0) * (1.0 + std::max(0.0, width) / columns);
+        costs.push_back(c);
+    }
+    const int threads = std::max(1, tbb::this_task_arena::max_concurrency());
+    const uint64_t available = m_budget.availableBytes();
+    m_stats.maxTileCost = maxTileCost(available / 2 / uint64_t(threads), m_settings, (m_region.height() + 1) / 2);
+    const TilePlan plan = planAdaptiveTiles(m_region, costs, m_stats.maxTileCost, 16);
+    m_tiles = plan.tiles;
 }
 
 const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t object, const geom::Tessellation& g) {
@@ -1045,6 +1079,26 @@ void FrameRenderer::finishStats(const cache::MemoryBudget& budget) const {
 }
 
 }  // namespace
+
+uint64_t tileBytesPerCrossing(const RenderSettings& settings) {
+    // The fragment of each crossing held four times (the rasterizer's list and its copy sorted by
+    // pixel, the tile's members, the resolver's scratch), its surface group, and a shading result
+    // per sample it may take (the adaptive maximum at the Highest level).
+    const bool adaptive = settings.edgeAntiAliasing == 0 && settings.maxShadingSamples > settings.shadingSamples;
+    const int samples = std::max(1, adaptive ? settings.maxShadingSamples : settings.shadingSamples);
+    uint64_t bytes = 4 * sizeof(Fragment) + sizeof(SurfaceGroup) + sizeof(SurfaceShade) + sizeof(SurfaceContribution) +
+                     uint64_t(samples) * sizeof(SampleResult);
+    // A multi-pixel filter widens every tile by its reach on each side.
+    const PixelFilter filter = makePixelFilter(settings);
+    if (filter.reach > 0) bytes = bytes * uint64_t(16 + 2 * filter.reach) / 16;
+    return bytes;
+}
+
+double maxTileCost(uint64_t bytesPerTile, const RenderSettings& settings, int tallestTile) {
+    if (tallestTile < 1) return 0.0;
+    const double crossings = double(bytesPerTile) / double(tileBytesPerCrossing(settings));
+    return std::max(1.0, crossings / double(tallestTile));
+}
 
 uint64_t imageOutputBytes(int width, int height) {
     return uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) * 5 * sizeof(float);

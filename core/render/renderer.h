@@ -108,6 +108,19 @@ struct FrameMemory {
 FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
                         const RenderOptions& options, int threads);
 
+// The tile plan under a memory cap (tile_plan.h, DESIGN.md step 5). A tile's buffers grow with
+// its triangle crossings — a triangle meeting one pixel row — each leaving about
+// tileBytesPerCrossing(settings) bytes: its fragment as the rasterizer, the tile and the resolver
+// hold it (4 × 48 B), its surface group, shade and contribution, one shading result per sample it
+// may take (the adaptive maximum at Highest), widened by a multi-pixel filter's apron.
+uint64_t tileBytesPerCrossing(const RenderSettings& settings);
+// maxTileCost, triangles per tile scanline: a tile of `tallestTile` rows whose every row costs
+// that much fills `bytesPerTile`, i.e. bytesPerTile / tileBytesPerCrossing / tallestTile (at
+// least 1). The renderer gives each thread half of what the budget has left after the frame's
+// own charges (the other half is for tessellations) and the height of a quadrant as the tallest
+// tile. Pure.
+double maxTileCost(uint64_t bytesPerTile, const RenderSettings& settings, int tallestTile);
+
 // The bytes the image writer needs to convert a width × height frame to the file's channels,
 // counted as 5 floats per pixel (colour, alpha and depth). Charged by renderFrame with the frame.
 uint64_t imageOutputBytes(int width, int height);

@@ -82,6 +82,7 @@ struct Grid {
         settings.height = height;
         settings.deviceAspectRatio = double(width) / height;
         settings.tileWidth = settings.tileHeight = 16;
+        settings.forceTileSize = true;  // the tests that want the memory-driven plan turn it off
         if (onDemand) settings.maximumMemoryBytes = uint64_t(1) << 40;
         frameScene = buildFrameScene(ev, setup, settings);
         settings.maximumMemoryBytes = 0;
@@ -168,18 +169,21 @@ TEST(OutOfCore, SameImageWithAnyThreadCountTileSizeAndCap) {
     const Framebuffer reference = g.render(g.settings, stats);
     const FrameMemory need = frameMemory(g.frameScene, g.camera, g.settings, {}, 2);
     struct Case {
-        int threads, tileWidth, tileHeight;
+        int threads, tileWidth, tileHeight;  // 0 × 0: the memory-driven plan
         uint64_t extra;  // bytes beyond the buffers; 0: unlimited
     };
     const Case cases[] = {{1, 16, 16, 0}, {2, 16, 16, 0}, {2, 64, 64, 0}, {1, 23, 17, 0}, {2, 160, 112, 0},
                           {1, 16, 16, 5 * need.largestTessellationBytes}, {2, 16, 16, 5 * need.largestTessellationBytes},
-                          {2, 23, 17, 6 * need.largestTessellationBytes}};
+                          {2, 23, 17, 6 * need.largestTessellationBytes},
+                          {1, 0, 0, 2 * kFragmentRoom + 5 * need.largestTessellationBytes},
+                          {2, 0, 0, 2 * kFragmentRoom + 6 * need.largestTessellationBytes}};
     const Grid onDemand(3, 2, 20, 1.2, 160, 112, 2.5, true);
     ASSERT_FALSE(onDemand.frameScene.objects.at(0).geometry->keepsSource());
     for (const Case& c : cases)
         for (const Grid* grid : {&g, &onDemand}) {
             RenderSettings s = grid->settings;
             s.numCpusToUse = c.threads;
+            s.forceTileSize = c.tileWidth > 0;
             s.tileWidth = c.tileWidth;
             s.tileHeight = c.tileHeight;
             const FrameMemory n = frameMemory(grid->frameScene, grid->camera, s, {}, c.threads);
