@@ -274,6 +274,10 @@ CommandLine parseCommandLine(const std::vector<std::string_view>& args) {
             const std::string_view v = value();
             if (v.empty()) bad(a, v, "is not a file name");
             cl.statsPath = std::string(v);
+        } else if (a == "--tile-pattern") {
+            const std::string_view v = value();
+            if (v.empty()) bad(a, v, "is not a file name");
+            cl.tilePatternPath = std::string(v);
         } else if (a == "-cam") {
             const std::string_view v = value();
             if (v.empty()) bad(a, v, "is not a camera name");
@@ -473,6 +477,7 @@ pushpin options:
   --no-references     do not load referenced files (file -r)
   --frame F           render (or report) frame F only; overrides -s/-e/-b
   --stats FILE        write render statistics as JSON to FILE
+  --tile-pattern FILE draw the first image's tile plan, each tile coloured by its cost
   --quiet             no progress lines on stderr
   --allow-scene-output-paths
                       let an image prefix (the scene's imageFilePrefix or -im) put images

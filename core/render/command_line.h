@@ -36,6 +36,7 @@ struct CommandLine {
     std::string outputDir;         // -rd
     std::string project;           // -proj: the Maya project whose images folder images go to
     std::string statsPath;         // --stats out.json
+    std::string tilePatternPath;   // --tile-pattern out.png
     bool quiet = false;            // --quiet: no progress lines on stderr
     // --allow-scene-output-paths: images may go where the image prefix says even outside the
     // output folder (an absolute imageFilePrefix, or one that climbs out with "..").

@@ -402,9 +402,10 @@ void FrameRenderer::prepare() {
 // scanline is its triangle crossings weighed by the fragments each leaves (1 + the width of a
 // cell of the square grid its triangles make over its box).
 void FrameRenderer::planFrameTiles() {
-    if (m_settings.forceTileSize || m_budget.capBytes() == 0) {
+    const bool fixed = m_settings.forceTileSize || m_budget.capBytes() == 0;
+    if (fixed) {
         m_tiles = planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
-        return;
+        if (!m_options.tilePlan) return;
     }
     std::vector<ScreenCost> costs;
     const double far = 1e7;  // boxes that reach everywhere (crossing the near plane) are clamped
@@ -422,11 +423,20 @@ void FrameRenderer::planFrameTiles() {
         c.trianglesPerScanline = h.trianglesPerScanline(c.y1 - c.y0) * (1.0 + std::max(0.0, width) / columns);
         costs.push_back(c);
     }
+    if (fixed) {
+        TilePlan& plan = *m_options.tilePlan;
+        plan = TilePlan{};
+        plan.tiles = m_tiles;
+        plan.maxTileCost = std::numeric_limits<double>::infinity();
+        for (const PixelRect& t : m_tiles) plan.cost.push_back(tileCost(t, costs));
+        return;
+    }
     const int threads = std::max(1, tbb::this_task_arena::max_concurrency());
     const uint64_t available = m_budget.availableBytes();
     m_stats.maxTileCost = maxTileCost(available / 2 / uint64_t(threads), m_settings, (m_region.height() + 1) / 2);
-    const TilePlan plan = planAdaptiveTiles(m_region, costs, m_stats.maxTileCost, 16);
+    TilePlan plan = planAdaptiveTiles(m_region, costs, m_stats.maxTileCost, 16);
     m_tiles = plan.tiles;
+    if (m_options.tilePlan) *m_options.tilePlan = std::move(plan);
 }
 
 const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t object, const geom::Tessellation& g) {

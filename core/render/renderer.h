@@ -22,6 +22,7 @@
 #include "core/render/frame_scene.h"
 #include "core/render/framebuffer.h"
 #include "core/render/render_settings.h"
+#include "core/render/tile_plan.h"
 #include "core/util/json_writer.h"
 
 #include <array>
@@ -77,6 +78,9 @@ struct RenderOptions {
     // The render's memory budget. Null: renderFrame makes one with the cap memoryCap(settings)
     // (-mm, else $SLURM_MEM_PER_NODE, else unlimited) for the duration of the call.
     cache::MemoryBudget* memoryBudget = nullptr;
+    // When not null, receives the tiles rendered with each one's cost (tile_plan.h tileCost, also
+    // for fixed tiles, whose maxTileCost is then +infinity), for --tile-pattern.
+    TilePlan* tilePlan = nullptr;
 };
 
 // The buffers of one render whose size is known before it starts, in bytes, by the category

@@ -373,6 +373,30 @@ std::vector<float> readPixels(const fs::path& path, int* channels = nullptr) {
     return px;
 }
 
+// --tile-pattern draws the plan of the first image at its size; under a cap the plan is the
+// memory-driven one and --stats says its maxTileCost; a bad path is a usage error.
+TEST(PushpinCli, TilePatternDrawsThePlanAndStatsNameIt) {
+    fs::path dir = tempDir() / "tile-pattern";
+    fs::remove_all(dir);
+    const fs::path pattern = dir / "plan.png", stats = dir / "stats.json";
+    CliRun r = runPushpin("--demo -x 160 -y 120 -mm 64 -rd '" + dir.string() + "' --tile-pattern '" + pattern.string() +
+                          "' --stats '" + stats.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto in = OIIO::ImageInput::open(pattern.string());
+    ASSERT_TRUE(in) << pattern;
+    EXPECT_EQ(in->spec().width, 160);
+    EXPECT_EQ(in->spec().height, 120);
+    std::ifstream file(stats);
+    const std::string json((std::istreambuf_iterator<char>(file)), {});
+    EXPECT_TRUE(JsonChecker(json).valid()) << json.substr(0, 2000);
+    for (const char* key : {"\"maxTileCost\"", "\"minSize\"", "\"tessellation\"", "\"skippedOccluded\"", "\"peakCharged\"",
+                            "\"peakRss\"", "\"byCategory\"", "\"recomputed\""})
+        EXPECT_NE(json.find(key), std::string::npos) << key;
+    EXPECT_EQ(json.find("\"maxTileCost\": 0,"), std::string::npos) << "a cap plans by cost";
+    CliRun bad = runPushpin("--demo -x 16 -y 12 -rd '" + dir.string() + "' --tile-pattern ''");
+    EXPECT_EQ(bad.exitCode, 2) << bad.err;
+}
+
 TEST(PushpinCli, DemoRendersAnImageAndSaysWhere) {
     fs::path dir = tempDir() / "demo";
     fs::remove_all(dir);

@@ -231,6 +231,11 @@ int run(int argc, char** argv) {
         const std::string problem = render::imagePathProblem(cl.statsPath);
         if (!problem.empty()) throw render::UsageError("--stats: " + problem);
     }
+    if (!cl.tilePatternPath.empty()) {
+        const std::string problem = render::imagePathProblem(cl.tilePatternPath);
+        if (!problem.empty()) throw render::UsageError("--tile-pattern: " + problem);
+    }
+    bool tilePatternWritten = false;
     if (!cl.demo) {
         // A folder (or a device, a FIFO) given as the scene is an input error, not an empty scene.
         std::error_code ec;
@@ -337,13 +342,20 @@ int run(int argc, char** argv) {
 
             render::RenderStats renderStats;
             auto tRender = std::chrono::steady_clock::now();
-            render::Framebuffer image = render::renderFrame(frameScene, camera, cameraSettings, renderStats);
+            render::TilePlan plan;
+            render::RenderOptions renderOptions;
+            if (!cl.tilePatternPath.empty() && !tilePatternWritten) renderOptions.tilePlan = &plan;
+            render::Framebuffer image = render::renderFrame(frameScene, camera, cameraSettings, renderStats, renderOptions);
             const double renderSeconds = secondsSince(tRender);
             auto tWrite = std::chrono::steady_clock::now();
             // Throws OutputError when the image cannot be written: the sequence stops here (exit 75)
             // with this frame's files as they were and every earlier frame whole.
             render::writeImage(image, path, format, cameraSettings, cameraSettings.depth.value_or(false));
             const double writeSeconds = secondsSince(tWrite);
+            if (renderOptions.tilePlan) {
+                render::writeTilePattern(plan, image.width, image.height, cl.tilePatternPath);
+                tilePatternWritten = true;
+            }
 
             // Printed only once the image is renamed into place (writeImage has returned).
             if (!cl.quiet)
