@@ -1169,6 +1169,11 @@ std::string formatBytes(uint64_t bytes) {
     return text;
 }
 
+// A cap as -mm gives it ("2048 MB") when it is whole MiB, else formatBytes.
+std::string formatCap(uint64_t cap) {
+    return cap % (uint64_t(1) << 20) == 0 ? std::to_string(cap >> 20) + " MB" : formatBytes(cap);
+}
+
 // Charges a frame's buffers, by category, all or nothing: on refusal the charges made so far are
 // released (the vector's destructor) and MemoryCapError names the need and the cap.
 std::vector<cache::MemoryCharge> chargeFrame(cache::MemoryBudget& budget, const FrameMemory& need,
@@ -1185,7 +1190,7 @@ std::vector<cache::MemoryCharge> chargeFrame(cache::MemoryBudget& budget, const 
         std::optional<cache::MemoryCharge> charge = cache::MemoryCharge::tryCharge(budget, category, bytes);
         if (!charge) {
             const uint64_t cap = budget.capBytes();
-            const std::string capText = cap % (uint64_t(1) << 20) == 0 ? std::to_string(cap >> 20) + " MB" : formatBytes(cap);
+            const std::string capText = formatCap(cap);
             throw MemoryCapError("the " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
                                      " frame needs " + formatBytes(need.totalBytes()) + " of buffers" +
                                      (inUse > 0 ? " (with " + formatBytes(inUse) + " already in use)" : "") +
@@ -1199,7 +1204,7 @@ std::vector<cache::MemoryCharge> chargeFrame(cache::MemoryBudget& budget, const 
     // must fit beside the buffers, or no tile that sees it can render.
     if (budget.availableBytes() < need.largestTessellationBytes) {
         const uint64_t cap = budget.capBytes();
-        const std::string capText = cap % (uint64_t(1) << 20) == 0 ? std::to_string(cap >> 20) + " MB" : formatBytes(cap);
+        const std::string capText = formatCap(cap);
         throw MemoryCapError("the " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " frame needs " +
                                  formatBytes(need.totalBytes()) + " of buffers and " +
                                  formatBytes(need.largestTessellationBytes) + " for its largest shape's triangles" +
@@ -1233,8 +1238,7 @@ Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, con
         });
     } catch (const TileDoesNotFit& e) {
         const uint64_t capBytes = budget.capBytes();
-        const std::string capText =
-            capBytes % (uint64_t(1) << 20) == 0 ? std::to_string(capBytes >> 20) + " MB" : formatBytes(capBytes);
+        const std::string capText = formatCap(capBytes);
         const std::string source = budget.capBytes() == cap.bytes ? cap.source : std::string();
         throw MemoryCapError("the " + std::to_string(e.tile.width()) + "x" + std::to_string(e.tile.height()) +
                                  " tile at (" + std::to_string(e.tile.x0) + ", " + std::to_string(e.tile.y0) +
