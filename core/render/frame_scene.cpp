@@ -13,6 +13,8 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <memory>
@@ -406,6 +408,55 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
     const bool keepMeshes = memoryCapBytes(settings) == 0;
     const auto evaluators = std::make_shared<EvaluatorPool>(g, ev.frame());
     std::vector<std::vector<NodeId>> objectPaths;
+
+    // Why one instance of a shape is not rendered (empty when it is), and its shading groups.
+    auto instanceProblem = [&](const scene::Node& node, const std::vector<NodeId>& path, size_t instance,
+                               std::vector<Membership>& groups) -> std::string {
+        if (ev.getBool(node.id, "intermediateObject", false)) return "intermediate object";
+        if (std::string why = ev.hiddenReason(path); !why.empty()) return why;
+        if (!ev.getBool(node.id, "primaryVisibility", true)) return "primaryVisibility is off";
+        groups.clear();
+        if (auto it = memberships.find(node.id); it != memberships.end())
+            for (const Membership& m : it->second)
+                if (m.member->instance == int(instance)) groups.push_back(m);
+        if (groups.empty()) {
+            return scene::shadingGroupsOf(setup, node.id, int(instance)).empty()
+                       ? "belongs to no shading group"
+                       : "its shading groups are not in the renderPartition";
+        }
+        return {};
+    };
+
+    // Without a cap every shape's geometry stays resident anyway, so the shapes that render are
+    // evaluated up front on all threads (each on its thread's Evaluator); under a cap they are
+    // evaluated one at a time below, so that only one is resident at once.
+    std::vector<ShapeGeometry> early;
+    std::vector<std::vector<std::string>> earlyNotes;
+    std::unordered_map<NodeId, size_t> earlyIndex;
+    if (keepMeshes) {
+        std::vector<std::pair<NodeId, std::string>> wanted;  // shape, its first rendered instance's name
+        scene::DagPathBudget budget;
+        std::vector<Membership> groups;
+        for (const scene::Node& node : g.nodes()) {
+            if (node.type != "mesh" && node.type != "nurbsSurface") continue;
+            const auto paths = g.dagPaths(node.id, &budget);
+            for (size_t instance = 0; instance < paths.size(); ++instance) {
+                if (!instanceProblem(node, paths[instance], instance, groups).empty()) continue;
+                earlyIndex.emplace(node.id, wanted.size());
+                wanted.emplace_back(node.id, g.dagPathName(paths[instance]));
+                break;
+            }
+        }
+        early.resize(wanted.size());
+        earlyNotes.resize(wanted.size());
+        tbb::task_arena arena(settings.numCpusToUse > 0 ? settings.numCpusToUse : tbb::task_arena::automatic);
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), wanted.size(), [&](size_t i) {
+                evaluateShape(evaluators->local(), wanted[i].first, wanted[i].second, early[i], earlyNotes[i]);
+            });
+        });
+    }
+
     scene::DagPathBudget pathBudget;  // one bound for every shape's instance paths together
     for (const scene::Node& node : g.nodes()) {
         if (node.type != "mesh" && node.type != "nurbsSurface") continue;
@@ -422,31 +473,19 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                 scene.notes.push_back(label + ": " + why);
                 ++scene.skippedShapes;
             };
-            if (ev.getBool(node.id, "intermediateObject", false)) {
-                skip("intermediate object");
-                continue;
-            }
-            if (std::string why = ev.hiddenReason(path); !why.empty()) {
-                skip(why);
-                continue;
-            }
-            if (!ev.getBool(node.id, "primaryVisibility", true)) {
-                skip("primaryVisibility is off");
-                continue;
-            }
             std::vector<Membership> groups;
-            if (auto it = memberships.find(node.id); it != memberships.end())
-                for (const Membership& m : it->second)
-                    if (m.member->instance == int(instance)) groups.push_back(m);
-            if (groups.empty()) {
-                skip(scene::shadingGroupsOf(setup, node.id, int(instance)).empty()
-                         ? "belongs to no shading group"
-                         : "its shading groups are not in the renderPartition");
+            if (std::string why = instanceProblem(node, path, instance, groups); !why.empty()) {
+                skip(why);
                 continue;
             }
 
             if (!evaluated) {
-                evaluateShape(ev, node.id, label, shape, scene.notes);
+                if (auto it = earlyIndex.find(node.id); it != earlyIndex.end()) {
+                    shape = std::move(early[it->second]);
+                    for (std::string& note : earlyNotes[it->second]) scene.notes.push_back(std::move(note));
+                } else {
+                    evaluateShape(ev, node.id, label, shape, scene.notes);
+                }
                 evaluated = true;
             }
             if (shape.failed) {

@@ -3,8 +3,10 @@
 // with their world matrix, render stats and geometry handle; the lights in world space with the objects
 // each lights (light linking); the shading groups with their compiled networks. Built once per
 // frame from an evaluated Graph; immutable afterwards.
-// Thread safety: building is single-threaded (it uses one Evaluator); a finished FrameScene is
-// read by every tile thread at once.
+// Thread safety: building reads the Graph through the caller's Evaluator and, without a memory
+// cap, evaluates the shapes that render on settings.numCpusToUse threads, each with its own
+// Evaluator over the same Graph (under a cap, one at a time); a finished FrameScene is read by
+// every tile thread at once.
 // Numbers at the door: world matrices, world bounds, light positions and light values are checked
 // here (kMaxSceneCoordinate, camera.h); what cannot be rendered without overflow is skipped with
 // a note naming the node, so nothing past this point meets NaN, Inf or an overflowing number.

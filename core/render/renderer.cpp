@@ -150,7 +150,8 @@ struct ObjectView {
     // Screen box in raster space (the whole plane when the bounds cross the near plane) and the
     // smallest depth key of the bounds (front-to-back order of a tile's objects).
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    double nearKey = 0;
+    double nearKey = 0, farKey = 0;
+    bool mayOcclude = false;  // some material slot is opaque
     // Screen boxes of the tessellation's clusters, made by the first tile that needs them.
     std::once_flag clustersMade;
     std::vector<glm::dvec4> clusterBoxes;  // (x0, y0, x1, y1)
@@ -238,6 +239,10 @@ struct Worker {
     std::vector<float> contributionNorm;     // per group: sum of filter weights over target pixels
     std::vector<glm::vec3> baseColor;        // per base-region pixel, for the contrast test
     std::vector<uint8_t> adaptive;           // per base-region pixel
+    // occlusion (rasterizeTile): objects waiting behind nearer ones, and per base-region pixel the
+    // depth behind which the fragments rasterized so far hide everything
+    std::vector<uint32_t> waiting;
+    std::vector<float> occludingDepth;
     RenderStats stats;
     // What the buffers above hold beyond the fixed share frameMemory() charges per thread; they
     // grow with the fragments of the busiest tile so far.
@@ -248,7 +253,8 @@ struct Worker {
         uint64_t b = rasterizer.bytes() + resolver.bytes() + cap(pixelGroupStart) + cap(groups) + cap(members) +
                      cap(nearestDepth) + cap(groupSampleStart) + cap(samples) + cap(groupExtraStart) + cap(extraSamples) +
                      cap(shades) + cap(contributions) + cap(contributionNorm) + cap(baseColor) + cap(adaptive) +
-                     cap(tileObjects) + cap(pins) + cap(tessellation) + cap(topology);
+                     cap(tileObjects) + cap(pins) + cap(tessellation) + cap(topology) + cap(waiting) +
+                     cap(occludingDepth);
         b += uint64_t(pending.size()) * (sizeof(shade::ShadingBatch) + sizeof(PendingBatch));
         return b;
     }
@@ -347,17 +353,20 @@ void FrameRenderer::prepareObject(uint32_t index) {
     v.x1 = v.y1 = std::numeric_limits<double>::infinity();
     v.nearKey = -std::numeric_limits<double>::infinity();
     if (-cb.hi.z >= m_camera.nearClipPlane) {
-        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300, z0 = 1e300;
+        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300, z0 = 1e300, z1 = -1e300;
         for (int c = 0; c < 8; ++c) {
             glm::dvec3 p((c & 1) ? cb.hi.x : cb.lo.x, (c & 2) ? cb.hi.y : cb.lo.y, (c & 4) ? cb.hi.z : cb.lo.z);
             glm::dvec2 r = m_camera.rasterFromCamera(p);
             x0 = std::min(x0, r.x), x1 = std::max(x1, r.x), y0 = std::min(y0, r.y), y1 = std::max(y1, r.y);
             z0 = std::min(z0, m_camera.depthKey(p));
+            z1 = std::max(z1, m_camera.depthKey(p));
         }
         if (x1 < m_region.x0 - m_marginRight || x0 > m_region.x1 + m_marginLeft ||
             y1 < m_region.y0 - m_marginBottom || y0 > m_region.y1 + m_marginTop)
             return;
-        v.x0 = x0, v.y0 = y0, v.x1 = x1, v.y1 = y1, v.nearKey = z0;
+        v.x0 = x0, v.y0 = y0, v.x1 = x1, v.y1 = y1, v.nearKey = z0, v.farKey = z1;
+    } else {
+        v.farKey = std::numeric_limits<double>::infinity();
     }
     v.kept = true;
 
@@ -371,6 +380,7 @@ void FrameRenderer::prepareObject(uint32_t index) {
         if (m_scene.usesDefaultLight) v.slotLights[s].push_back(shade::defaultLight(glm::dvec3(0.0, 0.0, -1.0)));
         const auto& network = m_scene.shadingGroups[slot.shadingGroup].network;
         v.slotTransparent[s] = network && network->mayBeTransparent();
+        v.mayOcclude = v.mayOcclude || !v.slotTransparent[s];
     }
 }
 
@@ -528,9 +538,31 @@ void FrameRenderer::addObjectTriangles(uint32_t index, const PixelRect& base, Wo
     }
 }
 
+// The pixels of `base` an object's screen box reaches, for an object listed for the tile.
+PixelRect reachOf(const ObjectView& v, const PixelRect& base) {
+    PixelRect r;
+    r.x0 = v.x0 <= base.x0 ? base.x0 : int(std::floor(v.x0));
+    r.y0 = v.y0 <= base.y0 ? base.y0 : int(std::floor(v.y0));
+    r.x1 = v.x1 >= base.x1 ? base.x1 : std::min(base.x1, int(std::floor(v.x1)) + 1);
+    r.y1 = v.y1 >= base.y1 ? base.y1 : std::min(base.y1, int(std::floor(v.y1)) + 1);
+    return r;
+}
+
+uint64_t overlapArea(const PixelRect& a, const PixelRect& b) {
+    const PixelRect o{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+    return uint64_t(o.width()) * uint64_t(o.height());
+}
+
 // The tile's objects front to back, their tessellations pinned (made on first need, shared by
 // instances), their triangles rasterized into `base`. Throws TileDoesNotFit when a tessellation
 // cannot be made room for in the budget.
+//
+// Occlusion (DESIGN.md step 5a): an object whose box within `base` lies wholly behind the far
+// ends of nearer objects that may be opaque, and whose box they could cover between them, waits
+// until the others are rasterized. Then every pixel it reaches is asked for its occluding depth
+// (PixelResolver::occludingDepth); an object behind it in every one of them adds nothing to the
+// image and is neither tessellated nor rasterized (skippedOccluded). Any other waiting object is
+// rasterized as usual: the skip changes no bit, only the work done.
 void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
     w.tileObjects.clear();
     for (uint32_t i = 0; i < m_views.size(); ++i) {
@@ -543,7 +575,8 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
         return m_views[a].nearKey != m_views[b].nearKey ? m_views[a].nearKey < m_views[b].nearKey : a < b;
     });
     w.rasterizer.reset(base);
-    for (uint32_t i : w.tileObjects) {
+
+    auto rasterize = [&](uint32_t i) {
         const geom::GeometryHandle* handle = m_scene.objects[i].geometry.get();
         std::optional<TessellationCache::Pin> pin = m_tessellations.tryAcquire(
             handle,
@@ -559,6 +592,70 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
         w.pins.push_back(std::move(*pin));
         ++w.stats.objectTileVisits;
         addObjectTriangles(i, base, w);
+    };
+
+    // Nearer objects that may hide the ones behind them: the largest boxes met so far, a bounded
+    // number of them so that the test stays linear in the tile's objects.
+    constexpr size_t kOccluders = 32;
+    struct Occluder {
+        PixelRect reach;
+        uint64_t area;
+        double farKey;
+    };
+    std::array<Occluder, kOccluders> occluders;
+    size_t occluderCount = 0;
+    w.waiting.clear();
+    PixelRect waitingReach{base.x1, base.y1, base.x0, base.y0};
+    for (uint32_t i : w.tileObjects) {
+        const ObjectView& v = m_views[i];
+        const PixelRect reach = reachOf(v, base);
+        if (m_options.skipOccluded && std::isfinite(v.nearKey) && !reach.empty()) {
+            uint64_t covered = 0;
+            for (size_t k = 0; k < occluderCount; ++k)
+                if (occluders[k].farKey < v.nearKey) covered += overlapArea(occluders[k].reach, reach);
+            if (covered >= uint64_t(reach.width()) * uint64_t(reach.height())) {
+                w.waiting.push_back(i);
+                waitingReach = {std::min(waitingReach.x0, reach.x0), std::min(waitingReach.y0, reach.y0),
+                                std::max(waitingReach.x1, reach.x1), std::max(waitingReach.y1, reach.y1)};
+                continue;
+            }
+        }
+        rasterize(i);
+        if (!v.mayOcclude || !std::isfinite(v.farKey) || reach.empty()) continue;
+        const Occluder o{reach, uint64_t(reach.width()) * uint64_t(reach.height()), v.farKey};
+        if (occluderCount < kOccluders) {
+            occluders[occluderCount++] = o;
+            continue;
+        }
+        size_t smallest = 0;
+        for (size_t k = 1; k < kOccluders; ++k)
+            if (occluders[k].area < occluders[smallest].area) smallest = k;
+        if (occluders[smallest].area < o.area) occluders[smallest] = o;
+    }
+
+    if (!w.waiting.empty()) {
+        w.rasterizer.finish();
+        const int bw = base.width();
+        w.occludingDepth.assign(size_t(bw) * size_t(base.height()), std::numeric_limits<float>::infinity());
+        for (int y = waitingReach.y0; y < waitingReach.y1; ++y)
+            for (int x = waitingReach.x0; x < waitingReach.x1; ++x) {
+                std::span<const Fragment> frags = w.rasterizer.fragments(x, y);
+                if (!frags.empty())
+                    w.occludingDepth[size_t(y - base.y0) * bw + (x - base.x0)] = w.resolver.occludingDepth(frags);
+            }
+        for (uint32_t i : w.waiting) {
+            const ObjectView& v = m_views[i];
+            const PixelRect reach = reachOf(v, base);
+            bool hidden = true;
+            for (int y = reach.y0; y < reach.y1 && hidden; ++y)
+                for (int x = reach.x0; x < reach.x1 && hidden; ++x)
+                    hidden = occludedBehind(w.occludingDepth[size_t(y - base.y0) * bw + (x - base.x0)], v.nearKey);
+            if (hidden) {
+                ++w.stats.skippedOccluded;
+                continue;
+            }
+            rasterize(i);
+        }
     }
     w.rasterizer.finish();
 }
@@ -1058,6 +1155,7 @@ Framebuffer FrameRenderer::run() {
         m_stats.trianglesNearClipped += w.stats.trianglesNearClipped;
         m_stats.trianglesOutside += w.stats.trianglesOutside;
         m_stats.objectTileVisits += w.stats.objectTileVisits;
+        m_stats.skippedOccluded += w.stats.skippedOccluded;
         const RasterStats& rs = w.rasterizer.stats();
         m_stats.trianglesRasterized += rs.trianglesRasterized;
         m_stats.fragments += rs.fragments;

@@ -4,6 +4,9 @@
 // with oneTBB, Exact Area Sampling visibility, shading of merged fragments in vectors of samples,
 // adaptive shading by contrast at the Highest level, box or multi-pixel filtering of fragments,
 // and the background.
+// Per tile, objects are taken front to back; one that nearer opaque geometry already rasterized in
+// the tile hides in every pixel it reaches is neither tessellated nor rasterized there
+// (PixelResolver::occludingDepth), which changes no bit of the image.
 // Thread safety: renderFrame() runs its own parallel loop; the FrameScene and camera are read-only.
 // Determinism: the image depends only on the scene, camera and settings — not on the thread
 // count, the tile size or the tile order. Each tile renders an apron of neighbouring pixels so
@@ -81,6 +84,9 @@ struct RenderOptions {
     // When not null, receives the tiles rendered with each one's cost (tile_plan.h tileCost, also
     // for fixed tiles, whose maxTileCost is then +infinity), for --tile-pattern.
     TilePlan* tilePlan = nullptr;
+    // Objects that nearer opaque geometry hides in a whole tile are neither tessellated nor
+    // rasterized there. The image is the same either way; false does all the work (for checks).
+    bool skipOccluded = true;
 };
 
 // The buffers of one render whose size is known before it starts, in bytes, by the category

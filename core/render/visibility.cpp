@@ -24,7 +24,8 @@ uint64_t TileRasterizer::bytes() const {
 
 uint64_t PixelResolver::bytes() const {
     return capacityBytes(m_groups) + capacityBytes(m_members) + capacityBytes(m_parent) + capacityBytes(m_visible) +
-           capacityBytes(m_sorted) + capacityBytes(m_order);
+           capacityBytes(m_sorted) + capacityBytes(m_order) + capacityBytes(m_far) + capacityBytes(m_groupFar) +
+           capacityBytes(m_groupArea);
 }
 
 namespace {
@@ -32,6 +33,9 @@ namespace {
 constexpr double kMinFragmentArea = 1e-12;     // pixels²; smaller clipped areas are dropped
 constexpr double kFullPixelArea = 1.0 - 1e-6;  // a group at least this large covers the pixel
 constexpr float kDepthRelEpsilon = 1e-5f;      // "nearer" for sliver tests, relative to |depth|
+// How far behind an occluding depth a surface must start to be skipped, relative to |depth|:
+// far more than the float rounding of a fragment's depth plane and than kDepthRelEpsilon.
+constexpr double kOcclusionMargin = 1e-3;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Sub-sample centres, pixel-local (exact in binary: odd multiples of 1/16).
@@ -600,17 +604,24 @@ void PixelResolver::resolve(std::span<const Fragment> input) {
     //    what the nearer opaque groups leave, which keeps an edge in front of it exact even when
     //    the sub-samples misjudge the edge's area; any other group scales its exact area by the
     //    visible fraction of its sub-samples.
+    //    An opaque group that covers the whole pixel closes it: a full group behind it gets nothing,
+    //    even where the coverages in front, rounded to float, sum to a hair under 1.
     double opaqueBefore = 0;
+    bool closed = false;
     for (SurfaceGroup& g : m_groups) {
         if (g.mask) {
             if (g.area >= kFullPixelArea && (g.visibleMask != g.mask || opaqueBefore > 0)) {
-                g.coverage = float(std::min(double(g.area), std::max(0.0, 1.0 - opaqueBefore)));
+                const double left = closed ? 0.0 : std::max(0.0, 1.0 - opaqueBefore);
+                g.coverage = float(std::min(double(g.area), left));
             } else {
                 g.coverage = g.area * float(std::popcount(g.visibleMask)) / float(std::popcount(g.mask));
             }
             g.coverage = std::clamp(g.coverage, 0.0f, 1.0f);
         }
-        if (!g.transparent) opaqueBefore += g.coverage;
+        if (!g.transparent) {
+            opaqueBefore += g.coverage;
+            closed = closed || g.area >= kFullPixelArea;
+        }
     }
     if (opaqueBefore > 1.0) {
         const double scale = 1.0 / opaqueBefore;
@@ -625,6 +636,83 @@ void PixelResolver::resolve(std::span<const Fragment> input) {
         if (g.coverage > 0) m_nearestDepth = std::min(m_nearestDepth, g.depth);
     }
     m_opaqueCoverage = float(std::min(opaque, 1.0));
+}
+
+float PixelResolver::occludingDepth(std::span<const Fragment> input) {
+    const uint64_t active = m_pattern.active;
+    m_sorted.clear();
+    for (const Fragment& in : input) {
+        if (in.flags & kFragmentTransparent) continue;
+        Fragment f = in;
+        f.mask &= active;
+        f.area = (f.area > 0.0f && f.area <= FLT_MAX) ? f.area : 0.0f;
+        m_sorted.push_back(f);
+    }
+    const size_t n = m_sorted.size();
+    if (n == 0 || active == 0) return kInf;
+    std::sort(m_sorted.begin(), m_sorted.end(), fragmentLess);
+    const std::vector<Fragment>& F = m_sorted;
+
+    // The farthest each fragment's plane reaches over the pixel square (a plane is largest at a
+    // corner), and per sub-sample the nearest such reach among the fragments that hold it: every
+    // depth resolve() reads inside the pixel is at most this.
+    m_far.resize(n);
+    float bitFar[kSubsampleCount];
+    std::fill(std::begin(bitFar), std::end(bitFar), kInf);
+    for (size_t i = 0; i < n; ++i) {
+        const Fragment& f = F[i];
+        const float far = std::max({depthKey(f.depthAt(0.0f, 0.0f)), depthKey(f.depthAt(1.0f, 0.0f)),
+                                    depthKey(f.depthAt(0.0f, 1.0f)), depthKey(f.depthAt(1.0f, 1.0f))});
+        m_far[i] = far;
+        for (uint64_t m = f.mask; m; m &= m - 1) bitFar[lowestBit(m)] = std::min(bitFar[lowestBit(m)], far);
+    }
+    float cover = -kInf;
+    for (uint64_t m = active; m; m &= m - 1) cover = std::max(cover, bitFar[lowestBit(m)]);
+    if (cover == kInf) return kInf;
+
+    // Surface groups among the opaque fragments, joined as resolve() joins them; each is part of
+    // a group resolve() forms, so its area is a lower bound of that group's.
+    m_parent.resize(n);
+    for (size_t i = 0; i < n; ++i) m_parent[i] = uint32_t(i);
+    for (size_t i = 0; i < n; ++i) {
+        const Fragment& f = F[i];
+        if (i > 0 && F[i - 1].object == f.object && F[i - 1].triangle == f.triangle) {
+            unite(m_parent, uint32_t(i - 1), uint32_t(i));
+        }
+        if (f.object >= m_topology.size()) continue;
+        const ObjectTopology& topo = m_topology[f.object];
+        if (!topo.neighbors || f.triangle >= topo.triangleCount) continue;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t nb = topo.neighbors[3 * size_t(f.triangle) + k];
+            if (nb & kHardEdgeBit) continue;
+            const auto [lo, hi] = findTriangle(F, f.object, nb);
+            for (size_t j = lo; j < hi; ++j) unite(m_parent, uint32_t(i), uint32_t(j));
+        }
+    }
+    m_groupArea.assign(n, 0.0);
+    m_groupFar.assign(n, -kInf);
+    m_visible.assign(n, 0);  // the group's mask, at its root
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t r = findRoot(m_parent, uint32_t(i));
+        m_groupArea[r] += F[i].area;
+        m_groupFar[r] = std::max(m_groupFar[r], m_far[i]);
+        m_visible[r] |= F[i].mask;
+    }
+    // A group that closes the pixel in resolve(); the margin absorbs the float rounding of an
+    // area summed in another order.
+    float closing = kInf;
+    for (size_t r = 0; r < n; ++r) {
+        if (m_parent[r] != r || !m_visible[r]) continue;
+        if (double(float(m_groupArea[r])) >= kFullPixelArea + 1e-7) closing = std::min(closing, m_groupFar[r]);
+    }
+    if (closing == kInf) return kInf;
+    return std::max(cover, closing);
+}
+
+bool occludedBehind(float occludingDepth, double nearestDepthKey) {
+    if (!std::isfinite(occludingDepth) || !std::isfinite(nearestDepthKey)) return false;
+    const double seal = occludingDepth;
+    return nearestDepthKey > seal + kOcclusionMargin * std::max(std::fabs(seal), std::fabs(nearestDepthKey));
 }
 
 const Fragment& PixelResolver::memberAt(const SurfaceGroup& group, int bit) const {

@@ -9,7 +9,8 @@
 // Coverage rule (what makes an isolated edge exact): a surface's coverage in a pixel is its exact
 // clipped area scaled by the fraction of its mask sub-samples that stay visible. A surface that
 // covers the whole pixel and is partly hidden gets exactly what the nearer opaque surfaces leave
-// (1 − their coverage), so an edge in front of a full surface is exact as well. Opaque coverage
+// (1 − their coverage), so an edge in front of a full surface is exact as well. An opaque surface
+// that covers the whole pixel closes it: a full surface behind it gets nothing. Opaque coverage
 // never sums past 1.
 #pragma once
 
@@ -122,6 +123,16 @@ public:
     // Sum of the opaque surfaces' coverage (0..1).
     float opaqueCoverage() const { return m_opaqueCoverage; }
 
+    // The depth key behind which these fragments hide everything (DESIGN.md step 5a): a surface of
+    // another object whose every point lies behind it (occludedBehind) gets no coverage, no
+    // sub-sample and no shading sample, and changes no other surface's coverage or contribution,
+    // whatever else the pixel receives — so leaving it out changes no bit of the image. It takes
+    // an opaque surface that covers the whole pixel (soft-edge neighbours of one object with the
+    // pixel's area between them) and opaque fragments over every active sub-sample; the depth is
+    // the farthest any of them reaches over the pixel square. +inf when the pixel is not sealed.
+    // Uses the resolver's scratch buffers: groups() and members() are invalid afterwards.
+    float occludingDepth(std::span<const Fragment> fragments);
+
     // Composites shaded surfaces front to back, sub-sample by sub-sample (transparent surfaces
     // let what lies behind them through, per channel). `shades` is parallel to groups(); `out`
     // receives one contribution per group.
@@ -144,7 +155,14 @@ private:
     std::vector<uint64_t> m_visible;
     std::vector<Fragment> m_sorted;   // the input in canonical (object, triangle, …) order
     std::vector<uint32_t> m_order;    // m_sorted indices, grouped by surface group
+    std::vector<float> m_far, m_groupFar;
+    std::vector<double> m_groupArea;
 };
+
+// Whether a surface whose depth keys are all at least `nearestDepthKey` lies behind a pixel's
+// PixelResolver::occludingDepth, with a margin of 1e-3 of the depth that float depth planes
+// cannot cross. False for an infinite or NaN depth (an object reaching the near plane).
+bool occludedBehind(float occludingDepth, double nearestDepthKey);
 
 // The member of `group` (members indexed by group.memberBegin/memberCount) whose mask holds
 // sub-sample `bit`, the nearest there when several do; the largest member when none does.

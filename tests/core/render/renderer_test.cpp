@@ -49,7 +49,7 @@ struct Scene {
     }
 
     // Renders the first renderable camera (or the camera named).
-    Rendered render(const render::RenderSettings& s, const std::string& cameraName = {}) const {
+    Rendered render(const render::RenderSettings& s, const std::string& cameraName = {}, bool skipOccluded = true) const {
         scene::Evaluator ev(graph, frame);
         render::FrameScene fs = render::buildFrameScene(ev, setup, s);
         const scene::CameraInfo* cam = nullptr;
@@ -63,6 +63,7 @@ struct Scene {
         Rendered r;
         render::RenderOptions options;
         options.adaptiveMask = &r.adaptive;
+        options.skipOccluded = skipOccluded;
         r.image = render::renderFrame(fs, camera, s, r.stats, options);
         return r;
     }
@@ -259,6 +260,89 @@ TEST(Renderer, SameImageWithOneOrTwoThreadsAndAnyTileSize) {
         EXPECT_EQ(0, std::memcmp(a.image.rgba.data(), c.image.rgba.data(), a.image.rgba.size() * sizeof(float)));
         EXPECT_GT(a.stats.shadingSamplesAdaptive, 0u);
         EXPECT_EQ(a.stats.shadingSamplesAdaptive > 0, b.stats.shadingSamplesAdaptive > 0);
+    }
+}
+
+// ---------------------------------------------------------------- occlusion
+
+// A dense wall over the left of the view with a transparent card and a ball in front of it, and
+// a row of balls behind it: some wholly hidden, one half behind its edge, two in the open.
+std::string wallScene() {
+    std::string text = header() + R"(createNode transform -n "persp";
+	setAttr ".t" -type "double3" 0 0 10;
+createNode camera -n "perspShape" -p "persp";
+	setAttr ".rnd" yes;
+createNode transform -n "sun";
+	setAttr ".r" -type "double3" -40 30 0;
+createNode directionalLight -n "sunShape" -p "sun";
+createNode lambert -n "grey";
+createNode shadingEngine -n "greySG";
+connectAttr "greySG.pa" ":renderPartition.st" -na;
+connectAttr "grey.oc" "greySG.ss";
+createNode lambert -n "glass";
+	setAttr ".it" -type "float3" 0.5 0.5 0.5;
+createNode shadingEngine -n "glassSG";
+connectAttr "glassSG.pa" ":renderPartition.st" -na;
+connectAttr "glass.oc" "glassSG.ss";
+createNode transform -n "wall";
+	setAttr ".t" -type "double3" -1 0 0;
+createNode mesh -n "wallShape" -p "wall";
+createNode polyPlane -n "wallCreator";
+	setAttr ".ax" -type "double3" 0 0 1;
+	setAttr ".w" 6;
+	setAttr ".h" 8;
+	setAttr ".sw" 40;
+	setAttr ".sh" 40;
+connectAttr "wallCreator.out" "wallShape.i";
+connectAttr "wallShape.iog" "greySG.dsm" -na;
+createNode transform -n "card";
+	setAttr ".t" -type "double3" -2 1 2;
+createNode mesh -n "cardShape" -p "card";
+createNode polyPlane -n "cardCreator";
+	setAttr ".ax" -type "double3" 0 0 1;
+	setAttr ".w" 2;
+	setAttr ".h" 2;
+connectAttr "cardCreator.out" "cardShape.i";
+connectAttr "cardShape.iog" "glassSG.dsm" -na;
+)";
+    auto ball = [&](const std::string& id, double x, double y, double z) {
+        text += "createNode transform -n \"ball" + id + "\";\n\tsetAttr \".t\" -type \"double3\" " + std::to_string(x) +
+                " " + std::to_string(y) + " " + std::to_string(z) + ";\n";
+        text += "createNode mesh -n \"ball" + id + "Shape\" -p \"ball" + id + "\";\n";
+        text += "createNode polySphere -n \"ballCreator" + id + "\";\n\tsetAttr \".r\" 0.5;\n";
+        text += "connectAttr \"ballCreator" + id + ".out\" \"ball" + id + "Shape.i\";\n";
+        text += "connectAttr \"ball" + id + "Shape.iog\" \"greySG.dsm\" -na;\n";
+    };
+    ball("Front", -2.5, -1.5, 1.5);
+    const double xs[] = {-3.5, -2.5, -1.5, -0.5, 0.5, 2.2, 3.5, 4.5};
+    int n = 0;
+    for (double x : xs)
+        for (double y : {-1.2, 1.2}) ball(std::to_string(n++), x, y, -2.0);
+    return text + resolution(160, 120);
+}
+
+TEST(Renderer, ObjectsHiddenInAWholeTileAreNeverTessellatedAndTheImageKeepsEveryBit) {
+    Scene sc(wallScene(), "wall.ma");
+    for (int tile : {0, 16, 23}) {
+        render::RenderSettings s = sc.settings;
+        s.edgeAntiAliasing = 0;
+        s.useMultiPixelFilter = tile == 16;
+        s.pixelFilterType = 2;
+        s.maxShadingSamples = 8;
+        s.numCpusToUse = tile == 0 ? 1 : 2;
+        if (tile) s.tileWidth = s.tileHeight = tile;
+        const Rendered all = sc.render(s, {}, false);
+        const Rendered skipped = sc.render(s, {}, true);
+        ASSERT_EQ(all.image.rgba.size(), skipped.image.rgba.size());
+        EXPECT_EQ(0, std::memcmp(all.image.rgba.data(), skipped.image.rgba.data(), all.image.rgba.size() * sizeof(float)))
+            << "tile " << tile;
+        EXPECT_EQ(all.stats.skippedOccluded, 0u);
+        EXPECT_GT(skipped.stats.skippedOccluded, 0u) << "tile " << tile;
+        // The wall, the card, the front ball, the half-hidden ball and the four in the open are
+        // made; the ten balls wholly behind the wall never are.
+        EXPECT_EQ(all.stats.tessellationsMade, 19u);
+        EXPECT_EQ(skipped.stats.tessellationsMade, 9u) << "tile " << tile;
+        EXPECT_EQ(skipped.stats.objectTileVisits + skipped.stats.skippedOccluded, all.stats.objectTileVisits);
     }
 }
 

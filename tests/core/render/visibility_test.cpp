@@ -1160,5 +1160,267 @@ TEST(PixelResolver, CompositeFillsOnlyWhatItHasShadesFor) {
     EXPECT_EQ(out[1].color[0], 0.0f);
 }
 
+
+// ------------------------------------------------------------------ occlusion (step 5a)
+
+// A dense soft mesh of `n` × `n` quads (two triangles each) over [x0, x1] × [y0, y1] on the plane
+// z0 + dzdx·x + dzdy·y, soft edges everywhere unless `hard` (then every edge is hard).
+Fan makeGrid(int n, double x0, double y0, double x1, double y1, uint32_t object, double z0, double dzdx, double dzdy,
+             bool hard = false) {
+    Fan grid;
+    auto id = [&](int i, int j, int k) { return uint32_t(2 * (j * n + i) + k); };
+    const uint32_t flag = hard ? kHardEdgeBit : 0u;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const Pt a{x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / n};
+            const Pt b{x0 + (x1 - x0) * (i + 1) / n, a.y};
+            const Pt c{b.x, y0 + (y1 - y0) * (j + 1) / n};
+            const Pt d{a.x, c.y};
+            ScreenTriangle t0 = makeTriangle(a, b, c, object, id(i, j, 0));
+            ScreenTriangle t1 = makeTriangle(a, c, d, object, id(i, j, 1));
+            setPlaneDepth(t0, z0, dzdx, dzdy);
+            setPlaneDepth(t1, z0, dzdx, dzdy);
+            grid.triangles.push_back(t0);
+            grid.triangles.push_back(t1);
+            // t0 = (a, b, c): edge 0 a–b (quad below), edge 1 b–c (quad right), edge 2 c–a (t1)
+            grid.neighbors.push_back(j > 0 ? id(i, j - 1, 1) | flag : kNoTriangle);
+            grid.neighbors.push_back(i + 1 < n ? id(i + 1, j, 1) | flag : kNoTriangle);
+            grid.neighbors.push_back(id(i, j, 1) | flag);
+            // t1 = (a, c, d): edge 0 a–c (t0), edge 1 c–d (quad above), edge 2 d–a (quad left)
+            grid.neighbors.push_back(id(i, j, 0) | flag);
+            grid.neighbors.push_back(j + 1 < n ? id(i, j + 1, 0) | flag : kNoTriangle);
+            grid.neighbors.push_back(i > 0 ? id(i - 1, j, 0) | flag : kNoTriangle);
+        }
+    return grid;
+}
+
+double planeFar(double z0, double dzdx, double dzdy, int x, int y) {
+    double far = -1e300;
+    for (int c = 0; c < 4; ++c) far = std::max(far, z0 + dzdx * (x + (c & 1)) + dzdy * (y + (c >> 1)));
+    return far;
+}
+
+TEST(PixelResolver, OccludingDepthNeedsAWholeOpaqueSurfaceOverThePixel) {
+    constexpr int kSize = 6;
+    const PixelRect region{0, 0, kSize, kSize};
+    const double z0 = 5.0, dzdx = 0.01, dzdy = 0.02;
+    for (int eaa = 0; eaa <= 3; ++eaa) {
+        const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(eaa);
+        // A soft mesh with 3 × 3 triangles' worth of edges in every pixel seals every pixel, at the
+        // farthest its plane reaches over the pixel.
+        Fan wall = makeGrid(17, -0.3, -0.4, kSize + 0.2, kSize + 0.1, 0, z0, dzdx, dzdy);
+        const ObjectTopology topo[1] = {{wall.neighbors.data(), uint32_t(wall.neighbors.size() / 3)}};
+        TileRasterizer rasterizer(p);
+        PixelResolver resolver(p, topo);
+        rasterizer.reset(region);
+        for (const ScreenTriangle& t : wall.triangles) rasterizer.add(t);
+        rasterizer.finish();
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x) {
+                ASSERT_GT(rasterizer.fragments(x, y).size(), 4u);
+                const float seal = resolver.occludingDepth(rasterizer.fragments(x, y));
+                EXPECT_NEAR(seal, planeFar(z0, dzdx, dzdy, x, y), 1e-5) << "eaa " << eaa << " pixel " << x << "," << y;
+                EXPECT_TRUE(occludedBehind(seal, planeFar(z0, dzdx, dzdy, x, y) * 1.002));
+                EXPECT_FALSE(occludedBehind(seal, planeFar(z0, dzdx, dzdy, x, y) * 1.0005));
+            }
+
+        // The same mesh with hard edges seals only the pixels one triangle covers; transparent, or
+        // covering part of the pixel, it seals none.
+        Fan hard = makeGrid(2, -0.3, -0.4, kSize + 0.2, kSize + 0.1, 0, z0, dzdx, dzdy, true);
+        const ObjectTopology hardTopo[1] = {{hard.neighbors.data(), uint32_t(hard.neighbors.size() / 3)}};
+        PixelResolver hardResolver(p, hardTopo);
+        rasterizer.reset(region);
+        for (const ScreenTriangle& t : hard.triangles) rasterizer.add(t);
+        rasterizer.finish();
+        int sealed = 0, open = 0;
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x) {
+                const auto frags = rasterizer.fragments(x, y);
+                const bool single = frags.size() == 1 && frags[0].area >= 1.0f - 1e-6f;
+                const float seal = hardResolver.occludingDepth(frags);
+                EXPECT_EQ(std::isfinite(seal), single) << "eaa " << eaa << " pixel " << x << "," << y;
+                (single ? sealed : open)++;
+            }
+        EXPECT_GT(sealed, 4);
+        EXPECT_GT(open, 4);
+
+        rasterizer.reset(region);
+        for (ScreenTriangle t : wall.triangles) {
+            t.transparent = true;
+            rasterizer.add(t);
+        }
+        rasterizer.finish();
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x) EXPECT_EQ(resolver.occludingDepth(rasterizer.fragments(x, y)), INFINITY);
+
+        Fan part = makeGrid(9, -0.3, -0.4, 3.5, kSize + 0.1, 0, z0, dzdx, dzdy);
+        const ObjectTopology partTopo[1] = {{part.neighbors.data(), uint32_t(part.neighbors.size() / 3)}};
+        PixelResolver partResolver(p, partTopo);
+        rasterizer.reset(region);
+        for (const ScreenTriangle& t : part.triangles) rasterizer.add(t);
+        rasterizer.finish();
+        for (int y = 0; y < kSize; ++y) {
+            EXPECT_TRUE(std::isfinite(partResolver.occludingDepth(rasterizer.fragments(2, y))));
+            EXPECT_EQ(partResolver.occludingDepth(rasterizer.fragments(3, y)), INFINITY);
+            EXPECT_EQ(partResolver.occludingDepth(rasterizer.fragments(4, y)), INFINITY);
+        }
+    }
+    EXPECT_FALSE(occludedBehind(INFINITY, 10.0));
+    EXPECT_FALSE(occludedBehind(1.0f, -INFINITY));
+    EXPECT_FALSE(occludedBehind(1.0f, std::nan("")));
+}
+
+// The promise the renderer's skip rests on: whatever lies behind a pixel's occluding depth —
+// opaque or transparent, full surfaces, edges or slivers — changes no bit of any other surface or
+// of the composite, and gets nothing itself.
+TEST(PixelResolver, SurfacesBehindTheOccludingDepthChangeNoBit) {
+    constexpr int kSize = 6;
+    const PixelRect region{0, 0, kSize, kSize};
+    int sealedPixels = 0, hiddenFragments = 0, partialFront = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+        const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(trial % 4);
+        std::mt19937 rng(900 + trial);
+        std::uniform_real_distribution<double> uni(0.0, 1.0);
+        std::vector<std::vector<uint32_t>> neighborStore;
+        std::vector<ScreenTriangle> front, behind;
+        // Objects 0–2: random fans in front (soft, transparent, hard-edged); object 3: the wall,
+        // a soft or hard mesh, dense or coarse, sometimes not over the whole region.
+        for (uint32_t object = 0; object < 3; ++object) {
+            const int kind = int(uni(rng) * 3);
+            Fan fan = makeFan(randomPolygon(rng, {uni(rng) * kSize, uni(rng) * kSize}, kind), object,
+                              1 + object + uni(rng), 0.2 * (uni(rng) - 0.5), 0.2 * (uni(rng) - 0.5));
+            if (object == 2)
+                for (uint32_t& nb : fan.neighbors)
+                    if (nb != kNoTriangle) nb |= kHardEdgeBit;
+            for (ScreenTriangle t : fan.triangles) {
+                t.transparent = object == 1;
+                front.push_back(t);
+            }
+            neighborStore.push_back(fan.neighbors);
+        }
+        const double wz = 6 + uni(rng), wdx = 0.05 * (uni(rng) - 0.5), wdy = 0.05 * (uni(rng) - 0.5);
+        const double wx1 = uni(rng) < 0.3 ? kSize * (0.4 + 0.5 * uni(rng)) : kSize + 0.5;
+        Fan wall = makeGrid(1 + int(uni(rng) * 20), -0.5, -0.5, wx1, kSize + 0.5, 3, wz, wdx, wdy, uni(rng) < 0.25);
+        for (const ScreenTriangle& t : wall.triangles) front.push_back(t);
+        neighborStore.push_back(wall.neighbors);
+        // Objects 4–5 behind the wall's farthest point: a soft mesh and random fans and slivers,
+        // opaque and transparent.
+        double wallFar = -1e300;
+        for (const ScreenTriangle& t : wall.triangles)
+            for (int k = 0; k < 3; ++k) wallFar = std::max(wallFar, t.z[k]);
+        const double hz = wallFar * 1.003 + 0.01;
+        Fan back = makeGrid(1 + int(uni(rng) * 12), -0.5 + uni(rng), -0.5 + uni(rng), kSize * uni(rng) + 1, kSize + 0.5, 4,
+                            hz + 0.1, 0.01, 0.0);
+        for (const ScreenTriangle& t : back.triangles) behind.push_back(t);
+        neighborStore.push_back(back.neighbors);
+        std::vector<uint32_t> none;
+        for (int k = 0; k < 6; ++k) {
+            ScreenTriangle t;
+            const std::vector<Pt> poly = randomPolygon(rng, {uni(rng) * kSize, uni(rng) * kSize}, k % 3);
+            Fan fan = makeFan(poly, 5, hz + 0.2 + uni(rng), 0.0, 0.01);
+            for (ScreenTriangle f : fan.triangles) {
+                f.triangle += uint32_t(100 * k);
+                f.transparent = k % 2 == 1;
+                behind.push_back(f);
+            }
+        }
+        neighborStore.push_back(none);
+        std::vector<ObjectTopology> topo;
+        for (const auto& n : neighborStore) topo.push_back({n.empty() ? nullptr : n.data(), uint32_t(n.size() / 3)});
+
+        TileRasterizer without(p), with(p);
+        without.reset(region);
+        with.reset(region);
+        for (const ScreenTriangle& t : front) {
+            without.add(t);
+            with.add(t);
+        }
+        for (const ScreenTriangle& t : behind) with.add(t);
+        without.finish();
+        with.finish();
+        PixelResolver a(p, topo), b(p, topo);
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x) {
+                const auto fa = without.fragments(x, y), fb = with.fragments(x, y);
+                const float seal = a.occludingDepth(fa);
+                if (!occludedBehind(seal, hz)) continue;
+                ++sealedPixels;
+                hiddenFragments += int(fb.size() - fa.size());
+                a.resolve(fa);
+                b.resolve(fb);
+                std::vector<SurfaceShade> sa(a.groups().size()), sb(b.groups().size());
+                auto shadeOf = [](const SurfaceGroup& g, SurfaceShade& s) {
+                    for (int c = 0; c < 3; ++c) {
+                        s.color[c] = 0.2f + 0.1f * float(g.object) + 0.05f * float(c);
+                        s.transparency[c] = 0.3f + 0.1f * float(c);
+                    }
+                };
+                for (size_t i = 0; i < sa.size(); ++i) shadeOf(a.groups()[i], sa[i]);
+                for (size_t i = 0; i < sb.size(); ++i) shadeOf(b.groups()[i], sb[i]);
+                std::vector<SurfaceContribution> ca(sa.size()), cb(sb.size());
+                a.composite(sa, ca);
+                b.composite(sb, cb);
+                EXPECT_TRUE(sameBits(a.nearestDepth(), b.nearestDepth()));
+                EXPECT_TRUE(sameBits(a.opaqueCoverage(), b.opaqueCoverage()));
+                size_t k = 0;
+                for (size_t i = 0; i < sb.size(); ++i) {
+                    const SurfaceGroup& g = b.groups()[i];
+                    if (g.object >= 4) {
+                        EXPECT_EQ(g.coverage, 0.0f) << "trial " << trial << " pixel " << x << "," << y;
+                        EXPECT_EQ(g.visibleMask, 0u);
+                        EXPECT_EQ(cb[i].alpha, 0.0f);
+                        for (int c = 0; c < 3; ++c) EXPECT_EQ(cb[i].color[c], 0.0f);
+                        continue;
+                    }
+                    ASSERT_LT(k, sa.size());
+                    const SurfaceGroup& h = a.groups()[k];
+                    EXPECT_EQ(g.object, h.object);
+                    EXPECT_EQ(g.mask, h.mask);
+                    EXPECT_EQ(g.visibleMask, h.visibleMask);
+                    EXPECT_TRUE(sameBits(g.coverage, h.coverage)) << "trial " << trial << " pixel " << x << "," << y;
+                    EXPECT_TRUE(sameBits(cb[i].alpha, ca[k].alpha));
+                    for (int c = 0; c < 3; ++c) EXPECT_TRUE(sameBits(cb[i].color[c], ca[k].color[c]));
+                    if (g.object < 3 && g.coverage > 0 && g.coverage < 1) ++partialFront;
+                    ++k;
+                }
+                EXPECT_EQ(k, sa.size());
+            }
+    }
+    EXPECT_GT(sealedPixels, 500);
+    EXPECT_GT(hiddenFragments, 1000);
+    EXPECT_GT(partialFront, 50);
+}
+
+// An opaque surface over the whole pixel closes it: a full surface behind it gets nothing, even
+// where the coverages in front of it, rounded to float, sum to a hair under one.
+TEST(PixelResolver, AWholeOpaqueSurfaceClosesThePixel) {
+    const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(0);
+    const uint32_t fullNeighbors[6] = {kNoTriangle, kNoTriangle, 1, 0, kNoTriangle, kNoTriangle};
+    const ObjectTopology topo[3] = {{nullptr, 0}, {fullNeighbors, 2}, {fullNeighbors, 2}};
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    TileRasterizer rasterizer(p);
+    PixelResolver resolver(p, topo);
+    int edges = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        rasterizer.reset({0, 0, 1, 1});
+        ScreenTriangle e = makeTriangle({uni(rng) * 1.2 - 0.1, -1}, {2, -1}, {uni(rng) * 1.2 - 0.1, 2}, 0, 0, 1.0);
+        rasterizer.add(e);
+        for (uint32_t o = 1; o <= 2; ++o) {
+            rasterizer.add(makeTriangle({-1, -1}, {2, -1}, {2, 2}, o, 0, 2.0 * o));
+            rasterizer.add(makeTriangle({-1, -1}, {2, 2}, {-1, 2}, o, 1, 2.0 * o));
+        }
+        rasterizer.finish();
+        resolver.resolve(rasterizer.fragments(0, 0));
+        for (const SurfaceGroup& g : resolver.groups()) {
+            if (g.object == 0 && g.coverage > 0 && g.coverage < 1) ++edges;
+            if (g.object == 2) {
+                EXPECT_EQ(g.coverage, 0.0f) << "trial " << trial;
+            }
+        }
+    }
+    EXPECT_GT(edges, 200);
+}
+
 }  // namespace
 }  // namespace pushpin::render
