@@ -179,10 +179,11 @@ MeshValidation Mesh::validate() const {
 
     // Degenerate faces: a loop with fewer than three distinct points, or (nearly) zero area
     // relative to the face's longest edge.
+    std::vector<uint32_t> distinct;
     for (size_t f = 0; f < faceCount(); ++f) {
         bool degenerate = false;
         for (uint32_t l = faceLoopStarts[f]; l < faceLoopStarts[f + 1] && !degenerate; ++l) {
-            std::vector<uint32_t> distinct(loop(l).begin(), loop(l).end());
+            distinct.assign(loop(l).begin(), loop(l).end());
             std::sort(distinct.begin(), distinct.end());
             distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
             if (distinct.size() < 3) degenerate = true;
@@ -211,9 +212,10 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
         for (uint32_t i = faceVertexBegin(f); i < faceVertexEnd(f); ++i) cornerFace[i] = static_cast<uint32_t>(f);
     }
 
-    std::unordered_map<uint64_t, bool> smoothByEdge;
-    smoothByEdge.reserve(edges.size());
-    for (const MeshEdge& e : edges) smoothByEdge[edgeKey(e.v0, e.v1)] = e.smooth;
+    // Edge of each key; of edges listed twice, the last decides.
+    constexpr uint32_t kNoEdge = ~0u;
+    EdgeIndex edgeOf(edges.size());
+    for (size_t e = edges.size(); e-- > 0;) edgeOf.emplace(edgeKey(edges[e].v0, edges[e].v1), uint32_t(e));
 
     // Union-find over face-vertices: corners at the same point of two faces sharing a soft edge
     // belong to one smoothing group.
@@ -237,8 +239,8 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
     for (size_t i = 0; i < halfEdges.size();) {
         size_t j = i + 1;
         while (j < halfEdges.size() && halfEdges[j].key == halfEdges[i].key) ++j;
-        const auto it = smoothByEdge.find(halfEdges[i].key);
-        const bool smooth = it == smoothByEdge.end() || it->second;
+        const uint32_t e = edgeOf.find(halfEdges[i].key, kNoEdge);
+        const bool smooth = e == kNoEdge || edges[e].smooth;
         if (smooth) {
             const HalfEdge& first = halfEdges[i];
             for (size_t k = i + 1; k < j; ++k) {
@@ -276,26 +278,33 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
 
 std::vector<MeshEdge> deriveEdges(const Mesh& mesh, bool smooth) {
     std::vector<MeshEdge> out;
-    std::unordered_map<uint64_t, uint32_t> seen;
-    seen.reserve(mesh.faceVertices.size());
+    EdgeIndex seen(mesh.faceVertices.size() / 2 + 1);
     for (size_t l = 0; l < mesh.loopCount(); ++l) {
         const std::span<const uint32_t> lp = mesh.loop(l);
         for (size_t i = 0; i < lp.size(); ++i) {
             const uint32_t a = lp[i], b = lp[(i + 1) % lp.size()];
             if (a == b) continue;
-            if (seen.emplace(edgeKey(a, b), static_cast<uint32_t>(out.size())).second)
-                out.push_back({a, b, smooth});
+            bool inserted = false;
+            seen.emplace(edgeKey(a, b), static_cast<uint32_t>(out.size()), &inserted);
+            if (inserted) out.push_back({a, b, smooth});
         }
     }
     return out;
 }
 
 void completeEdges(Mesh& mesh, bool smoothForNew) {
-    std::unordered_map<uint64_t, uint32_t> seen;
-    for (size_t e = 0; e < mesh.edges.size(); ++e) seen.emplace(edgeKey(mesh.edges[e].v0, mesh.edges[e].v1), e);
-    for (const MeshEdge& e : deriveEdges(mesh, smoothForNew))
-        if (seen.emplace(edgeKey(e.v0, e.v1), static_cast<uint32_t>(mesh.edges.size())).second)
-            mesh.edges.push_back(e);
+    EdgeIndex seen(mesh.faceVertices.size() / 2 + mesh.edges.size() + 1);
+    for (size_t e = 0; e < mesh.edges.size(); ++e) seen.emplace(edgeKey(mesh.edges[e].v0, mesh.edges[e].v1), uint32_t(e));
+    for (size_t l = 0; l < mesh.loopCount(); ++l) {
+        const std::span<const uint32_t> lp = mesh.loop(l);
+        for (size_t i = 0; i < lp.size(); ++i) {
+            const uint32_t a = lp[i], b = lp[(i + 1) % lp.size()];
+            if (a == b) continue;
+            bool inserted = false;
+            seen.emplace(edgeKey(a, b), static_cast<uint32_t>(mesh.edges.size()), &inserted);
+            if (inserted) mesh.edges.push_back({a, b, smoothForNew});
+        }
+    }
 }
 
 int64_t findEdge(const Mesh& mesh, uint32_t a, uint32_t b) {

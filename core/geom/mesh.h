@@ -124,6 +124,65 @@ inline uint64_t edgeKey(uint32_t a, uint32_t b) {
     return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
 
+// Edge key → index, for the edge lists of meshes with millions of edges: open addressing with
+// linear probing in flat arrays (a node-based hash map spends most of its time allocating).
+// Keys are edgeKey()s of two distinct points, so never ~0. Not thread-safe.
+class EdgeIndex {
+public:
+    explicit EdgeIndex(size_t expected = 0) { rehash(expected); }
+    // The index stored for `key`, inserting `index` first when there is none; `inserted` tells.
+    uint32_t emplace(uint64_t key, uint32_t index, bool* inserted = nullptr) {
+        if (2 * (m_count + 1) > m_keys.size()) rehash(2 * m_count + 2);
+        size_t i = slot(key);
+        while (m_keys[i] != kEmpty) {
+            if (m_keys[i] == key) {
+                if (inserted) *inserted = false;
+                return m_values[i];
+            }
+            i = (i + 1) & m_mask;
+        }
+        m_keys[i] = key;
+        m_values[i] = index;
+        ++m_count;
+        if (inserted) *inserted = true;
+        return index;
+    }
+    // The index stored for `key`, or `missing`.
+    uint32_t find(uint64_t key, uint32_t missing) const {
+        for (size_t i = slot(key); m_keys[i] != kEmpty; i = (i + 1) & m_mask)
+            if (m_keys[i] == key) return m_values[i];
+        return missing;
+    }
+
+private:
+    static constexpr uint64_t kEmpty = ~uint64_t(0);
+    size_t slot(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> m_shift) & m_mask; }
+    void rehash(size_t expected) {
+        size_t capacity = 16;
+        int bits = 4;
+        while (capacity < 2 * expected) capacity <<= 1, ++bits;
+        std::vector<uint64_t> keys(capacity, kEmpty);
+        std::vector<uint32_t> values(capacity);
+        const size_t mask = capacity - 1;
+        const int shift = 64 - bits;
+        for (size_t i = 0; i < m_keys.size(); ++i) {
+            if (m_keys[i] == kEmpty) continue;
+            size_t j = size_t((m_keys[i] * 0x9E3779B97F4A7C15ull) >> shift) & mask;
+            while (keys[j] != kEmpty) j = (j + 1) & mask;
+            keys[j] = m_keys[i];
+            values[j] = m_values[i];
+        }
+        m_keys.swap(keys);
+        m_values.swap(values);
+        m_mask = mask;
+        m_shift = shift;
+    }
+    std::vector<uint64_t> m_keys;
+    std::vector<uint32_t> m_values;
+    size_t m_mask = 0, m_count = 0;
+    int m_shift = 60;
+};
+
 // The start of a mesh rebuilt from `source`'s face-vertices: `points`, `source`'s UV and colour
 // values, set names and current UV set, and no faces, edges or normals yet.
 Mesh facelessCopy(const Mesh& source, std::vector<glm::vec3> points);

@@ -6,6 +6,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <random>
+#include <unordered_map>
 #include <limits>
 
 namespace pushpin::geom {
@@ -34,6 +36,27 @@ Mesh squareWithHole() {
     const uint32_t hole[] = {4, 7, 6, 5};  // clockwise seen from +Z
     m.addHole(hole);
     return m;
+}
+
+// The flat edge table answers as a map does: the first index stored for a key stays, through
+// every growth, for keys spread anywhere in the 64-bit range.
+TEST(EdgeIndex, KeepsTheFirstIndexOfEveryKeyThroughGrowth) {
+    std::mt19937_64 rng(5);
+    std::unordered_map<uint64_t, uint32_t> want;
+    EdgeIndex index;  // starts small: grows many times
+    for (uint32_t i = 0; i < 200000; ++i) {
+        const uint32_t a = uint32_t(rng() % 5000), b = uint32_t(rng() % (i % 7 == 0 ? 0xffffffffu : 5000));
+        if (a == b) continue;
+        const uint64_t key = edgeKey(a, b);
+        bool inserted = false;
+        const uint32_t got = index.emplace(key, i, &inserted);
+        const auto [it, fresh] = want.emplace(key, i);
+        ASSERT_EQ(inserted, fresh);
+        ASSERT_EQ(got, it->second);
+    }
+    for (const auto& [key, value] : want) ASSERT_EQ(index.find(key, ~0u), value);
+    EXPECT_EQ(index.find(edgeKey(6000, 7000), 99u), 99u);
+    EXPECT_GT(want.size(), 100000u);
 }
 
 TEST(Mesh, EmptyMeshIsValidAndHasEmptyBounds) {
