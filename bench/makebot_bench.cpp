@@ -5,11 +5,10 @@
 //
 // usage: makebot_bench [--quick] [--runs N] [--filter box|lanczos3] [--dir DIR]
 //                      [--makebot PATH] [--maketx PATH]
+#include "bench/bench_support.h"
+
 #include <OpenImageIO/imageio.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
-#include <fcntl.h>
 
 #include <Imath/half.h>
 
@@ -74,35 +73,6 @@ bool generate(const fs::path& path, uint32_t size, int channels, OIIO::TypeDesc 
     return out->close();
 }
 
-struct RunResult {
-    double seconds = 0;
-    long peakKiB = 0;
-    int status = -1;
-};
-
-RunResult runChild(const std::vector<std::string>& args) {
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    const auto t0 = std::chrono::steady_clock::now();
-    const pid_t pid = fork();
-    if (pid == 0) {
-        const int devnull = ::open("/dev/null", O_WRONLY);
-        dup2(devnull, 1);
-        dup2(devnull, 2);
-        execv(argv[0], argv.data());
-        _exit(127);
-    }
-    RunResult r;
-    int status = 0;
-    struct rusage ru {};
-    wait4(pid, &status, 0, &ru);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.peakKiB = ru.ru_maxrss;
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
 struct Summary {
     double minS = 0, medS = 0, maxS = 0;
     long peakKiB = 0;
@@ -115,9 +85,9 @@ Summary measure(const std::vector<std::string>& args, const fs::path& output, in
     Summary s;
     for (int i = 0; i < runs; ++i) {
         fs::remove(output);
-        const RunResult r = runChild(args);
-        if (r.status != 0) {
-            std::fprintf(stderr, "failed (%d): %s\n", r.status, args[0].c_str());
+        const pushpin::bench::ChildRun r = pushpin::bench::runChild(args);
+        if (r.exitCode != 0) {
+            std::fprintf(stderr, "failed (%d): %s\n", r.exitCode, args[0].c_str());
             s.ok = false;
             return s;
         }

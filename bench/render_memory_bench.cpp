@@ -25,10 +25,9 @@
 // usage: render_memory_bench [--scale F] [--runs N] [--dir DIR] [--pushpin PATH] [--baseline PATH]
 //                            [--threads 1,2] [--caps 256,1024] [--blender PATH | --no-blender]
 //                            [--scenes mixed,occluder]
+#include "bench/bench_support.h"
+
 #include <OpenImageIO/imageio.h>
-#include <fcntl.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -51,6 +50,8 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace OIIO = OIIO_NAMESPACE;
+using pushpin::bench::ChildRun;
+using pushpin::bench::runChild;
 
 // Bumped whenever the generated text changes, so that files of an older generator are rewritten.
 constexpr int kGeneratorVersion = 3;
@@ -813,39 +814,7 @@ struct Stats {
 };
 
 // ------------------------------------------------------------------------------ child processes
-struct RunResult {
-    double seconds = 0;
-    long peakKiB = 0;
-    int exitCode = -1;  // -1: killed by a signal
-};
-
-// Runs args[0] with stdout and stderr sent to the given files; wall time from fork to reap.
-RunResult runChild(const std::vector<std::string>& args, const fs::path& stdoutPath, const fs::path& stderrPath) {
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    const auto t0 = std::chrono::steady_clock::now();
-    const pid_t pid = fork();
-    if (pid == 0) {
-        const int out = ::open(stdoutPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int devnull = ::open("/dev/null", O_RDONLY);
-        if (out >= 0) dup2(out, 1);
-        if (err >= 0) dup2(err, 2);
-        if (devnull >= 0) dup2(devnull, 0);
-        execv(argv[0], argv.data());
-        _exit(127);
-    }
-    RunResult r;
-    if (pid < 0) return r;
-    int status = 0;
-    struct rusage ru {};
-    wait4(pid, &status, 0, &ru);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.peakKiB = ru.ru_maxrss;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+// The children run through runChild (bench/bench_support.h), their stdout and stderr in dir/logs.
 
 // The first line of a file that starts with `prefix`, or its first line.
 std::string firstLine(const fs::path& path, std::string_view prefix) {
@@ -954,7 +923,7 @@ struct Bench {
                                              "-im", tag, "-of", "exr", "--stats", statsPath.string(), "--quiet"};
             if (capMB) args.insert(args.begin() + 1, {"-mm", std::to_string(capMB)});
             args.push_back(ma.string());
-            const RunResult r = runChild(args, dir / "logs" / (tag + ".out"), dir / "logs" / (tag + ".err"));
+            const ChildRun r = runChild(args, dir / "logs" / (tag + ".out"), dir / "logs" / (tag + ".err"));
             m.exitCode = r.exitCode;
             m.seconds.push_back(r.seconds);
             m.peakKiB = std::max(m.peakKiB, r.peakKiB);
@@ -981,9 +950,9 @@ struct Bench {
         }
         for (int run = 0; run < runs; ++run) {
             const fs::path out = dir / "logs" / (tag + ".out");
-            const RunResult r = runChild({binary.string(), "-b", "--factory-startup", "-noaudio", "--python-exit-code",
-                                          "1", "--python", script.string()},
-                                         out, dir / "logs" / (tag + ".err"));
+            const ChildRun r = runChild({binary.string(), "-b", "--factory-startup", "-noaudio", "--python-exit-code",
+                                         "1", "--python", script.string()},
+                                        out, dir / "logs" / (tag + ".err"));
             m.exitCode = r.exitCode;
             m.seconds.push_back(r.seconds);
             m.peakKiB = std::max(m.peakKiB, r.peakKiB);

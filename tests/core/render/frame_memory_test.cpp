@@ -11,6 +11,7 @@
 #include "core/render/render_settings.h"
 #include "core/scene/ma_reader.h"
 #include "core/scene/render_setup.h"
+#include "tests/support/ma_preamble.h"
 
 #include <gtest/gtest.h>
 
@@ -29,23 +30,13 @@ namespace {
 using cache::MemoryBudget;
 using cache::MemoryCategory;
 
-constexpr const char* kScene = R"(//Maya ASCII 2018 scene
-requires maya "2018";
-currentUnit -l centimeter -a degree -t film;
-createNode transform -n "persp";
-	setAttr ".t" -type "double3" 0 0 10;
-createNode camera -n "perspShape" -p "persp";
-	setAttr ".rnd" yes;
-createNode transform -n "box";
+// A grey polyCube turned towards the camera and lit by a point light.
+const std::string kScene = test::maPreamble(10) + R"(createNode transform -n "box";
 	setAttr ".r" -type "double3" 30 40 0;
 createNode mesh -n "boxShape" -p "box";
 createNode polyCube -n "boxCreator";
 connectAttr "boxCreator.out" "boxShape.i";
-createNode lambert -n "grey";
-createNode shadingEngine -n "greySG";
-connectAttr "greySG.pa" ":renderPartition.st" -na;
-connectAttr "grey.oc" "greySG.ss";
-connectAttr "boxShape.iog" "greySG.dsm" -na;
+)" + test::greyShadingGroup() + R"(connectAttr "boxShape.iog" "greySG.dsm" -na;
 createNode transform -n "bulb";
 	setAttr ".t" -type "double3" 3 4 5;
 createNode pointLight -n "bulbShape" -p "bulb";

@@ -4,6 +4,7 @@
 #include "core/render/image_output.h"
 
 #include "cache/error.h"
+#include "tests/support/image_read.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -41,34 +42,10 @@ struct TempDir {
     }
 };
 
-struct ReadBack {
-    int width = 0, height = 0, channels = 0;
-    std::vector<std::string> names;
-    OIIO::TypeDesc format;
-    std::vector<float> pixels;
-};
-
-ReadBack readImage(const fs::path& path) {
-    ReadBack r;
-    // Raw stored values: no premultiplication by the reader (writeImage stores colour as given).
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(path.string(), &config);
-    if (!in) {
-        ADD_FAILURE() << "cannot open " << path << ": " << OIIO::geterror();
-        return r;
-    }
-    const OIIO::ImageSpec& spec = in->spec();
-    r.width = spec.width;
-    r.height = spec.height;
-    r.channels = spec.nchannels;
-    r.names = spec.channelnames;
-    r.format = spec.format;
-    r.pixels.resize(static_cast<size_t>(r.width) * r.height * r.channels);
-    EXPECT_TRUE(in->read_image(0, 0, 0, r.channels, OIIO::TypeDesc::FLOAT, r.pixels.data())) << in->geterror();
-    in->close();
-    return r;
-}
+// Images read back with their raw stored values, not premultiplied by the reader: writeImage stores
+// colour as given.
+using ReadBack = test::ImageReadBack<float>;
+using test::readImage;
 
 // A small image with distinct values in every channel, row 0 at the top.
 Framebuffer testFrame(int w, int h, bool depth = false) {

@@ -11,6 +11,7 @@
 #include "core/render/render_settings.h"
 #include "core/scene/ma_reader.h"
 #include "core/scene/render_setup.h"
+#include "tests/support/ma_preamble.h"
 
 #include <gtest/gtest.h>
 
@@ -29,21 +30,10 @@ using cache::MemoryCategory;
 // `subdivisions` steps around and up; the last shape also has a second instance behind the
 // others. Seen by a perspective camera, lit by a directional light.
 std::string sphereGrid(int columns, int rows, int subdivisions, double radius, double spacing) {
-    std::string text = R"(//Maya ASCII 2018 scene
-requires maya "2018";
-currentUnit -l centimeter -a degree -t film;
-createNode transform -n "persp";
-	setAttr ".t" -type "double3" 0 0 7;
-createNode camera -n "perspShape" -p "persp";
-	setAttr ".rnd" yes;
-createNode transform -n "sun";
+    std::string text = test::maPreamble(7) + R"(createNode transform -n "sun";
 	setAttr ".r" -type "double3" -40 30 0;
 createNode directionalLight -n "sunShape" -p "sun";
-createNode lambert -n "grey";
-createNode shadingEngine -n "greySG";
-connectAttr "greySG.pa" ":renderPartition.st" -na;
-connectAttr "grey.oc" "greySG.ss";
-)";
+)" + test::greyShadingGroup();
     int n = 0;
     for (int r = 0; r < rows; ++r)
         for (int c = 0; c < columns; ++c, ++n) {

@@ -5,8 +5,8 @@
 #include "core/render/tile_plan.h"
 
 #include "cache/error.h"
+#include "tests/support/image_read.h"
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -528,17 +528,13 @@ TEST(TilePlanPattern, WritesAReadablePngOfTheRightSize) {
     TempDir dir;
     const fs::path path = dir.path / "tiles.png";
     writeTilePattern(handPlan(), 20, 18, path);
-    auto in = OIIO::ImageInput::open(path.string());
-    ASSERT_TRUE(in) << OIIO::geterror();
-    EXPECT_EQ(in->format_name(), std::string("png"));
-    const OIIO::ImageSpec& spec = in->spec();
-    EXPECT_EQ(spec.width, 20);
-    EXPECT_EQ(spec.height, 18);
-    ASSERT_EQ(spec.nchannels, 3);
-    std::vector<uint8_t> pixels(size_t(20) * 18 * 3);
-    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data()));
-    in->close();
-    EXPECT_EQ(pixels, tilePatternImage(handPlan(), 20, 18));
+    const test::ImageReadBack<uint8_t> r = test::readImage<uint8_t>(path);
+    ASSERT_TRUE(r.ok);
+    EXPECT_EQ(r.formatName, "png");
+    EXPECT_EQ(r.width, 20);
+    EXPECT_EQ(r.height, 18);
+    ASSERT_EQ(r.channels, 3);
+    EXPECT_EQ(r.pixels, tilePatternImage(handPlan(), 20, 18));
     EXPECT_EQ(dir.files(), std::vector<std::string>{"tiles.png"});
 }
 
