@@ -59,10 +59,17 @@ void GeometryHandle::measureMesh(const Mesh& mesh) {
     // Hard edges and uv seams split some points into several vertices.
     m_vertices = usedPoints + usedPoints / 8;
     m_sourceBytes = meshBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t);
-    // Shading normals per face-vertex, the smooth-edge table (a flat hash, 48 B an edge at most), the
-    // adjacency sort (an edge use per corner) with the point of each corner, the vertex chains.
-    m_workBytes = uint64_t(mesh.faceVertexCount()) * sizeof(glm::vec3) + uint64_t(mesh.edges.size()) * 48 +
-                  m_triangles * 3 * (16 + sizeof(uint32_t)) + uint64_t(mesh.points.size()) * 2 * sizeof(uint32_t);
+    // The peak of triangulateValidMesh's working memory, phase by phase (bytes per face-vertex fv,
+    // face F, point P, edge E, triangle T): smooth shading normals (corner faces, face areas, the
+    // edge smoothness table, the corner sets, half-edges, then group sums — at most one group per
+    // corner — and the normals); the corner loop (normals, corner points, vertex chains); the
+    // adjacency (corner points, edge uses by point, the smoothness table again).
+    const uint64_t fv = mesh.faceVertexCount(), faces = mesh.faceCount(), points = mesh.points.size(),
+                   edges = mesh.edges.size(), t = m_triangles;
+    const uint64_t normalsPhase = m_smooth ? 48 * fv + 24 * faces + 4 * points + 5 * edges : 0;
+    const uint64_t cornerPhase = (m_smooth ? 12 * fv : 0) + 24 * t + 4 * points;
+    const uint64_t adjacencyPhase = 24 * t + 4 * points + (m_smooth ? 4 * points + 5 * edges : 0);
+    m_workBytes = std::max({normalsPhase, cornerPhase, adjacencyPhase});
 }
 
 std::shared_ptr<GeometryHandle> GeometryHandle::fromMesh(std::shared_ptr<const Mesh> mesh,

@@ -203,6 +203,32 @@ MeshValidation Mesh::validate() const {
     return v;
 }
 
+EdgeSmoothness::EdgeSmoothness(const Mesh& mesh) : m_start(mesh.points.size() + 1, 0) {
+    const size_t points = mesh.points.size();
+    auto inRange = [&](const MeshEdge& e) { return e.v0 < points && e.v1 < points && e.v0 != e.v1; };
+    for (const MeshEdge& e : mesh.edges)
+        if (inRange(e)) ++m_start[std::min(e.v0, e.v1) + size_t(1)];
+    for (size_t p = 0; p < points; ++p) m_start[p + 1] += m_start[p];
+    m_upper.resize(m_start[points]);
+    m_smooth.resize(m_start[points]);
+    for (const MeshEdge& e : mesh.edges) {
+        if (!inRange(e)) continue;
+        const uint32_t at = m_start[std::min(e.v0, e.v1)]++;
+        m_upper[at] = std::max(e.v0, e.v1);
+        m_smooth[at] = e.smooth ? 1 : 0;
+    }
+    for (size_t p = points; p > 0; --p) m_start[p] = m_start[p - 1];
+    m_start[0] = 0;
+}
+
+EdgeSmoothness::Kind EdgeSmoothness::find(uint32_t a, uint32_t b) const {
+    const uint32_t lo = std::min(a, b), hi = std::max(a, b);
+    if (size_t(lo) + 1 >= m_start.size()) return Kind::Unlisted;
+    for (uint32_t i = m_start[lo + 1]; i-- > m_start[lo];)
+        if (m_upper[i] == hi) return m_smooth[i] ? Kind::Smooth : Kind::Hard;
+    return Kind::Unlisted;
+}
+
 std::vector<glm::vec3> Mesh::shadingNormals() const {
     const size_t fvCount = faceVertices.size();
     std::vector<uint32_t> cornerFace(fvCount);
@@ -212,10 +238,7 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
         for (uint32_t i = faceVertexBegin(f); i < faceVertexEnd(f); ++i) cornerFace[i] = static_cast<uint32_t>(f);
     }
 
-    // Edge of each key; of edges listed twice, the last decides.
-    constexpr uint32_t kNoEdge = ~0u;
-    EdgeIndex edgeOf(edges.size());
-    for (size_t e = edges.size(); e-- > 0;) edgeOf.emplace(edgeKey(edges[e].v0, edges[e].v1), uint32_t(e));
+    const EdgeSmoothness smoothness(*this);
 
     // Union-find over face-vertices: corners at the same point of two faces sharing a soft edge
     // belong to one smoothing group.
@@ -239,8 +262,8 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
     for (size_t i = 0; i < halfEdges.size();) {
         size_t j = i + 1;
         while (j < halfEdges.size() && halfEdges[j].key == halfEdges[i].key) ++j;
-        const uint32_t e = edgeOf.find(halfEdges[i].key, kNoEdge);
-        const bool smooth = e == kNoEdge || edges[e].smooth;
+        const bool smooth = smoothness.find(uint32_t(halfEdges[i].key >> 32), uint32_t(halfEdges[i].key)) !=
+                            EdgeSmoothness::Kind::Hard;
         if (smooth) {
             const HalfEdge& first = halfEdges[i];
             for (size_t k = i + 1; k < j; ++k) {
@@ -254,8 +277,21 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
         i = j;
     }
 
-    std::vector<glm::dvec3> groupSum(fvCount, glm::dvec3(0.0));
-    for (uint32_t c = 0; c < fvCount; ++c) groupSum[groups.find(c)] += faceArea[cornerFace[c]];
+    halfEdges = {};  // what follows does not need the half-edges
+    // Area-weighted sums per smoothing group, numbered by first corner (one sum per group, not
+    // per corner); each sum adds its corners' faces in corner order.
+    std::vector<uint32_t> groupOf(fvCount);
+    std::vector<glm::dvec3> groupSum;
+    for (uint32_t c = 0; c < fvCount; ++c) {
+        const uint32_t root = groups.find(c);
+        if (root == c) {
+            groupOf[c] = uint32_t(groupSum.size());
+            groupSum.emplace_back(0.0);
+        } else {
+            groupOf[c] = groupOf[root];
+        }
+        groupSum[groupOf[c]] += faceArea[cornerFace[c]];
+    }
     std::vector<glm::vec3> out(fvCount);
     for (uint32_t c = 0; c < fvCount; ++c) {
         if (!normals.empty()) {
@@ -265,7 +301,7 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
                 continue;
             }
         }
-        glm::dvec3 s = groupSum[groups.find(c)];
+        glm::dvec3 s = groupSum[groupOf[c]];
         double len = glm::length(s);
         if (!(len > 0.0)) {
             s = faceArea[cornerFace[c]];

@@ -124,6 +124,22 @@ inline uint64_t edgeKey(uint32_t a, uint32_t b) {
     return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
 
+// Whether the mesh lists the edge between two points as smooth or hard, for meshes with millions
+// of edges: the listed edges filed under their lower point (4 bytes a point and 5 an edge, where
+// a hash map takes about 40 an edge). Of an edge listed twice, the last entry decides; edges with
+// a point out of range are left out. Immutable once built; thread-safe to read.
+class EdgeSmoothness {
+public:
+    explicit EdgeSmoothness(const Mesh& mesh);
+    enum class Kind : uint8_t { Unlisted, Smooth, Hard };
+    Kind find(uint32_t a, uint32_t b) const;
+
+private:
+    std::vector<uint32_t> m_start;  // lower point → first entry (+1 end)
+    std::vector<uint32_t> m_upper;  // entries by lower point, in edge order
+    std::vector<uint8_t> m_smooth;
+};
+
 // Edge key → index, for the edge lists of meshes with millions of edges: open addressing with
 // linear probing in flat arrays (a node-based hash map spends most of its time allocating).
 // Keys are edgeKey()s of two distinct points, so never ~0. Not thread-safe.

@@ -9,7 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <numeric>
-#include <unordered_map>
+#include <optional>
 
 namespace pushpin::geom {
 
@@ -22,39 +22,68 @@ uint64_t capacityBytes(const std::vector<T>& v) {
 
 // Fills t.neighbors from the identity of the point each corner sits on (`cornerPoint`, 3 per
 // triangle): two triangles whose edges join the same two points are neighbours, flagged with
-// kHardNeighborBit when `hard(t0, t1, p0, p1)` says so; edges used by one triangle or by more
-// than two get kNoNeighbor.
+// kHardNeighborBit when `hard(t0, t1, p0, p1)` says so (p0 < p1); edges used by one triangle or
+// by more than two get kNoNeighbor.
+// Each edge use (slot 3·t + k) is filed under its lower point by a counting sort, in slot order;
+// a point's uses are few, so the uses of one edge are found in its own short list (4 bytes a use,
+// not a sort of 16-byte records over the whole mesh).
 template <class HardFn>
 void buildNeighbors(Tessellation& t, const std::vector<uint32_t>& cornerPoint, HardFn&& hard) {
     const size_t triangles = t.triangleCount();
     t.neighbors.assign(3 * triangles, kNoNeighbor);
-    struct EdgeUse {
-        uint64_t key;
-        uint32_t slot;  // 3·t + k
+    auto ends = [&](uint32_t slot) {
+        const uint32_t a = cornerPoint[slot], b = cornerPoint[slot - slot % 3 + (slot % 3 + 1) % 3];
+        return std::pair<uint32_t, uint32_t>(std::min(a, b), std::max(a, b));
     };
-    std::vector<EdgeUse> uses;
-    uses.reserve(3 * triangles);
-    for (size_t i = 0; i < triangles; ++i)
-        for (uint32_t k = 0; k < 3; ++k) {
-            const uint32_t a = cornerPoint[3 * i + k], b = cornerPoint[3 * i + (k + 1) % 3];
-            if (a != b) uses.push_back({edgeKey(a, b), uint32_t(3 * i + k)});
-        }
-    std::sort(uses.begin(), uses.end(),
-              [](const EdgeUse& x, const EdgeUse& y) { return x.key != y.key ? x.key < y.key : x.slot < y.slot; });
-    for (size_t i = 0; i < uses.size();) {
-        size_t j = i + 1;
-        while (j < uses.size() && uses[j].key == uses[i].key) ++j;
-        if (j - i == 2) {
-            const uint32_t s0 = uses[i].slot, s1 = uses[i + 1].slot;
-            const uint32_t t0 = s0 / 3, t1 = s1 / 3;
-            if (t0 != t1) {
-                const bool isHard = hard(t0, t1, uint32_t(uses[i].key >> 32), uint32_t(uses[i].key & 0xffffffffu));
-                const uint32_t bit = isHard ? kHardNeighborBit : 0u;
-                t.neighbors[s0] = t1 | bit;
-                t.neighbors[s1] = t0 | bit;
+    uint32_t points = 0;
+    for (size_t c = 0; c < 3 * triangles; ++c) points = std::max(points, cornerPoint[c] + 1);
+    std::vector<uint32_t> start(size_t(points) + 1, 0);
+    for (uint32_t slot = 0; slot < 3 * triangles; ++slot) {
+        const auto [lo, hi] = ends(slot);
+        if (lo != hi) ++start[size_t(lo) + 1];
+    }
+    for (size_t p = 0; p < points; ++p) start[p + 1] += start[p];
+    std::vector<uint32_t> uses(start[points]);
+    for (uint32_t slot = 0; slot < 3 * triangles; ++slot) {
+        const auto [lo, hi] = ends(slot);
+        if (lo != hi) uses[start[lo]++] = slot;
+    }
+    for (size_t p = points; p > 0; --p) start[p] = start[p - 1];
+    start[0] = 0;
+
+    std::vector<std::pair<uint32_t, uint32_t>> sorted;  // (upper point, slot) of a busy point
+    auto pair = [&](uint32_t lo, uint32_t hi, uint32_t s0, uint32_t s1) {
+        const uint32_t t0 = s0 / 3, t1 = s1 / 3;
+        if (t0 == t1) return;
+        const uint32_t bit = hard(t0, t1, lo, hi) ? kHardNeighborBit : 0u;
+        t.neighbors[s0] = t1 | bit;
+        t.neighbors[s1] = t0 | bit;
+    };
+    for (uint32_t p = 0; p < points; ++p) {
+        const uint32_t begin = start[p], end = start[p + 1];
+        if (end - begin <= 32) {
+            for (uint32_t i = begin; i < end; ++i) {
+                const uint32_t hi = ends(uses[i]).second;
+                uint32_t count = 0, second = 0;
+                bool first = true;
+                for (uint32_t j = begin; j < end; ++j) {
+                    if (ends(uses[j]).second != hi) continue;
+                    if (j < i) first = false;
+                    if (++count == 2) second = j;
+                }
+                if (first && count == 2) pair(p, hi, uses[i], uses[second]);
             }
+            continue;
         }
-        i = j;
+        sorted.clear();
+        for (uint32_t i = begin; i < end; ++i) sorted.emplace_back(ends(uses[i]).second, uses[i]);
+        std::sort(sorted.begin(), sorted.end());
+        for (size_t i = 0; i < sorted.size();) {
+            size_t j = i + 1;
+            while (j < sorted.size() && sorted[j].first == sorted[i].first) ++j;
+            if (j - i == 2) pair(p, sorted[i].first, sorted[i].second, sorted[i + 1].second);
+            i = j;
+        }
     }
 }
 
@@ -219,15 +248,16 @@ Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>&
     out.uvs.shrink_to_fit();
     computeBounds(out);
 
-    std::unordered_map<uint64_t, bool> smoothByEdge;
-    smoothByEdge.reserve(mesh.edges.size());
-    for (const MeshEdge& e : mesh.edges) smoothByEdge[edgeKey(e.v0, e.v1)] = e.smooth;
+    shading = {};  // the adjacency below needs none of the per-corner or per-point tables
+    firstVertex = {};
+    nextVertex = {};
+    std::optional<EdgeSmoothness> smoothness;
+    if (smoothShading) smoothness.emplace(mesh);
     buildNeighbors(out, cornerPoint, [&](uint32_t t0, uint32_t t1, uint32_t a, uint32_t b) {
         if (out.face[t0] == out.face[t1]) return false;  // a diagonal inside one face
         if (out.material[t0] != out.material[t1]) return true;
         if (!smoothShading) return true;
-        const auto it = smoothByEdge.find(edgeKey(a, b));
-        return it != smoothByEdge.end() && !it->second;
+        return smoothness->find(a, b) == EdgeSmoothness::Kind::Hard;
     });
     return out;
 }

@@ -21,6 +21,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <functional>
 #include <atomic>
 #include <deque>
 #include <mutex>
@@ -1237,21 +1238,26 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
         m.perThreadBytes = perThread;
     }
 
+    // Kept sources once each; and as a tile thread tessellates one shape at a time and a shape is
+    // tessellated by one thread at a time, room for the `threads` largest transients together:
+    // a shape's mesh evaluated again (when not kept) and its tessellation's working memory.
     std::unordered_set<const void*> sources;
-    uint64_t largestEvaluated = 0, largestWork = 0;
+    std::unordered_set<const geom::GeometryHandle*> handles;
+    std::vector<uint64_t> transients;
     for (const RenderObject& o : scene.objects) {
         const geom::GeometryHandle& h = *o.geometry;
-        largestWork = std::max(largestWork, h.tessellationWorkBytesEstimate());
-        if (!h.keepsSource())
-            largestEvaluated = std::max(largestEvaluated, h.sourceBytes());
-        else if (sources.insert(h.sourceId()).second)
-            m.sourceBytes += h.sourceBytes();
+        if (handles.insert(&h).second)
+            transients.push_back((h.keepsSource() ? 0 : h.sourceBytes()) + h.tessellationWorkBytesEstimate());
+        if (h.keepsSource() && sources.insert(h.sourceId()).second) m.sourceBytes += h.sourceBytes();
         // The object's view and its entries in every thread's tile tables.
         m.geometryBytes += sizeof(ObjectView) + o.materials.size() * sizeof(std::vector<shade::Light>) +
                            uint64_t(std::max(1, threads)) * (sizeof(const geom::Tessellation*) + sizeof(ObjectTopology));
         m.largestTessellationBytes = std::max(m.largestTessellationBytes, o.geometry->tessellationBytesEstimate());
     }
-    m.sourceBytes += uint64_t(std::max(1, threads)) * (largestEvaluated + largestWork);
+    const size_t concurrent = std::min(transients.size(), size_t(std::max(1, threads)));
+    std::partial_sort(transients.begin(), transients.begin() + std::ptrdiff_t(concurrent), transients.end(),
+                      std::greater<>());
+    for (size_t i = 0; i < concurrent; ++i) m.sourceBytes += transients[i];
     return m;
 }
 

@@ -103,9 +103,9 @@ struct FrameMemory {
     // tessellation: each object's view (matrices, lights per material slot) and its entries in
     // every thread's tile tables.
     uint64_t geometryBytes = 0;
-    // geometry: the sources tessellations are made from — every kept mesh and surface once, and
-    // for meshes evaluated on demand, room for the largest one on every thread at once — and
-    // room on every thread for the largest tessellation's working memory.
+    // geometry: the sources tessellations are made from — every kept mesh and surface once — and
+    // room for as many shapes as there are threads being tessellated at once: the largest
+    // shapes' meshes evaluated again (when not kept) with their tessellations' working memory.
     uint64_t sourceBytes = 0;
     uint64_t totalBytes() const { return framebufferBytes + tileBytes + geometryBytes + sourceBytes; }
     // Not charged up front: the estimated bytes of the largest shape's tessellation, which must

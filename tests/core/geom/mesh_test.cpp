@@ -59,6 +59,22 @@ TEST(EdgeIndex, KeepsTheFirstIndexOfEveryKeyThroughGrowth) {
     EXPECT_GT(want.size(), 100000u);
 }
 
+TEST(EdgeSmoothness, FindsListedEdgesEitherWayRoundAndTheLastEntryDecides) {
+    Mesh m;
+    m.points.resize(6);
+    m.edges = {{0, 1, true}, {2, 1, false}, {3, 4, true}, {4, 3, false}, {5, 9, false}, {2, 2, false}};
+    const EdgeSmoothness s(m);
+    using Kind = EdgeSmoothness::Kind;
+    EXPECT_EQ(s.find(0, 1), Kind::Smooth);
+    EXPECT_EQ(s.find(1, 0), Kind::Smooth);
+    EXPECT_EQ(s.find(1, 2), Kind::Hard);
+    EXPECT_EQ(s.find(3, 4), Kind::Hard);  // listed twice: the last entry
+    EXPECT_EQ(s.find(0, 2), Kind::Unlisted);
+    EXPECT_EQ(s.find(5, 9), Kind::Unlisted);  // a point out of range is left out
+    EXPECT_EQ(s.find(2, 2), Kind::Unlisted);
+    EXPECT_EQ(s.find(70, 80), Kind::Unlisted);
+}
+
 TEST(Mesh, EmptyMeshIsValidAndHasEmptyBounds) {
     Mesh m;
     EXPECT_TRUE(m.empty());

@@ -106,11 +106,12 @@ TEST(FrameMemory, CountsTheFramebufferAndTheWritersCopyPerPixel) {
     EXPECT_TRUE(f.frameScene.objects[0].geometry->keepsSource());
     const geom::GeometryHandle& h = *f.frameScene.objects[0].geometry;
     EXPECT_EQ(one.sourceBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
-    EXPECT_EQ(four.sourceBytes, h.sourceBytes() + 4 * h.tessellationWorkBytesEstimate());
+    // One shape is tessellated by one thread at a time, however many there are.
+    EXPECT_EQ(four.sourceBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
     EXPECT_EQ(one.totalBytes(), one.framebufferBytes + one.tileBytes + one.geometryBytes + one.sourceBytes);
 }
 
-TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandWithRoomForOnePerThread) {
+TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandWithRoomForTheShapesTessellatedAtOnce) {
     Frame f(64, 48);
     f.settings.maximumMemoryBytes = uint64_t(512) << 20;
     f.frameScene = buildFrameScene(f.ev, f.setup, f.settings);
@@ -120,7 +121,7 @@ TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandWithRoomForOnePerThread) {
     EXPECT_GT(h.sourceBytes(), 0u);
     const RenderCamera cam = f.camera();
     EXPECT_EQ(frameMemory(f.frameScene, cam, f.settings, {}, 3).sourceBytes,
-              3 * (h.sourceBytes() + h.tessellationWorkBytesEstimate()));
+              h.sourceBytes() + h.tessellationWorkBytesEstimate());
     // Evaluated again, the mesh tessellates exactly as the kept one does.
     RenderSettings free = f.settings;
     free.maximumMemoryBytes = 0;
@@ -133,6 +134,44 @@ TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandWithRoomForOnePerThread) {
     const Framebuffer capped = renderFrame(f.frameScene, cam, f.settings, s1);
     const Framebuffer whole = renderFrame(kept, cam, free, s2);
     EXPECT_EQ(std::memcmp(capped.rgba.data(), whole.rgba.data(), whole.rgba.size() * sizeof(float)), 0);
+}
+
+// With several shapes, room for the `threads` largest evaluated meshes and working sets together,
+// each counted once however many instances share it.
+TEST(FrameMemory, RoomForAsManyShapesAsThreadsTessellateAtOnce) {
+    std::string text = test::maPreamble(10) + test::greyShadingGroup();
+    for (int i = 0; i < 3; ++i) {
+        const std::string n = std::to_string(i), steps = std::to_string(2 + 6 * i);
+        text += "createNode transform -n \"box" + n + "\";\n\tsetAttr \".t\" -type \"double3\" " + std::to_string(i - 1) +
+                " 0 0;\ncreateNode mesh -n \"box" + n + "Shape\" -p \"box" + n + "\";\ncreateNode polyCube -n \"box" + n +
+                "Creator\";\n\tsetAttr \".sw\" " + steps + ";\n\tsetAttr \".sh\" " + steps + ";\n\tsetAttr \".sd\" " +
+                steps + ";\nconnectAttr \"box" + n + "Creator.out\" \"box" + n + "Shape.i\";\nconnectAttr \"box" + n +
+                "Shape.iog\" \"greySG.dsm\" -na;\n";
+    }
+    text += "createNode transform -n \"again\";\nparent -s -nc -r -add \"|box2|box2Shape\" \"again\";\n"
+            "connectAttr \"box2Shape.iog[1]\" \"greySG.dsm\" -na;\n";
+    scene::Graph graph = scene::MaReader::readString(text, "boxes.ma");
+    const scene::RenderSetup setup = scene::extractRenderSetup(graph);
+    scene::Evaluator ev(graph, 1.0);
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    settings.maximumMemoryBytes = uint64_t(512) << 20;
+    const FrameScene fs = buildFrameScene(ev, setup, settings);
+    ASSERT_EQ(fs.objects.size(), 4u);
+    std::vector<uint64_t> transient;
+    for (size_t i = 0; i < 3; ++i) {
+        const geom::GeometryHandle& h = *fs.objects[i].geometry;
+        EXPECT_FALSE(h.keepsSource());
+        transient.push_back(h.sourceBytes() + h.tessellationWorkBytesEstimate());
+    }
+    EXPECT_EQ(fs.objects[3].geometry, fs.objects[2].geometry);
+    ASSERT_LT(transient[0], transient[1]);
+    ASSERT_LT(transient[1], transient[2]);
+    const RenderCamera cam = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), 64, 48, 64.0 / 48);
+    EXPECT_EQ(frameMemory(fs, cam, settings, {}, 1).sourceBytes, transient[2]);
+    EXPECT_EQ(frameMemory(fs, cam, settings, {}, 2).sourceBytes, transient[2] + transient[1]);
+    EXPECT_EQ(frameMemory(fs, cam, settings, {}, 8).sourceBytes, transient[2] + transient[1] + transient[0]);
 }
 
 TEST(FrameMemory, FrameOverTheCapFailsAtOnceWithNothingAllocated) {
