@@ -183,10 +183,19 @@ MeshValidation Mesh::validate() const {
     for (size_t f = 0; f < faceCount(); ++f) {
         bool degenerate = false;
         for (uint32_t l = faceLoopStarts[f]; l < faceLoopStarts[f + 1] && !degenerate; ++l) {
-            distinct.assign(loop(l).begin(), loop(l).end());
-            std::sort(distinct.begin(), distinct.end());
-            distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-            if (distinct.size() < 3) degenerate = true;
+            const std::span<const uint32_t> lp = loop(l);
+            if (lp.size() < 3) {
+                degenerate = true;
+            } else if (lp.size() <= 4) {  // the common faces: at least three distinct points, pairwise
+                const uint32_t a = lp[0], b = lp[1], c = lp[2], d = lp.size() == 4 ? lp[3] : lp[2];
+                const int distinctCount = 1 + (b != a) + (c != a && c != b) + (d != a && d != b && d != c);
+                degenerate = distinctCount < 3;
+            } else {
+                distinct.assign(lp.begin(), lp.end());
+                std::sort(distinct.begin(), distinct.end());
+                distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+                degenerate = distinct.size() < 3;
+            }
         }
         if (!degenerate) {
             const std::span<const uint32_t> outer = faceOuterLoop(f);
