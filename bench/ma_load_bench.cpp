@@ -2,7 +2,8 @@
 // (default 1000 × 1000 = 1M vertices, ~2M edges, ~1M quads with UVs), written the way Maya writes
 // meshes: `.vt`, `.ed`, `.fc` (polyFaces) and `.uvst[0].uvsp` in chunks of a few hundred elements.
 // Prints file size, min/median/max load time and MB/s over several runs, and the peak RSS growth
-// of the process during the loads next to the bytes the Graph stores.
+// of the process during the loads next to the bytes the Graph stores (and those of the face records
+// per face).
 //
 // With --duplicates=MIB the scene is instead MIB MiB of identical `createNode transform -n "x";`
 // lines, each renamed as Maya would (x, x1, x2, …): the renaming must keep the reader's usual
@@ -188,19 +189,22 @@ double peakRssMiB() {
 }
 
 // Bytes of numbers and face records the Graph keeps for the mesh (its own, necessary copy).
-double graphPayloadMiB(const Graph& g) {
-    double bytes = 0;
+struct Payload {
+    double numberBytes = 0, faceBytes = 0;
+    size_t faces = 0;
+};
+Payload graphPayload(const Graph& g) {
+    Payload p;
     for (const auto& node : g.nodes())
         for (const auto& [key, data] : node.attrs)
             for (const auto& [first, run] : data.multi.runs()) {
-                if (auto* nums = std::get_if<pushpin::scene::Numbers>(&run.value)) bytes += 8.0 * nums->values.size();
-                if (auto* pf = std::get_if<std::shared_ptr<const pushpin::scene::PolyFaces>>(&run.value))
-                    for (const auto& face : (*pf)->faces) {
-                        bytes += sizeof(face) + 4.0 * face.outer.edges.size();
-                        for (const auto& uv : face.outer.uvs) bytes += sizeof(uv) + 4.0 * uv.second.size();
-                    }
+                if (auto* nums = std::get_if<pushpin::scene::Numbers>(&run.value)) p.numberBytes += 8.0 * nums->values.size();
+                if (auto* pf = std::get_if<std::shared_ptr<const pushpin::scene::PolyFaces>>(&run.value)) {
+                    p.faceBytes += double(sizeof(pushpin::scene::PolyFaces) + (*pf)->heapBytes());
+                    p.faces += (*pf)->faceCount();
+                }
             }
-    return bytes / (1024.0 * 1024.0);
+    return p;
 }
 
 }  // namespace
@@ -301,11 +305,11 @@ int main(int argc, char** argv) {
 
     const double rssBefore = peakRssMiB();
     std::vector<double> seconds;
-    double payloadMiB = 0;
+    Payload payload;
     for (int r = 0; r < runs; ++r) {
         const Graph g = timedLoad(path, seconds);
         if (r == 0) {
-            payloadMiB = graphPayloadMiB(g);
+            payload = graphPayload(g);
             std::vector<double> p;
             if (!g.numbers(g.find("gridShape"), "vrts[" + std::to_string(int64_t(grid) * grid - 1) + "]", p)) {
                 std::fprintf(stderr, "the last vertex was not loaded\n");
@@ -320,9 +324,11 @@ int main(int argc, char** argv) {
     std::printf("load over %d runs: min %.3f s, median %.3f s, max %.3f s\n", runs, tMin, tMed, tMax);
     std::printf("throughput: best %.1f MiB/s, median %.1f MiB/s, worst %.1f MiB/s\n", fileMiB / tMin, fileMiB / tMed,
                 fileMiB / tMax);
+    const double mib = 1024.0 * 1024.0;
     std::printf("peak RSS growth during loads: %.1f MiB (%.2f x file size); graph payload (numbers + face "
-                "records): %.1f MiB\n",
-                rssGrowth, rssGrowth / fileMiB, payloadMiB);
+                "records): %.1f MiB, of which face records %.1f MiB, %.1f bytes per face\n",
+                rssGrowth, rssGrowth / fileMiB, (payload.numberBytes + payload.faceBytes) / mib, payload.faceBytes / mib,
+                payload.faces ? payload.faceBytes / double(payload.faces) : 0.0);
     if (!keep) fs::remove(path);
     return 0;
 }

@@ -1565,10 +1565,14 @@ std::string Parser::readStringValue(const char* what) {
 }
 
 Value Parser::readPolyFaces(int64_t elements) {
-    auto faces = std::make_shared<PolyFaces>();
+    PolyFaces::Builder faces;
     // A face record takes at least 10 bytes ("f 3 0 1 2 "), which bounds what the range may reserve.
-    faces->faces.reserve(plausibleCount(elements * 5) / 5);
-    PolyFaceLoop* last = nullptr;
+    faces.reserve(plausibleCount(elements * 5) / 5);
+    std::vector<int32_t> ids;  // the ids of one record, as read
+    auto room = [&](uint32_t line, uint32_t column, int64_t n) {
+        if (!faces.fits(size_t(n)))
+            fail(line, column, "polyFaces: more than " + std::to_string(PolyFaces::Builder::kMaxIds) + " ids in one value");
+    };
     while (!atCommandEnd()) {
         if (m_tok.kind != MaTokenKind::Word)
             failAt(m_tok, "polyFaces: expected f, h, mu, mf, mh or fc, found " + describe(m_tok));
@@ -1576,29 +1580,26 @@ Value Parser::readPolyFaces(int64_t elements) {
         const std::string key = m_tok.text;
         // Counts and ids are read straight from the lexer while they are plain integers.
         if (key == "f" || key == "h") {
-            if (key == "h" && faces->faces.empty()) fail(line, column, "polyFaces: hole 'h' before any face 'f'");
+            if (key == "h" && faces.faceCount() == 0) fail(line, column, "polyFaces: hole 'h' before any face 'f'");
             int64_t n = 0;
             const bool plain = plainIntegerAfterToken(n, 1, kMaxIndex, "polyFaces: edge count");
             if (!plain) {
                 advance();
                 n = readInteger("polyFaces: edge count", 1, kMaxIndex);
             }
-            if (key == "f") {
-                faces->faces.emplace_back();
-                last = &faces->faces.back().outer;
-            } else {
-                faces->faces.back().holes.emplace_back();
-                last = &faces->faces.back().holes.back();
-            }
+            room(line, column, n);
             const char* what = key == "f" ? "polyFaces: face edges" : "polyFaces: hole edges";
-            if (plain) readIntsAfterPlain(last->edges, n, what);
-            else readInts(last->edges, n, what);
+            ids.clear();
+            if (plain) readIntsAfterPlain(ids, n, what);
+            else readInts(ids, n, what);
+            if (key == "f") faces.addFace(ids);
+            else faces.addHole(ids);
         } else if (key == "mu" || key == "mf" || key == "mh" || key == "fc") {
-            PolyFaceLoop* loop = last;
-            if (key == "mf") loop = faces->faces.empty() ? nullptr : &faces->faces.back().outer;
-            if (key == "mh") loop = faces->faces.empty() || faces->faces.back().holes.empty()
-                                        ? nullptr : &faces->faces.back().holes.back();
-            if (!loop) fail(line, column, "polyFaces: '" + key + "' before the loop it belongs to");
+            // mu and fc belong to the last loop, mf to the last face's outer loop, mh to its last hole.
+            const size_t loops = faces.loopCount();
+            if (key == "mh" ? loops < 2 : loops == 0)
+                fail(line, column, "polyFaces: '" + key + "' before the loop it belongs to");
+            const size_t loop = key == "mf" ? 0 : loops - 1;
             const char* countWhat = key == "mu" ? "polyFaces: mu count" : key == "mf" ? "polyFaces: mf count"
                                     : key == "mh" ? "polyFaces: mh count" : "polyFaces: fc count";
             int64_t uvSet = 0, n = 0;
@@ -1610,28 +1611,26 @@ Value Parser::readPolyFaces(int64_t elements) {
                 if (!setPlain) uvSet = readInteger("polyFaces: uv set", 0, kMaxIndex);
                 n = readCount(countWhat);
             }
-            if (n != int64_t(loop->edges.size()))
+            const size_t edges = faces.edgeCount(loop);
+            if (n != int64_t(edges))
                 fail(line, column, "polyFaces: '" + key + "' has " + std::to_string(n) + " values for a loop of " +
-                                       std::to_string(loop->edges.size()) + " edges");
-            std::vector<int32_t>* ids = nullptr;
-            if (key == "fc") {
-                if (!loop->colors.empty()) fail(line, column, "polyFaces: second 'fc' for the same loop");
-                ids = &loop->colors;
-            } else {
-                loop->uvs.emplace_back(int32_t(uvSet), std::vector<int32_t>());
-                ids = &loop->uvs.back().second;
-            }
+                                       std::to_string(edges) + " edges");
+            if (key == "fc" && faces.hasColors(loop)) fail(line, column, "polyFaces: second 'fc' for the same loop");
+            room(line, column, n);
             const char* what = key == "fc" ? "polyFaces: colour ids" : "polyFaces: uv ids";
-            if (plain) readIntsAfterPlain(*ids, n, what);
-            else readInts(*ids, n, what);
+            ids.clear();
+            if (plain) readIntsAfterPlain(ids, n, what);
+            else readInts(ids, n, what);
+            if (key == "fc") faces.setColors(loop, ids);
+            else faces.addUvs(loop, int32_t(uvSet), ids);
         } else {
             fail(line, column, "polyFaces: unknown keyword '" + key.substr(0, 40) + "'");
         }
     }
-    if (elements > 0 && int64_t(faces->faces.size()) != elements)
+    if (elements > 0 && int64_t(faces.faceCount()) != elements)
         failAt(m_tok, "polyFaces: the range holds " + std::to_string(elements) + " faces but " +
-                          std::to_string(faces->faces.size()) + " are given");
-    return std::shared_ptr<const PolyFaces>(std::move(faces));
+                          std::to_string(faces.faceCount()) + " are given");
+    return std::make_shared<const PolyFaces>(faces.finish());
 }
 
 Value Parser::readNurbsCurve() {

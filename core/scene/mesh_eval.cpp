@@ -25,6 +25,7 @@
 #include <cmath>
 #include <exception>
 #include <map>
+#include <ranges>
 #include <unordered_map>
 
 namespace pushpin::scene {
@@ -1111,30 +1112,38 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     // Faces: polyFaces runs in index order.
     const AttrData* fc = attrOf(g, shape, "face");
     if (!fc) return fail(who + "no faces (.fc)");
-    std::vector<const PolyFace*> faces;
+    // Face i is face i - runFirst[r] of runs[r], r = faceRun[i]; kNoRun when no record has it.
+    constexpr uint32_t kNoRun = UINT32_MAX;
+    std::vector<const PolyFaces*> runs;
+    std::vector<uint64_t> runFirst;
+    std::vector<uint32_t> faceRun;
     auto addRun = [&](uint64_t first, const Value& value) {
         const auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(&value);
         if (!pf || !*pf) return;
-        if (first + (*pf)->faces.size() > kMaxElements) return;
-        if (faces.size() < first + (*pf)->faces.size()) faces.resize(first + (*pf)->faces.size(), nullptr);
-        for (size_t k = 0; k < (*pf)->faces.size(); ++k) faces[first + k] = &(*pf)->faces[k];
+        const size_t count = (*pf)->faceCount();
+        if (first + count > kMaxElements) return;
+        if (faceRun.size() < first + count) faceRun.resize(first + count, kNoRun);
+        std::fill_n(faceRun.begin() + ptrdiff_t(first), count, uint32_t(runs.size()));
+        runs.push_back(pf->get());
+        runFirst.push_back(first);
     };
     if (fc->hasValue) addRun(0, fc->value);
     for (const auto& [first, run] : fc->multi.runs()) addRun(first, run.value);
-    const size_t missing = size_t(std::count(faces.begin(), faces.end(), nullptr));
+    const size_t missing = size_t(std::count(faceRun.begin(), faceRun.end(), kNoRun));
     if (missing) note(std::to_string(missing) + " face indices have no polyFaces record");
 
     std::vector<std::vector<int32_t>> setIds(mesh.uvSets.size());
     std::vector<int32_t> colorIds;
     bool anyColor = false;
     size_t brokenLoops = 0, badUvIds = 0, unknownUvSets = 0;
-    auto appendLoop = [&](const PolyFaceLoop& loop, bool hole) -> bool {
+    auto appendLoop = [&](const PolyFaces& pf, size_t loop, bool hole) -> bool {
+        const std::span<const int32_t> loopEdges = pf.edges(loop);
         std::vector<uint32_t> verts;
-        verts.reserve(loop.edges.size());
+        verts.reserve(loopEdges.size());
         uint32_t previousEnd = 0;
         bool meets = true;
-        for (size_t i = 0; i < loop.edges.size(); ++i) {
-            const int32_t e = loop.edges[i];
+        for (size_t i = 0; i < loopEdges.size(); ++i) {
+            const int32_t e = loopEdges[i];
             const uint32_t idx = e >= 0 ? uint32_t(e) : uint32_t(~e);
             if (idx >= edges.size()) return false;
             const uint32_t start = e >= 0 ? edges[idx].v0 : edges[idx].v1;
@@ -1149,15 +1158,16 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         if (hole) mesh.addHole(verts);
         else mesh.addFace(verts);
         for (std::vector<int32_t>& ids : setIds) ids.resize(mesh.faceVertices.size(), -1);
-        for (const auto& [set, ids] : loop.uvs) {
-            const auto it = uvSetByIndex.find(uint32_t(set));
+        for (size_t k = 0; k < pf.uvCount(loop); ++k) {
+            const PolyFaces::Uv uv = pf.uv(loop, k);
+            const auto it = uvSetByIndex.find(uint32_t(uv.set));
             if (it == uvSetByIndex.end()) {
                 ++unknownUvSets;
                 continue;
             }
             const size_t s = it->second;
-            for (size_t i = 0; i < ids.size() && i < verts.size(); ++i) {
-                const int32_t id = ids[i];
+            for (size_t i = 0; i < uv.ids.size() && i < verts.size(); ++i) {
+                const int32_t id = uv.ids[i];
                 if (id < 0 || size_t(id) >= mesh.uvSets[s].uvs.size()) {
                     ++badUvIds;
                     continue;
@@ -1166,8 +1176,9 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
             }
         }
         colorIds.resize(mesh.faceVertices.size(), -1);
-        for (size_t i = 0; i < loop.colors.size() && i < verts.size(); ++i) {
-            const int32_t id = loop.colors[i];
+        const std::span<const int32_t> colors = pf.colors(loop);
+        for (size_t i = 0; i < colors.size() && i < verts.size(); ++i) {
+            const int32_t id = colors[i];
             if (!mesh.colorSets.empty() && id >= 0 && size_t(id) < mesh.colorSets[0].colors.size()) {
                 colorIds[base + i] = id;
                 anyColor = true;
@@ -1175,13 +1186,15 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         }
         return true;
     };
-    for (size_t f = 0; f < faces.size(); ++f) {
-        if (!faces[f]) continue;
-        if (!appendLoop(faces[f]->outer, false))
+    for (size_t f = 0; f < faceRun.size(); ++f) {
+        if (faceRun[f] == kNoRun) continue;
+        const PolyFaces& pf = *runs[faceRun[f]];
+        const auto loops = pf.loops(size_t(f - runFirst[faceRun[f]]));
+        if (!appendLoop(pf, loops.front(), false))
             return fail(who + "face " + std::to_string(f) + " uses an edge that does not exist (of " +
                         std::to_string(edges.size()) + ")");
-        for (const PolyFaceLoop& hole : faces[f]->holes)
-            if (!appendLoop(hole, true))
+        for (const size_t hole : loops | std::views::drop(1))
+            if (!appendLoop(pf, hole, true))
                 return fail(who + "a hole of face " + std::to_string(f) + " uses an edge that does not exist");
     }
     if (brokenLoops) note(std::to_string(brokenLoops) + " face loops whose edges do not meet");

@@ -2,8 +2,12 @@
 // Values are immutable once stored in a Graph; large payloads are shared, never copied.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <ranges>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
@@ -34,16 +38,235 @@ struct StringArray { std::vector<std::string> items; };
 struct ComponentList { std::vector<std::string> items; };
 
 // `-type "polyFaces"`: face records with edge loops (signed edge ids, see reference/ma-format.md).
-struct PolyFaceLoop {
-    std::vector<int32_t> edges;                                 // signed; e < 0 walks edge ~e backwards
-    std::vector<std::pair<int32_t, std::vector<int32_t>>> uvs;  // (uv set index, uv ids per vertex)
-    std::vector<int32_t> colors;                                // colour ids per vertex (`fc`), may be empty
+// A face is one or more loops: its outer loop, then its holes. A loop has its edges (signed; e < 0
+// walks edge ~e backwards), any number of uv records (`mu`, `mf`, `mh`: a uv set index and one uv id
+// per edge, in file order) and at most one colour record (`fc`: one colour id per edge). Faces and
+// loops are numbered from 0 in file order. The records sit in a few flat arrays: read them through
+// the accessors, write them through PolyFaces::Builder.
+class PolyFaces {
+public:
+    // One uv record of a loop.
+    struct Uv {
+        int32_t set = 0;               // uv set index
+        std::span<const int32_t> ids;  // one uv id per edge of the loop
+    };
+    class Builder;
+
+    size_t faceCount() const { return m_faceLoops.empty() ? loopCount() : m_faceLoops.size() - 1; }
+    size_t loopCount() const { return m_loopEdges.empty() ? 0 : m_loopEdges.size() - 1; }
+    // The loops of `face`: the outer loop first, then the holes.
+    std::ranges::iota_view<size_t, size_t> loops(size_t face) const {
+        if (m_faceLoops.empty()) return std::views::iota(face, face + 1);
+        return std::views::iota(size_t(m_faceLoops[face]), size_t(m_faceLoops[face + 1]));
+    }
+    std::span<const int32_t> edges(size_t loop) const {
+        return {m_edges.data() + m_loopEdges[loop], m_loopEdges[loop + 1] - m_loopEdges[loop]};
+    }
+    size_t uvCount(size_t loop) const {
+        return m_loopUvs.empty() ? m_sharedUvSets.size() : m_loopUvs[loop + 1] - m_loopUvs[loop];
+    }
+    // Uv record `k` (< uvCount(loop)) of `loop`.
+    Uv uv(size_t loop, size_t k) const {
+        const size_t n = m_loopEdges[loop + 1] - m_loopEdges[loop];
+        if (m_loopUvs.empty())
+            return {m_sharedUvSets[k], {m_uvIds.data() + m_sharedUvSets.size() * m_loopEdges[loop] + k * n, n}};
+        const UvRecord& r = m_uvRecords[m_loopUvs[loop] + k];
+        return {r.set, {m_uvIds.data() + r.firstId, n}};
+    }
+    // The colour ids of `loop`, one per edge; empty when it has none.
+    std::span<const int32_t> colors(size_t loop) const {
+        if (m_loopColors.empty()) return {};
+        return {m_colors.data() + m_loopColors[loop], m_loopColors[loop + 1] - m_loopColors[loop]};
+    }
+    // Bytes of the arrays' storage, for memory figures.
+    size_t heapBytes() const {
+        return 4 * (m_faceLoops.capacity() + m_loopEdges.capacity() + m_edges.capacity() + m_sharedUvSets.capacity() +
+                    m_loopUvs.capacity() + m_uvIds.capacity() + m_loopColors.capacity() + m_colors.capacity()) +
+               sizeof(UvRecord) * m_uvRecords.capacity();
+    }
+
+private:
+    struct UvRecord {
+        int32_t set;
+        uint32_t firstId;  // into m_uvIds
+    };
+    // Face f's loops are [m_faceLoops[f], m_faceLoops[f + 1]); empty while no face has a hole, when
+    // face f is loop f.
+    std::vector<uint32_t> m_faceLoops;
+    // Loop l's edges are m_edges[m_loopEdges[l] .. m_loopEdges[l + 1]).
+    std::vector<uint32_t> m_loopEdges{0};
+    std::vector<int32_t> m_edges;
+    // While m_loopUvs is empty, every loop has uv records of the sets m_sharedUvSets, in that order,
+    // and the ids of loop l's record k start at m_sharedUvSets.size() × m_loopEdges[l] + k × (its
+    // edge count). Otherwise loop l's records are m_uvRecords[m_loopUvs[l] .. m_loopUvs[l + 1]).
+    std::vector<int32_t> m_sharedUvSets;
+    std::vector<uint32_t> m_loopUvs;
+    std::vector<UvRecord> m_uvRecords;
+    std::vector<int32_t> m_uvIds;
+    // Loop l's colour ids are m_colors[m_loopColors[l] .. m_loopColors[l + 1]); empty while no loop
+    // has any.
+    std::vector<uint32_t> m_loopColors;
+    std::vector<int32_t> m_colors;
 };
-struct PolyFace {
-    PolyFaceLoop outer;
-    std::vector<PolyFaceLoop> holes;
+
+// Appends faces to a PolyFaces in file order. The records of the last face may come in any order
+// (`mf` after `h` names its outer loop again): the face is stored when the next one begins or at
+// finish(). Loops of the last face are numbered from 0, its outer loop. Calls that break the rules
+// below throw std::logic_error.
+class PolyFaces::Builder {
+public:
+    // Ids (edges, uv and colour ids together) one value can hold.
+    static constexpr size_t kMaxIds = UINT32_MAX;
+
+    // Room for about `faces` faces.
+    void reserve(size_t faces) {
+        m_out.m_loopEdges.reserve(faces + 1);
+        m_out.m_edges.reserve(4 * faces);
+    }
+    // Whether `ids` more ids fit under kMaxIds.
+    bool fits(size_t ids) const { return ids <= kMaxIds - std::min(m_ids, kMaxIds); }
+    // A new face with this outer loop (at least one edge).
+    void addFace(std::span<const int32_t> edges) {
+        store();
+        ++m_faces;
+        addLoop(edges);
+    }
+    // A hole of the last face (at least one edge).
+    void addHole(std::span<const int32_t> edges) {
+        if (m_faces == 0) throw std::logic_error("PolyFaces::Builder: a hole before any face");
+        addLoop(edges);
+    }
+    size_t faceCount() const { return m_faces; }
+    // Loops of the last face: 0 before the first face, else 1 + its holes.
+    size_t loopCount() const { return m_openLoopEdges.size() - 1; }
+    size_t edgeCount(size_t loop) const { return m_openLoopEdges.at(loop + 1) - m_openLoopEdges[loop]; }
+    bool hasColors(size_t loop) const { return m_openColors.at(loop) != kNone; }
+    // A uv record of `loop` of the last face: one id per edge.
+    void addUvs(size_t loop, int32_t set, std::span<const int32_t> ids) {
+        checkIds(loop, ids);
+        m_openUvs.push_back({uint32_t(loop), set, uint32_t(m_openIds.size())});
+        appendIds(ids);
+    }
+    // The colour record of `loop` of the last face (at most one): one id per edge.
+    void setColors(size_t loop, std::span<const int32_t> ids) {
+        checkIds(loop, ids);
+        if (hasColors(loop)) throw std::logic_error("PolyFaces::Builder: a second colour record");
+        m_openColors[loop] = uint32_t(m_openIds.size());
+        appendIds(ids);
+    }
+    // The faces added, with storage trimmed to size. The builder is empty afterwards.
+    PolyFaces finish() {
+        store();
+        PolyFaces& o = m_out;
+        for (auto* v : {&o.m_faceLoops, &o.m_loopEdges, &o.m_loopUvs, &o.m_loopColors}) v->shrink_to_fit();
+        for (auto* v : {&o.m_edges, &o.m_sharedUvSets, &o.m_uvIds, &o.m_colors}) v->shrink_to_fit();
+        o.m_uvRecords.shrink_to_fit();
+        PolyFaces out = std::move(o);
+        *this = Builder();
+        return out;
+    }
+
+private:
+    static constexpr uint32_t kNone = UINT32_MAX;
+    struct OpenUv {
+        uint32_t loop;
+        int32_t set;
+        uint32_t firstId;  // into m_openIds
+    };
+
+    void checkIds(size_t loop, std::span<const int32_t> ids) const {
+        if (ids.size() != edgeCount(loop)) throw std::logic_error("PolyFaces::Builder: ids do not match the edges");
+    }
+    void appendIds(std::span<const int32_t> ids) {
+        if (!fits(ids.size())) throw std::logic_error("PolyFaces::Builder: more than kMaxIds ids");
+        m_ids += ids.size();
+        m_openIds.insert(m_openIds.end(), ids.begin(), ids.end());
+    }
+    void addLoop(std::span<const int32_t> edges) {
+        if (edges.empty()) throw std::logic_error("PolyFaces::Builder: a loop without edges");
+        if (!fits(edges.size())) throw std::logic_error("PolyFaces::Builder: more than kMaxIds ids");
+        m_ids += edges.size();
+        m_openEdges.insert(m_openEdges.end(), edges.begin(), edges.end());
+        m_openLoopEdges.push_back(uint32_t(m_openEdges.size()));
+        m_openColors.push_back(kNone);
+    }
+    // Moves the last face into m_out.
+    void store() {
+        PolyFaces& o = m_out;
+        const size_t loops = loopCount();
+        if (loops == 0) return;
+        if (loops > 1 && o.m_faceLoops.empty()) {
+            // The first face with a hole: every face so far is one loop.
+            o.m_faceLoops.resize(o.loopCount() + 1);
+            for (size_t f = 0; f < o.m_faceLoops.size(); ++f) o.m_faceLoops[f] = uint32_t(f);
+        }
+        if (loops > 1 && !std::is_sorted(m_openUvs.begin(), m_openUvs.end(),
+                                         [](const OpenUv& a, const OpenUv& b) { return a.loop < b.loop; }))
+            std::stable_sort(m_openUvs.begin(), m_openUvs.end(),
+                             [](const OpenUv& a, const OpenUv& b) { return a.loop < b.loop; });
+        size_t nextUv = 0;
+        for (size_t l = 0; l < loops; ++l) {
+            const size_t loop = o.loopCount();
+            const size_t first = m_openLoopEdges[l], n = m_openLoopEdges[l + 1] - first;
+            o.m_edges.insert(o.m_edges.end(), m_openEdges.begin() + first, m_openEdges.begin() + first + n);
+            o.m_loopEdges.push_back(uint32_t(o.m_edges.size()));
+
+            const size_t uvBegin = nextUv;
+            while (nextUv < m_openUvs.size() && m_openUvs[nextUv].loop == l) ++nextUv;
+            const std::span<const OpenUv> uvs(m_openUvs.data() + uvBegin, nextUv - uvBegin);
+            if (o.m_loopUvs.empty()) {
+                if (loop == 0) {
+                    for (const OpenUv& r : uvs) o.m_sharedUvSets.push_back(r.set);
+                    o.m_uvIds.reserve(uvs.size() * o.m_edges.capacity());
+                } else if (!std::equal(uvs.begin(), uvs.end(), o.m_sharedUvSets.begin(), o.m_sharedUvSets.end(),
+                                       [](const OpenUv& r, int32_t set) { return r.set == set; })) {
+                    recordUvsPerLoop(loop);
+                }
+            }
+            for (const OpenUv& r : uvs) {
+                if (!o.m_loopUvs.empty()) o.m_uvRecords.push_back({r.set, uint32_t(o.m_uvIds.size())});
+                o.m_uvIds.insert(o.m_uvIds.end(), m_openIds.begin() + r.firstId, m_openIds.begin() + r.firstId + n);
+            }
+            if (!o.m_loopUvs.empty()) o.m_loopUvs.push_back(uint32_t(o.m_uvRecords.size()));
+
+            if (const uint32_t c = m_openColors[l]; c != kNone) {
+                if (o.m_loopColors.empty()) o.m_loopColors.assign(loop + 1, 0);
+                o.m_colors.insert(o.m_colors.end(), m_openIds.begin() + c, m_openIds.begin() + c + n);
+            }
+            if (!o.m_loopColors.empty()) o.m_loopColors.push_back(uint32_t(o.m_colors.size()));
+        }
+        if (!o.m_faceLoops.empty()) o.m_faceLoops.push_back(uint32_t(o.loopCount()));
+        m_openLoopEdges.resize(1);
+        m_openEdges.clear();
+        m_openUvs.clear();
+        m_openColors.clear();
+        m_openIds.clear();
+    }
+    // Leaves the shared uv layout: loops [0, loops) get records of their own.
+    void recordUvsPerLoop(size_t loops) {
+        PolyFaces& o = m_out;
+        const size_t k = o.m_sharedUvSets.size();
+        o.m_loopUvs.reserve(o.m_loopEdges.capacity());
+        o.m_loopUvs.push_back(0);
+        for (size_t l = 0; l < loops; ++l) {
+            const size_t n = o.m_loopEdges[l + 1] - o.m_loopEdges[l];
+            for (size_t r = 0; r < k; ++r)
+                o.m_uvRecords.push_back({o.m_sharedUvSets[r], uint32_t(k * o.m_loopEdges[l] + r * n)});
+            o.m_loopUvs.push_back(uint32_t(o.m_uvRecords.size()));
+        }
+        o.m_sharedUvSets.clear();
+    }
+
+    PolyFaces m_out;
+    size_t m_faces = 0;
+    size_t m_ids = 0;  // ids added, stored or open
+    // The last face, not yet stored: its loops' edges, uv records and colour records.
+    std::vector<uint32_t> m_openLoopEdges{0};
+    std::vector<int32_t> m_openEdges;
+    std::vector<OpenUv> m_openUvs;
+    std::vector<uint32_t> m_openColors;  // per loop: where its colour ids start in m_openIds, or kNone
+    std::vector<int32_t> m_openIds;
 };
-struct PolyFaces { std::vector<PolyFace> faces; };
 
 // `-type "nurbsCurve"`: degree spans form rational dimension / knots / CVs.
 struct NurbsCurveData {

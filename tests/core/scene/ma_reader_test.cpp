@@ -13,6 +13,7 @@
 #include <fstream>
 #include <numbers>
 #include <random>
+#include <span>
 #include <sstream>
 
 namespace pushpin::scene {
@@ -608,6 +609,8 @@ connectAttr "a.translate" "b.t";
     EXPECT_EQ(src->path, "translate");
 }
 
+std::vector<int32_t> ids(std::span<const int32_t> s) { return {s.begin(), s.end()}; }
+
 TEST(MaReader, PolyFacesWithHolesUvsAndColours) {
     Graph g = read(R"(createNode mesh -n "m";
 	setAttr -s 2 -ch 11 ".fc[0:1]" -type "polyFaces"
@@ -623,24 +626,166 @@ TEST(MaReader, PolyFacesWithHolesUvsAndColours) {
     auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(g.value(findNode(g, "m"), "face[0]"));
     ASSERT_NE(pf, nullptr);
     const PolyFaces& faces = **pf;
-    ASSERT_EQ(faces.faces.size(), 2u);
-    const PolyFace& f0 = faces.faces[0];
-    EXPECT_EQ(f0.outer.edges, (std::vector<int32_t>{0, 5, -2, -5}));
-    ASSERT_EQ(f0.outer.uvs.size(), 2u);
-    EXPECT_EQ(f0.outer.uvs[0].first, 0);
-    EXPECT_EQ(f0.outer.uvs[0].second, (std::vector<int32_t>{0, 1, 3, 2}));
-    EXPECT_EQ(f0.outer.uvs[1].first, 1);
-    EXPECT_EQ(f0.outer.uvs[1].second, (std::vector<int32_t>{4, 5, 7, 6}));
-    EXPECT_EQ(f0.outer.colors, (std::vector<int32_t>{0, 1, 2, 3}));
-    ASSERT_EQ(f0.holes.size(), 1u);
-    EXPECT_EQ(f0.holes[0].edges, (std::vector<int32_t>{8, 9, 10}));
-    ASSERT_EQ(f0.holes[0].uvs.size(), 1u);
-    EXPECT_EQ(f0.holes[0].uvs[0].second, (std::vector<int32_t>{10, 11, 12}));
-    const PolyFace& f1 = faces.faces[1];
-    EXPECT_EQ(f1.outer.edges, (std::vector<int32_t>{1, 7, -3, -7}));
-    ASSERT_EQ(f1.outer.uvs.size(), 1u);
-    EXPECT_EQ(f1.outer.uvs[0].first, 0);
-    EXPECT_EQ(f1.outer.uvs[0].second, (std::vector<int32_t>{2, 3, 5, 4}));
+    ASSERT_EQ(faces.faceCount(), 2u);
+    ASSERT_EQ(faces.loopCount(), 3u);
+    ASSERT_EQ(faces.loops(0).size(), 2u);
+    const size_t outer = faces.loops(0)[0], hole = faces.loops(0)[1];
+    EXPECT_EQ(ids(faces.edges(outer)), (std::vector<int32_t>{0, 5, -2, -5}));
+    ASSERT_EQ(faces.uvCount(outer), 2u);
+    EXPECT_EQ(faces.uv(outer, 0).set, 0);
+    EXPECT_EQ(ids(faces.uv(outer, 0).ids), (std::vector<int32_t>{0, 1, 3, 2}));
+    EXPECT_EQ(faces.uv(outer, 1).set, 1);
+    EXPECT_EQ(ids(faces.uv(outer, 1).ids), (std::vector<int32_t>{4, 5, 7, 6}));
+    EXPECT_EQ(ids(faces.colors(outer)), (std::vector<int32_t>{0, 1, 2, 3}));
+    EXPECT_EQ(ids(faces.edges(hole)), (std::vector<int32_t>{8, 9, 10}));
+    ASSERT_EQ(faces.uvCount(hole), 1u);
+    EXPECT_EQ(ids(faces.uv(hole, 0).ids), (std::vector<int32_t>{10, 11, 12}));
+    EXPECT_TRUE(faces.colors(hole).empty());
+    ASSERT_EQ(faces.loops(1).size(), 1u);
+    const size_t second = faces.loops(1)[0];
+    EXPECT_EQ(ids(faces.edges(second)), (std::vector<int32_t>{1, 7, -3, -7}));
+    ASSERT_EQ(faces.uvCount(second), 1u);
+    EXPECT_EQ(faces.uv(second, 0).set, 0);
+    EXPECT_EQ(ids(faces.uv(second, 0).ids), (std::vector<int32_t>{2, 3, 5, 4}));
+    EXPECT_TRUE(faces.colors(second).empty());
+}
+
+// The records of a face may come in any order: `mf` after `h` names the outer loop again, `mh`
+// the last hole. Each loop keeps its own records in file order.
+TEST(MaReader, PolyFacesRecordsOfAFaceInAnyOrder) {
+    Graph g = read(R"(createNode mesh -n "m";
+	setAttr ".fc[0:2]" -type "polyFaces"
+		f 3 0 1 2
+		h 3 3 4 5
+		h 4 6 7 8 9
+		mf 3 20 21 22
+		mu 1 4 30 31 32 33
+		mh 4 40 41 42 43
+		fc 4 9 9 9 9
+		mf 3 23 24 25
+		f 3 10 11 12
+		mu 0 3 50 51 52
+		f 3 13 14 15 ;
+)");
+    auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(g.value(findNode(g, "m"), "face[0]"));
+    ASSERT_NE(pf, nullptr);
+    const PolyFaces& faces = **pf;
+    ASSERT_EQ(faces.faceCount(), 3u);
+    ASSERT_EQ(faces.loops(0).size(), 3u);
+    const size_t outer = faces.loops(0)[0], hole1 = faces.loops(0)[1], hole2 = faces.loops(0)[2];
+    EXPECT_EQ(ids(faces.edges(outer)), (std::vector<int32_t>{0, 1, 2}));
+    ASSERT_EQ(faces.uvCount(outer), 2u);
+    EXPECT_EQ(ids(faces.uv(outer, 0).ids), (std::vector<int32_t>{20, 21, 22}));
+    EXPECT_EQ(ids(faces.uv(outer, 1).ids), (std::vector<int32_t>{23, 24, 25}));
+    EXPECT_TRUE(faces.colors(outer).empty());
+    EXPECT_EQ(ids(faces.edges(hole1)), (std::vector<int32_t>{3, 4, 5}));
+    EXPECT_EQ(faces.uvCount(hole1), 0u);
+    EXPECT_EQ(ids(faces.edges(hole2)), (std::vector<int32_t>{6, 7, 8, 9}));
+    ASSERT_EQ(faces.uvCount(hole2), 2u);
+    EXPECT_EQ(faces.uv(hole2, 0).set, 1);
+    EXPECT_EQ(ids(faces.uv(hole2, 0).ids), (std::vector<int32_t>{30, 31, 32, 33}));
+    EXPECT_EQ(faces.uv(hole2, 1).set, 0);
+    EXPECT_EQ(ids(faces.uv(hole2, 1).ids), (std::vector<int32_t>{40, 41, 42, 43}));
+    EXPECT_EQ(ids(faces.colors(hole2)), (std::vector<int32_t>{9, 9, 9, 9}));
+    ASSERT_EQ(faces.loops(1).size(), 1u);
+    const size_t second = faces.loops(1)[0];
+    EXPECT_EQ(ids(faces.edges(second)), (std::vector<int32_t>{10, 11, 12}));
+    ASSERT_EQ(faces.uvCount(second), 1u);
+    EXPECT_EQ(faces.uv(second, 0).set, 0);
+    EXPECT_EQ(ids(faces.uv(second, 0).ids), (std::vector<int32_t>{50, 51, 52}));
+    const size_t third = faces.loops(2)[0];
+    EXPECT_EQ(ids(faces.edges(third)), (std::vector<int32_t>{13, 14, 15}));
+    EXPECT_EQ(faces.uvCount(third), 0u);
+    EXPECT_TRUE(faces.colors(third).empty());
+}
+
+// Faces that all name the same uv sets, faces whose sets differ from those before them, holes and
+// colours that first appear late in a run: every face reads back as written.
+TEST(MaReader, PolyFacesReadBackWhateverTheirMix) {
+    std::mt19937 rng(7);
+    struct Loop {
+        std::vector<int32_t> edges;
+        std::vector<std::pair<int32_t, std::vector<int32_t>>> uvs;
+        std::vector<int32_t> colors;
+    };
+    std::vector<std::vector<Loop>> written;
+    std::string text = "createNode mesh -n \"m\";\n\tsetAttr \".fc[0:299]\" -type \"polyFaces\"\n";
+    int32_t next = 0;
+    for (int f = 0; f < 300; ++f) {
+        // The first 100 faces are quads with uv set 0 only; then anything goes.
+        const bool plain = f < 100;
+        const int loops = plain ? 1 : 1 + int(rng() % 3 == 0) * int(1 + rng() % 2);
+        std::vector<Loop> face;
+        for (int l = 0; l < loops; ++l) {
+            Loop loop;
+            const int n = plain ? 4 : 3 + int(rng() % 4);
+            for (int i = 0; i < n; ++i) loop.edges.push_back(rng() % 2 ? next++ : -next++);
+            text += std::string(l == 0 ? "\t\tf " : "\t\th ") + std::to_string(n);
+            for (int32_t e : loop.edges) text += " " + std::to_string(e);
+            const int uvs = plain ? 1 : int(rng() % 3);
+            for (int u = 0; u < uvs; ++u) {
+                const int32_t set = plain ? 0 : int32_t(rng() % 3);
+                std::vector<int32_t> uvIds;
+                for (int i = 0; i < n; ++i) uvIds.push_back(next++);
+                text += " mu " + std::to_string(set) + " " + std::to_string(n);
+                for (int32_t id : uvIds) text += " " + std::to_string(id);
+                loop.uvs.emplace_back(set, std::move(uvIds));
+            }
+            if (!plain && rng() % 4 == 0) {
+                for (int i = 0; i < n; ++i) loop.colors.push_back(next++);
+                text += " fc " + std::to_string(n);
+                for (int32_t id : loop.colors) text += " " + std::to_string(id);
+            }
+            text += "\n";
+            face.push_back(std::move(loop));
+        }
+        written.push_back(std::move(face));
+    }
+    text += ";\n";
+    Graph g = read(text);
+    ASSERT_TRUE(g.warnings().empty()) << g.warnings()[0].message;
+    auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(g.value(findNode(g, "m"), "face[0]"));
+    ASSERT_NE(pf, nullptr);
+    const PolyFaces& faces = **pf;
+    ASSERT_EQ(faces.faceCount(), written.size());
+    size_t loopsSeen = 0;
+    for (size_t f = 0; f < written.size(); ++f) {
+        SCOPED_TRACE("face " + std::to_string(f));
+        const auto loops = faces.loops(f);
+        ASSERT_EQ(loops.size(), written[f].size());
+        for (size_t l = 0; l < loops.size(); ++l) {
+            const Loop& want = written[f][l];
+            const size_t loop = loops[l];
+            EXPECT_EQ(loop, loopsSeen++);
+            EXPECT_EQ(ids(faces.edges(loop)), want.edges);
+            ASSERT_EQ(faces.uvCount(loop), want.uvs.size());
+            for (size_t u = 0; u < want.uvs.size(); ++u) {
+                EXPECT_EQ(faces.uv(loop, u).set, want.uvs[u].first);
+                EXPECT_EQ(ids(faces.uv(loop, u).ids), want.uvs[u].second);
+            }
+            EXPECT_EQ(ids(faces.colors(loop)), want.colors);
+        }
+    }
+    EXPECT_EQ(faces.loopCount(), loopsSeen);
+}
+
+// A run of quads with one uv set each, as Maya writes most meshes, keeps 36 bytes per face: four
+// edge ids, four uv ids and where the face's edges begin.
+TEST(MaReader, PolyFacesOfQuadsWithOneUvSetTakeFewBytes) {
+    std::string text = "createNode mesh -n \"m\";\n\tsetAttr \".fc[0:999]\" -type \"polyFaces\"\n";
+    for (int f = 0; f < 1000; ++f) {
+        const std::string a = std::to_string(4 * f), b = std::to_string(4 * f + 1), c = std::to_string(4 * f + 2),
+                          d = std::to_string(4 * f + 3);
+        text += "\t\tf 4 " + a + " " + b + " -" + c + " -" + d + "\n\t\tmu 0 4 " + a + " " + b + " " + c + " " + d + "\n";
+    }
+    text += ";\n";
+    Graph g = read(text);
+    auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(g.value(findNode(g, "m"), "face[0]"));
+    ASSERT_NE(pf, nullptr);
+    ASSERT_EQ((*pf)->faceCount(), 1000u);
+    EXPECT_LE((*pf)->heapBytes(), 36u * 1000 + 64);
+    EXPECT_EQ(ids((*pf)->uv(999, 0).ids), (std::vector<int32_t>{3996, 3997, 3998, 3999}));
+    EXPECT_EQ(ids((*pf)->edges(999)), (std::vector<int32_t>{3996, 3997, -3998, -3999}));
 }
 
 TEST(MaReader, NurbsCurve) {
@@ -1126,7 +1271,7 @@ TEST(MaReader, ReadsEveryCorpusFile) {
             for (const auto& [first, run] : fc->multi.runs()) {
                 auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(&run.value);
                 ASSERT_NE(pf, nullptr);
-                EXPECT_EQ((*pf)->faces.size(), run.count);
+                EXPECT_EQ((*pf)->faceCount(), run.count);
             }
         }
     }
@@ -1178,12 +1323,12 @@ createNode unknownThing -n "u";
     const PolyFaces* later = polyFacesAt(g, "m", "face[2]");
     ASSERT_NE(first, nullptr);
     ASSERT_NE(later, nullptr);
-    EXPECT_EQ(first->faces.size(), 2u);
-    ASSERT_EQ(later->faces.size(), 1u);
-    EXPECT_EQ(later->faces[0].outer.edges, (std::vector<int32_t>{4, 5, 6}));
+    EXPECT_EQ(first->faceCount(), 2u);
+    ASSERT_EQ(later->faceCount(), 1u);
+    EXPECT_EQ(ids(later->edges(later->loops(0)[0])), (std::vector<int32_t>{4, 5, 6}));
     const PolyFaces* unknown = polyFacesAt(g, "u", "zz[1]");
     ASSERT_NE(unknown, nullptr);
-    EXPECT_EQ(unknown->faces[0].outer.edges.size(), 4u);
+    EXPECT_EQ(unknown->edges(unknown->loops(0)[0]).size(), 4u);
 }
 
 // Data types pushpin does not model are skipped by their tokens, one warning per type.

@@ -146,6 +146,40 @@ createNode mesh -n "frameShape" -p "frame";
     EXPECT_TRUE(m.uvSets.empty());
 }
 
+// Faces from several runs, one index left without a record; a hole whose uv records come after
+// it, with the outer loop's (`mf`) after those of the hole (`mh`); colours on the outer loop.
+TEST(MeshEval, StoredFacesFromRunsWithHoleUvsAfterTheHole) {
+    const char* text = R"(createNode transform -n "frame";
+createNode mesh -n "frameShape" -p "frame";
+	setAttr ".uvst[0].uvsn" -type "string" "map1";
+	setAttr -s 12 ".uvst[0].uvsp[0:11]" -type "float2" 0 0 1 0 1 1 0 1  0.25 0.25 0.75 0.25 0.75 0.75 0.25 0.75
+		0.3 0.3 0.7 0.3 0.7 0.7 0.3 0.7;
+	setAttr ".clst[0].clsn" -type "string" "colorSet1";
+	setAttr -s 4 ".clst[0].clsp[0:3]" 1 0 0 1  0 1 0 1  0 0 1 1  1 1 1 1;
+	setAttr -s 8 ".vt[0:7]" -1 0 1  1 0 1  1 0 -1  -1 0 -1
+		-0.5 0 0.5  0.5 0 0.5  0.5 0 -0.5  -0.5 0 -0.5;
+	setAttr -s 8 ".ed[0:7]" 0 1 1  1 2 1  2 3 1  3 0 0  4 5 1  5 6 1  6 7 1  7 4 1;
+	setAttr ".fc[0]" -type "polyFaces" f 4 0 1 2 3 fc 4 0 1 2 3 h 4 -8 -7 -6 -5 mh 4 7 6 5 4 mf 4 0 1 2 3;
+	setAttr ".fc[1]" -type "polyFaces" f 4 4 5 6 7 mu 0 4 8 9 10 11;
+	setAttr ".fc[3]" -type "polyFaces" f 4 4 5 6 7;
+)";
+    const Graph g = MaReader::readString(text);
+    const MeshEvaluation e = evaluate(g, g.find("frameShape"));
+    ASSERT_TRUE(e.mesh) << e.skipReason;
+    const geom::Mesh& m = *e.mesh;
+    ASSERT_EQ(m.faceCount(), 3u);
+    EXPECT_EQ(m.holeCount(0), 1u);
+    EXPECT_EQ(m.faceVertices, (std::vector<uint32_t>{0, 1, 2, 3, 4, 7, 6, 5, 4, 5, 6, 7, 4, 5, 6, 7}));
+    ASSERT_EQ(m.uvSets.size(), 1u);
+    EXPECT_EQ(m.uvSets[0].faceVertexUvs,
+              (std::vector<int32_t>{0, 1, 2, 3, 7, 6, 5, 4, 8, 9, 10, 11, -1, -1, -1, -1}));
+    ASSERT_EQ(m.colorSets.size(), 1u);
+    EXPECT_EQ(m.colorSets[0].faceVertexColors,
+              (std::vector<int32_t>{0, 1, 2, 3, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1}));
+    ASSERT_EQ(e.notes.size(), 1u);
+    EXPECT_NE(e.notes[0].find("1 face indices have no polyFaces record"), std::string::npos) << e.notes[0];
+}
+
 TEST(MeshEval, StoredTweaksNormalsAndUvSets) {
     // cgkit's objects.ma layout: .pt tweaks added to .vt; plus .n with "not set" entries.
     const char* text = R"(createNode transform -n "mesh";
