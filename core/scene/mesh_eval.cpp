@@ -25,7 +25,6 @@
 #include <cmath>
 #include <exception>
 #include <map>
-#include <ranges>
 #include <unordered_map>
 
 namespace pushpin::scene {
@@ -1193,8 +1192,8 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         if (!appendLoop(pf, loops.front(), false))
             return fail(who + "face " + std::to_string(f) + " uses an edge that does not exist (of " +
                         std::to_string(edges.size()) + ")");
-        for (const size_t hole : loops | std::views::drop(1))
-            if (!appendLoop(pf, hole, true))
+        for (size_t k = 1; k < loops.size(); ++k)
+            if (!appendLoop(pf, loops[k], true))
                 return fail(who + "a hole of face " + std::to_string(f) + " uses an edge that does not exist");
     }
     if (brokenLoops) note(std::to_string(brokenLoops) + " face loops whose edges do not meet");

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
-#include <ranges>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -37,6 +36,31 @@ struct StringArray { std::vector<std::string> items; };
 // `-type "componentList" N "f[0:5]" "vtx[3]" …`
 struct ComponentList { std::vector<std::string> items; };
 
+// The indices first, first + 1, …, last - 1, usable in a range-for.
+struct LoopRange {
+    size_t first = 0, last = 0;
+
+    class iterator {
+    public:
+        explicit iterator(size_t i) : m_i(i) {}
+        size_t operator*() const { return m_i; }
+        iterator& operator++() {
+            ++m_i;
+            return *this;
+        }
+        bool operator==(const iterator&) const = default;
+
+    private:
+        size_t m_i;
+    };
+    iterator begin() const { return iterator(first); }
+    iterator end() const { return iterator(last); }
+    size_t size() const { return last - first; }
+    bool empty() const { return last == first; }
+    size_t front() const { return first; }
+    size_t operator[](size_t k) const { return first + k; }
+};
+
 // `-type "polyFaces"`: face records with edge loops (signed edge ids, see reference/ma-format.md).
 // A face is one or more loops: its outer loop, then its holes. A loop has its edges (signed; e < 0
 // walks edge ~e backwards), any number of uv records (`mu`, `mf`, `mh`: a uv set index and one uv id
@@ -55,9 +79,9 @@ public:
     size_t faceCount() const { return m_faceLoops.empty() ? loopCount() : m_faceLoops.size() - 1; }
     size_t loopCount() const { return m_loopEdges.empty() ? 0 : m_loopEdges.size() - 1; }
     // The loops of `face`: the outer loop first, then the holes.
-    std::ranges::iota_view<size_t, size_t> loops(size_t face) const {
-        if (m_faceLoops.empty()) return std::views::iota(face, face + 1);
-        return std::views::iota(size_t(m_faceLoops[face]), size_t(m_faceLoops[face + 1]));
+    LoopRange loops(size_t face) const {
+        if (m_faceLoops.empty()) return {face, face + 1};
+        return {size_t(m_faceLoops[face]), size_t(m_faceLoops[face + 1])};
     }
     std::span<const int32_t> edges(size_t loop) const {
         return {m_edges.data() + m_loopEdges[loop], m_loopEdges[loop + 1] - m_loopEdges[loop]};
