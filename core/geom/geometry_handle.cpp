@@ -60,13 +60,14 @@ void GeometryHandle::measureMesh(const Mesh& mesh) {
     m_vertices = usedPoints + usedPoints / 8;
     m_sourceBytes = meshBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t);
     // The peak of triangulateValidMesh's working memory, phase by phase (bytes per face-vertex fv,
-    // face F, point P, edge E, triangle T): smooth shading normals (corner faces, face areas, the
-    // edge smoothness table, the corner sets, half-edges, then group sums — at most one group per
-    // corner — and the normals); the corner loop (normals, corner points, vertex chains); the
-    // adjacency (corner points, edge uses by point, the smoothness table again).
+    // face F, point P, edge E, triangle T): smooth shading normals (corner faces, face areas and
+    // corner sets throughout; first the edge smoothness table and the half-edges by point, then
+    // the corners by point and the normals); the corner loop (normals, corner points, vertex
+    // chains); the adjacency (corner points, edge uses by point, the smoothness table again).
     const uint64_t fv = mesh.faceVertexCount(), faces = mesh.faceCount(), points = mesh.points.size(),
                    edges = mesh.edges.size(), t = m_triangles;
-    const uint64_t normalsPhase = m_smooth ? 48 * fv + 24 * faces + 4 * points + 5 * edges : 0;
+    const uint64_t normalsPhase =
+        m_smooth ? std::max(16 * fv + 24 * faces + 8 * points + 5 * edges, 24 * fv + 24 * faces + 4 * points) : 0;
     const uint64_t cornerPhase = (m_smooth ? 12 * fv : 0) + 24 * t + 4 * points;
     const uint64_t adjacencyPhase = 24 * t + 4 * points + (m_smooth ? 4 * points + 5 * edges : 0);
     m_workBytes = std::max({normalsPhase, cornerPhase, adjacencyPhase});

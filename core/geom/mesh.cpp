@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 namespace pushpin::geom {
@@ -247,76 +248,112 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
         for (uint32_t i = faceVertexBegin(f); i < faceVertexEnd(f); ++i) cornerFace[i] = static_cast<uint32_t>(f);
     }
 
-    const EdgeSmoothness smoothness(*this);
+    std::optional<EdgeSmoothness> smoothness(std::in_place, *this);
 
     // Union-find over face-vertices: corners at the same point of two faces sharing a soft edge
-    // belong to one smoothing group.
+    // belong to one smoothing group. The half-edges (start and end corner, 8 bytes each) are filed
+    // under their lower point by a counting sort; the half-edges of one edge are then found in
+    // that point's short list.
     LowestRootSets groups(fvCount);
     struct HalfEdge {
-        uint64_t key;
         uint32_t startCorner, endCorner;
     };
-    std::vector<HalfEdge> halfEdges;
-    halfEdges.reserve(fvCount);
-    for (size_t l = 0; l < loopCount(); ++l) {
-        const uint32_t begin = loopStarts[l], end = loopStarts[l + 1];
-        for (uint32_t i = begin; i < end; ++i) {
-            const uint32_t j = (i + 1 < end) ? i + 1 : begin;
-            if (faceVertices[i] == faceVertices[j]) continue;
-            halfEdges.push_back({edgeKey(faceVertices[i], faceVertices[j]), i, j});
-        }
-    }
-    std::sort(halfEdges.begin(), halfEdges.end(),
-              [](const HalfEdge& a, const HalfEdge& b) { return a.key < b.key; });
-    for (size_t i = 0; i < halfEdges.size();) {
-        size_t j = i + 1;
-        while (j < halfEdges.size() && halfEdges[j].key == halfEdges[i].key) ++j;
-        const bool smooth = smoothness.find(uint32_t(halfEdges[i].key >> 32), uint32_t(halfEdges[i].key)) !=
-                            EdgeSmoothness::Kind::Hard;
-        if (smooth) {
-            const HalfEdge& first = halfEdges[i];
-            for (size_t k = i + 1; k < j; ++k) {
-                const HalfEdge& other = halfEdges[k];
-                for (uint32_t c : {other.startCorner, other.endCorner}) {
-                    if (faceVertices[c] == faceVertices[first.startCorner]) groups.join(c, first.startCorner);
-                    if (faceVertices[c] == faceVertices[first.endCorner]) groups.join(c, first.endCorner);
-                }
+    auto forEachHalfEdge = [&](auto&& fn) {
+        for (size_t l = 0; l < loopCount(); ++l) {
+            const uint32_t begin = loopStarts[l], end = loopStarts[l + 1];
+            for (uint32_t i = begin; i < end; ++i) {
+                const uint32_t j = (i + 1 < end) ? i + 1 : begin;
+                if (faceVertices[i] != faceVertices[j]) fn(i, j);
             }
         }
-        i = j;
+    };
+    uint32_t pointCount = 0;
+    for (uint32_t p : faceVertices) pointCount = std::max(pointCount, p + 1);
+    std::vector<uint32_t> start(size_t(pointCount) + 1, 0);
+    forEachHalfEdge([&](uint32_t i, uint32_t j) { ++start[std::min(faceVertices[i], faceVertices[j]) + size_t(1)]; });
+    for (size_t p = 0; p < pointCount; ++p) start[p + 1] += start[p];
+    std::vector<HalfEdge> halfEdges(start[pointCount]);
+    forEachHalfEdge([&](uint32_t i, uint32_t j) { halfEdges[start[std::min(faceVertices[i], faceVertices[j])]++] = {i, j}; });
+    for (size_t p = pointCount; p > 0; --p) start[p] = start[p - 1];
+    start[0] = 0;
+    auto upper = [&](const HalfEdge& h) { return std::max(faceVertices[h.startCorner], faceVertices[h.endCorner]); };
+    auto joinAcross = [&](const HalfEdge& first, const HalfEdge& other) {
+        for (uint32_t c : {other.startCorner, other.endCorner}) {
+            if (faceVertices[c] == faceVertices[first.startCorner]) groups.join(c, first.startCorner);
+            if (faceVertices[c] == faceVertices[first.endCorner]) groups.join(c, first.endCorner);
+        }
+    };
+    std::vector<std::pair<uint32_t, uint32_t>> busy;  // (upper point, half-edge) of a point with many
+    for (uint32_t p = 0; p < pointCount; ++p) {
+        const uint32_t begin = start[p], end = start[p + 1];
+        if (end - begin <= 32) {
+            for (uint32_t i = begin; i < end; ++i) {
+                const uint32_t hi = upper(halfEdges[i]);
+                bool first = true;
+                for (uint32_t k = begin; k < i && first; ++k) first = upper(halfEdges[k]) != hi;
+                if (!first || smoothness->find(p, hi) == EdgeSmoothness::Kind::Hard) continue;
+                for (uint32_t k = i + 1; k < end; ++k)
+                    if (upper(halfEdges[k]) == hi) joinAcross(halfEdges[i], halfEdges[k]);
+            }
+            continue;
+        }
+        busy.clear();
+        for (uint32_t i = begin; i < end; ++i) busy.emplace_back(upper(halfEdges[i]), i);
+        std::sort(busy.begin(), busy.end());
+        for (size_t i = 0; i < busy.size();) {
+            size_t j = i + 1;
+            while (j < busy.size() && busy[j].first == busy[i].first) ++j;
+            if (smoothness->find(p, busy[i].first) != EdgeSmoothness::Kind::Hard)
+                for (size_t k = i + 1; k < j; ++k) joinAcross(halfEdges[busy[i].second], halfEdges[busy[k].second]);
+            i = j;
+        }
     }
 
-    halfEdges = {};  // what follows does not need the half-edges
-    // Area-weighted sums per smoothing group, numbered by first corner (one sum per group, not
-    // per corner); each sum adds its corners' faces in corner order.
-    std::vector<uint32_t> groupOf(fvCount);
-    std::vector<glm::dvec3> groupSum;
-    for (uint32_t c = 0; c < fvCount; ++c) {
-        const uint32_t root = groups.find(c);
-        if (root == c) {
-            groupOf[c] = uint32_t(groupSum.size());
-            groupSum.emplace_back(0.0);
-        } else {
-            groupOf[c] = groupOf[root];
-        }
-        groupSum[groupOf[c]] += faceArea[cornerFace[c]];
-    }
+    halfEdges = {};  // what follows needs neither the half-edges nor the smoothness table
+    smoothness.reset();
+    // A smoothing group's corners all sit on one point: point by point, each group's area-weighted
+    // sum adds its corners' faces in corner order (a group is known by its root, its first corner).
+    std::vector<uint32_t> byPoint(fvCount);
+    std::fill(start.begin(), start.end(), 0u);
+    for (uint32_t c = 0; c < fvCount; ++c) ++start[faceVertices[c] + size_t(1)];
+    for (size_t p = 0; p < pointCount; ++p) start[p + 1] += start[p];
+    for (uint32_t c = 0; c < fvCount; ++c) byPoint[start[faceVertices[c]]++] = c;
+    for (size_t p = pointCount; p > 0; --p) start[p] = start[p - 1];
+    if (!start.empty()) start[0] = 0;
     std::vector<glm::vec3> out(fvCount);
-    for (uint32_t c = 0; c < fvCount; ++c) {
-        if (!normals.empty()) {
-            const glm::vec3& n = normals[c];
-            if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
-                out[c] = n;
-                continue;
+    std::vector<uint32_t> roots;     // of the point's groups, ascending
+    std::vector<glm::dvec3> sums;   // parallel to roots
+    for (uint32_t p = 0; p < pointCount; ++p) {
+        roots.clear();
+        sums.clear();
+        auto slotOf = [&](uint32_t root) {
+            return size_t(std::lower_bound(roots.begin(), roots.end(), root) - roots.begin());
+        };
+        for (uint32_t k = start[p]; k < start[p + 1]; ++k) {
+            const uint32_t c = byPoint[k], root = groups.find(c);
+            if (root == c) {
+                roots.push_back(c);
+                sums.emplace_back(0.0);
             }
+            sums[slotOf(root)] += faceArea[cornerFace[c]];
         }
-        glm::dvec3 s = groupSum[groupOf[c]];
-        double len = glm::length(s);
-        if (!(len > 0.0)) {
-            s = faceArea[cornerFace[c]];
-            len = glm::length(s);
+        for (uint32_t k = start[p]; k < start[p + 1]; ++k) {
+            const uint32_t c = byPoint[k];
+            if (!normals.empty()) {
+                const glm::vec3& n = normals[c];
+                if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
+                    out[c] = n;
+                    continue;
+                }
+            }
+            glm::dvec3 s = sums[slotOf(groups.find(c))];
+            double len = glm::length(s);
+            if (!(len > 0.0)) {
+                s = faceArea[cornerFace[c]];
+                len = glm::length(s);
+            }
+            out[c] = len > 0.0 ? glm::vec3(s / len) : glm::vec3(0.0f);
         }
-        out[c] = len > 0.0 ? glm::vec3(s / len) : glm::vec3(0.0f);
     }
     return out;
 }
