@@ -30,6 +30,7 @@ const char* memoryCategoryName(MemoryCategory category) {
         case MemoryCategory::Framebuffer: return "framebuffer";
         case MemoryCategory::Other: return "other";
         case MemoryCategory::Geometry: return "geometry";
+        case MemoryCategory::Scene: return "scene";
     }
     return "?";
 }

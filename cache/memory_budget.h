@@ -25,11 +25,12 @@ enum class MemoryCategory : uint8_t {
     Framebuffer,   // the finished frame (colour, alpha, depth) and the image writer's copy of it
     Other,
     Geometry,      // what tessellations are made from: meshes and surfaces kept or being evaluated
+    Scene,         // the loaded scene's stored values: mesh, surface and curve payloads, arrays
 };
-constexpr size_t kMemoryCategoryCount = 9;
+constexpr size_t kMemoryCategoryCount = 10;
 
 // "textures", "tessellation", "rayTracing", "fragments", "shading", "shadowMaps", "framebuffer",
-// "other", "geometry".
+// "other", "geometry", "scene".
 const char* memoryCategoryName(MemoryCategory category);
 
 // What a budget held at one moment (plain data).

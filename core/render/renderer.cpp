@@ -136,6 +136,12 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
     return l;
 }
 
+// What making a shape's tessellation needs beyond the tessellation itself: the mesh evaluated
+// again (when the shape does not keep it) and the working memory.
+uint64_t transientBytes(const geom::GeometryHandle& h) {
+    return (h.keepsSource() ? 0 : h.sourceBytes()) + h.tessellationWorkBytesEstimate();
+}
+
 // ---------------------------------------------------------------- per-object view data
 // Where one object sits for this camera, found once per frame without its triangles: the
 // matrices, the lights of each material slot in camera space, and its screen box. Each tile
@@ -248,6 +254,32 @@ struct Worker {
     // What the buffers above hold beyond the fixed share frameMemory() charges per thread; they
     // grow with the fragments of the busiest tile so far.
     cache::MemoryCharge bufferCharge;
+
+    // Gives back what the tile buffers grew to (an idle thread's, while deferred tiles render).
+    void releaseBuffers(uint64_t fixedShare) {
+        rasterizer.releaseMemory();
+        resolver.releaseMemory();
+        pixelGroupStart = {};
+        groups = {};
+        members = {};
+        nearestDepth = {};
+        groupSampleStart = {};
+        samples = {};
+        groupExtraStart = {};
+        extraSamples = {};
+        shades = {};
+        contributions = {};
+        contributionNorm = {};
+        baseColor = {};
+        adaptive = {};
+        waiting = {};
+        occludingDepth = {};
+        std::vector<PendingBatch>().swap(pending);
+        pendingCount = 0;
+        pendingIndex = {};
+        const uint64_t held = bytes();
+        bufferCharge.resize(held > fixedShare ? held - fixedShare : 0);
+    }
 
     uint64_t bytes() const {
         auto cap = [](const auto& v) { return uint64_t(v.capacity()) * sizeof(v[0]); };
@@ -582,6 +614,15 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
         std::optional<TessellationCache::Pin> pin = m_tessellations.tryAcquire(
             handle,
             [&] {
+                // While it is made, a tessellation needs its shape's mesh (evaluated again when
+                // not kept), its working memory and itself: room for them is taken first, by
+                // dropping unpinned tessellations when needed.
+                const uint64_t making = transientBytes(*handle) + handle->tessellationBytesEstimate();
+                std::optional<cache::MemoryCharge> room =
+                    cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, making);
+                if (!room && m_tessellations.reclaim(making))
+                    room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, making);
+                if (!room) throw TileDoesNotFit{m_scene.objects[i].name, making};
                 geom::Tessellation t = handle->tessellate();
                 m_trianglesMade.fetch_add(t.triangleCount(), std::memory_order_relaxed);
                 return t;
@@ -1131,6 +1172,11 @@ Framebuffer FrameRenderer::run() {
     });
     std::sort(deferred.begin(), deferred.end());
     m_stats.tilesDeferred = deferred.size();
+    if (!deferred.empty()) {
+        // One tile at a time now: what the tile buffers grew to goes back (the deferred tiles grow
+        // them again as they need).
+        for (auto& wp : workers) wp->releaseBuffers(m_perThreadBytes);
+    }
     for (size_t i : deferred) {
         Worker& w = *workers.local();
         try {
@@ -1238,26 +1284,18 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
         m.perThreadBytes = perThread;
     }
 
-    // Kept sources once each; and as a tile thread tessellates one shape at a time and a shape is
-    // tessellated by one thread at a time, room for the `threads` largest transients together:
-    // a shape's mesh evaluated again (when not kept) and its tessellation's working memory.
+    // Kept sources once each. What making a tessellation needs beyond them is charged while it
+    // is made; the largest such need must fit beside the frame's buffers.
     std::unordered_set<const void*> sources;
-    std::unordered_set<const geom::GeometryHandle*> handles;
-    std::vector<uint64_t> transients;
     for (const RenderObject& o : scene.objects) {
         const geom::GeometryHandle& h = *o.geometry;
-        if (handles.insert(&h).second)
-            transients.push_back((h.keepsSource() ? 0 : h.sourceBytes()) + h.tessellationWorkBytesEstimate());
+        m.largestTransientBytes = std::max(m.largestTransientBytes, transientBytes(h));
         if (h.keepsSource() && sources.insert(h.sourceId()).second) m.sourceBytes += h.sourceBytes();
         // The object's view and its entries in every thread's tile tables.
         m.geometryBytes += sizeof(ObjectView) + o.materials.size() * sizeof(std::vector<shade::Light>) +
                            uint64_t(std::max(1, threads)) * (sizeof(const geom::Tessellation*) + sizeof(ObjectTopology));
         m.largestTessellationBytes = std::max(m.largestTessellationBytes, o.geometry->tessellationBytesEstimate());
     }
-    const size_t concurrent = std::min(transients.size(), size_t(std::max(1, threads)));
-    std::partial_sort(transients.begin(), transients.begin() + std::ptrdiff_t(concurrent), transients.end(),
-                      std::greater<>());
-    for (size_t i = 0; i < concurrent; ++i) m.sourceBytes += transients[i];
     return m;
 }
 
@@ -1306,20 +1344,32 @@ std::vector<cache::MemoryCharge> chargeFrame(cache::MemoryBudget& budget, const 
     }
     // The tessellation cache charges what it makes as tiles need it; the largest single shape
     // must fit beside the buffers, or no tile that sees it can render.
-    if (budget.availableBytes() < need.largestTessellationBytes) {
+    if (budget.availableBytes() < need.largestTessellationBytes + need.largestTransientBytes) {
         const uint64_t cap = budget.capBytes();
         const std::string capText = formatCap(cap);
         throw MemoryCapError("the " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " frame needs " +
                                  formatBytes(need.totalBytes()) + " of buffers and " +
-                                 formatBytes(need.largestTessellationBytes) + " for its largest shape's triangles" +
+                                 formatBytes(need.largestTessellationBytes + need.largestTransientBytes) +
+                                 " to make its largest shape's triangles" +
                                  (inUse > 0 ? " (with " + formatBytes(inUse) + " already in use)" : "") +
                                  ", over the memory cap of " + capText + (capSource.empty() ? "" : " (" + capSource + ")"),
-                             need.totalBytes() + need.largestTessellationBytes + inUse, cap);
+                             need.totalBytes() + need.largestTessellationBytes + need.largestTransientBytes + inUse, cap);
     }
     return charges;
 }
 
 }  // namespace
+
+cache::MemoryCharge chargeScene(cache::MemoryBudget& budget, uint64_t storedBytes, const RenderSettings& settings) {
+    std::optional<cache::MemoryCharge> charge =
+        cache::MemoryCharge::tryCharge(budget, cache::MemoryCategory::Scene, storedBytes);
+    if (charge) return std::move(*charge);
+    const MemoryCap cap = memoryCap(settings);
+    const std::string source = budget.capBytes() == cap.bytes ? cap.source : std::string();
+    throw MemoryCapError("the scene's stored values need " + formatBytes(storedBytes) + ", over the memory cap of " +
+                             formatCap(budget.capBytes()) + (source.empty() ? "" : " (" + source + ")"),
+                         storedBytes, budget.capBytes());
+}
 
 Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
                         RenderStats& stats, const RenderOptions& options) {

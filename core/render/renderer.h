@@ -103,14 +103,17 @@ struct FrameMemory {
     // tessellation: each object's view (matrices, lights per material slot) and its entries in
     // every thread's tile tables.
     uint64_t geometryBytes = 0;
-    // geometry: the sources tessellations are made from — every kept mesh and surface once — and
-    // room for as many shapes as there are threads being tessellated at once: the largest
-    // shapes' meshes evaluated again (when not kept) with their tessellations' working memory.
+    // geometry: the sources tessellations are made from that stay resident, every kept mesh and
+    // surface once. Making a tessellation charges "geometry" for as long as it takes: the mesh
+    // evaluated again (when not kept), the working memory and the tessellation itself.
     uint64_t sourceBytes = 0;
     uint64_t totalBytes() const { return framebufferBytes + tileBytes + geometryBytes + sourceBytes; }
-    // Not charged up front: the estimated bytes of the largest shape's tessellation, which must
-    // fit beside the buffers above (the tessellation cache charges what it makes, tile by tile).
+    // Not charged up front: the estimated bytes of the largest shape's tessellation and the most
+    // any shape needs while its tessellation is made (its evaluated mesh and working memory),
+    // which together must fit beside the buffers above (the tessellation cache charges what it
+    // makes, tile by tile).
     uint64_t largestTessellationBytes = 0;
+    uint64_t largestTransientBytes = 0;
 };
 
 // What renderFrame will charge for this scene, camera and settings with `threads` threads.
@@ -134,6 +137,12 @@ double maxTileCost(uint64_t bytesPerTile, const RenderSettings& settings, int ta
 // The bytes the image writer needs to convert a width × height frame to the file's channels,
 // counted as 5 floats per pixel (colour, alpha and depth). Charged by renderFrame with the frame.
 uint64_t imageOutputBytes(int width, int height);
+
+// Charges the loaded scene's stored values (scene::Graph::storedBytes) to `budget` as "scene",
+// for as long as the returned charge lives: the renders that share the budget then plan around
+// them. Throws pushpin::MemoryCapError when they do not fit, e.g. "the scene's stored values need
+// 243.0 MB, over the memory cap of 128 MB (-mm)" (the cap's source as memoryCap(settings) names it).
+cache::MemoryCharge chargeScene(cache::MemoryBudget& budget, uint64_t storedBytes, const RenderSettings& settings);
 
 // Renders `camera`'s view. The framebuffer has the camera's size; pixels outside the render
 // region (settings.useRenderRegion) stay 0. Depth is kept when settings.depth is set.

@@ -22,6 +22,26 @@ uint64_t TileRasterizer::bytes() const {
     return capacityBytes(m_fragments) + capacityBytes(m_pixelOf) + capacityBytes(m_sorted) + capacityBytes(m_pixelStart);
 }
 
+void TileRasterizer::releaseMemory() {
+    m_fragments = {};
+    m_pixelOf = {};
+    m_sorted = {};
+    m_pixelStart = {};
+    m_region = {};
+}
+
+void PixelResolver::releaseMemory() {
+    m_groups = {};
+    m_members = {};
+    m_parent = {};
+    m_visible = {};
+    m_sorted = {};
+    m_order = {};
+    m_far = {};
+    m_groupFar = {};
+    m_groupArea = {};
+}
+
 uint64_t PixelResolver::bytes() const {
     return capacityBytes(m_groups) + capacityBytes(m_members) + capacityBytes(m_parent) + capacityBytes(m_visible) +
            capacityBytes(m_sorted) + capacityBytes(m_order) + capacityBytes(m_far) + capacityBytes(m_groupFar) +

@@ -53,6 +53,8 @@ public:
     const RasterStats& stats() const { return m_stats; }
     // Heap bytes the rasterizer's buffers hold (their capacities).
     uint64_t bytes() const;
+    // Gives the buffers' memory back (stats are kept); the next reset() starts from nothing.
+    void releaseMemory();
 
 private:
     SubsamplePattern m_pattern;
@@ -141,6 +143,8 @@ public:
     const ResolveStats& stats() const { return m_stats; }
     // Heap bytes the resolver's buffers hold (their capacities).
     uint64_t bytes() const;
+    // Gives the buffers' memory back (stats are kept); results are invalid afterwards.
+    void releaseMemory();
 
 private:
     SubsamplePattern m_pattern;

@@ -8,6 +8,7 @@
 #include <functional>
 #include <iterator>
 #include <stdexcept>
+#include <type_traits>
 #include <unordered_set>
 
 namespace pushpin::scene {
@@ -948,6 +949,56 @@ std::vector<const Connection*> Graph::outputs(NodeId node) const {
     for (size_t ci : m_nodes.at(node).outConnections())
         if (m_connections[ci].alive) out.push_back(&m_connections[ci]);
     return out;
+}
+
+namespace {
+
+uint64_t stringsBytes(const std::vector<std::string>& items) {
+    uint64_t bytes = uint64_t(items.capacity()) * sizeof(std::string);
+    for (const std::string& t : items) bytes += t.capacity() > 15 ? t.capacity() + 1 : 0;
+    return bytes;
+}
+
+}  // namespace
+
+uint64_t Graph::storedBytes() const {
+    std::unordered_set<const void*> shared;
+    auto valueBytes = [&](const Value& v) -> uint64_t {
+        return std::visit(
+            [&](const auto& x) -> uint64_t {
+                using T = std::decay_t<decltype(x)>;
+                if constexpr (std::is_same_v<T, Numbers>) {
+                    return uint64_t(x.values.capacity()) * sizeof(double);
+                } else if constexpr (std::is_same_v<T, StringValue>) {
+                    return x.text.capacity() > 15 ? x.text.capacity() + 1 : 0;
+                } else if constexpr (std::is_same_v<T, StringArray> || std::is_same_v<T, ComponentList>) {
+                    return stringsBytes(x.items);
+                } else if constexpr (std::is_same_v<T, RawData>) {
+                    return stringsBytes(x.tokens);
+                } else if constexpr (std::is_same_v<T, std::shared_ptr<const PolyFaces>>) {
+                    return x && shared.insert(x.get()).second ? x->heapBytes() : 0;
+                } else if constexpr (std::is_same_v<T, std::shared_ptr<const NurbsCurveData>>) {
+                    return x && shared.insert(x.get()).second
+                               ? uint64_t(x->knots.capacity() + x->cvs.capacity()) * sizeof(double)
+                               : 0;
+                } else if constexpr (std::is_same_v<T, std::shared_ptr<const NurbsSurfaceData>>) {
+                    return x && shared.insert(x.get()).second
+                               ? uint64_t(x->knotsU.capacity() + x->knotsV.capacity() + x->cvs.capacity()) * sizeof(double)
+                               : 0;
+                } else {
+                    return 0;
+                }
+            },
+            v);
+    };
+    uint64_t bytes = 0;
+    for (const Node& node : m_nodes) {
+        for (const auto& [path, data] : node.attrs) {
+            if (data.hasValue) bytes += valueBytes(data.value);
+            for (const auto& [first, run] : data.multi.runs()) bytes += valueBytes(run.value);
+        }
+    }
+    return bytes;
 }
 
 }  // namespace pushpin::scene

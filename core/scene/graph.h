@@ -280,6 +280,11 @@ public:
     const Node& node(NodeId id) const { return m_nodes[id]; }
     Node& node(NodeId id) { return m_nodes[id]; }
     const NodeStore& nodes() const { return m_nodes; }
+    // Heap bytes of the stored attribute values: numeric arrays, strings, component lists, and
+    // polyFaces, NURBS curve and surface payloads (each shared payload once). What a memory cap
+    // charges for the loaded scene; the nodes' own records and names are not counted. Linear in
+    // the values; thread-safe (reads only).
+    uint64_t storedBytes() const;
     // Finds a node by name or DAG path: "pCube1", "|group1|pCube1", "group1|pCube1", ":lambert1",
     // "ns:name". An ambiguous short DAG name returns the first created. kNoNode if none.
     NodeId find(std::string_view nameOrPath) const;

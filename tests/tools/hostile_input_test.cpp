@@ -305,6 +305,25 @@ TEST(HostileScene, MemoryCapHoldsAndKeepsTheImage) {
     EXPECT_TRUE(!fs::exists(dir.path / "tiny") || filesIn(dir.path / "tiny").empty()) << tiny;
 }
 
+// Under a cap the scene's stored values count too: a file whose arrays alone pass the cap stops
+// with exit 33 before any frame, naming them, and writes nothing.
+TEST(HostileScene, StoredValuesOverTheMemoryCapExit33) {
+    TempDir dir;
+    std::string text = std::string(kHeader) + "createNode transform -n \"cloud\";\n" + cubeUnder("cloud");
+    text += "createNode mesh -n \"storedShape\" -p \"cloud\";\n\tsetAttr -s 200000 \".vt[0:199999]\"";
+    for (int i = 0; i < 200000; ++i) text += " " + std::to_string(i % 97) + " 0 1";
+    text += ";\n// End of hostile.ma\n";
+    writeFile(dir.path / "cloud.ma", text);
+    fs::create_directories(dir.path / "out");
+    const Outcome o = runPushpin({"-x", "32", "-y", "24", "-mm", "2", "-rd", "out", "cloud.ma"}, dir.path, 30);
+    EXPECT_EQ(o.exitCode, 33) << o;
+    EXPECT_NE(o.output.find("the scene's stored values need 4."), std::string::npos) << o;
+    EXPECT_NE(o.output.find("over the memory cap of 2 MB (-mm)"), std::string::npos) << o;
+    EXPECT_TRUE(filesIn(dir.path / "out").empty()) << o;
+    const Outcome free = runPushpin({"-x", "32", "-y", "24", "-rd", "out", "cloud.ma"}, dir.path, 30);
+    EXPECT_EQ(free.exitCode, 0) << free;
+}
+
 // Numbers that overflow: the camera and the object are reported, not rendered into NaN, and
 // the process is clean (the tests also run under UBSan in the sanitizer build).
 TEST(HostileScene, OverflowingNumbersAreNotedNotRendered) {

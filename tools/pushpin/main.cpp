@@ -35,6 +35,7 @@
 #include <exception>
 #include <filesystem>
 #include <new>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -251,6 +252,7 @@ int run(int argc, char** argv) {
     const std::string sceneName = cl.demo ? std::string(scene::kDemoSceneName) : cl.scene;
     scene::Graph graph = cl.demo ? scene::MaReader::readString(scene::demoSceneText(), sceneName, readOptions)
                                  : scene::MaReader::readFile(cl.scene, readOptions);
+    const uint64_t storedBytes = graph.storedBytes();
     const double loadSeconds = secondsSince(tLoad);
 
     if (cl.info) {
@@ -345,6 +347,14 @@ int run(int argc, char** argv) {
             render::TilePlan plan;
             render::RenderOptions renderOptions;
             if (!cl.tilePatternPath.empty() && !tilePatternWritten) renderOptions.tilePlan = &plan;
+            // Under a cap the loaded scene's stored values count against it too.
+            std::optional<cache::MemoryBudget> budget;
+            cache::MemoryCharge sceneCharge;
+            if (const uint64_t capBytes = render::memoryCapBytes(cameraSettings); capBytes != 0) {
+                budget.emplace(capBytes);
+                sceneCharge = render::chargeScene(*budget, storedBytes, cameraSettings);
+                renderOptions.memoryBudget = &*budget;
+            }
             render::Framebuffer image = render::renderFrame(frameScene, camera, cameraSettings, renderStats, renderOptions);
             const double renderSeconds = secondsSince(tRender);
             auto tWrite = std::chrono::steady_clock::now();

@@ -105,13 +105,15 @@ TEST(FrameMemory, CountsTheFramebufferAndTheWritersCopyPerPixel) {
     ASSERT_EQ(f.frameScene.objects.size(), 1u);
     EXPECT_TRUE(f.frameScene.objects[0].geometry->keepsSource());
     const geom::GeometryHandle& h = *f.frameScene.objects[0].geometry;
-    EXPECT_EQ(one.sourceBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
-    // One shape is tessellated by one thread at a time, however many there are.
-    EXPECT_EQ(four.sourceBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
+    EXPECT_EQ(one.sourceBytes, h.sourceBytes());
+    EXPECT_EQ(four.sourceBytes, h.sourceBytes());
+    // Making its tessellation needs the working memory on top, charged while it is made.
+    EXPECT_EQ(one.largestTransientBytes, h.tessellationWorkBytesEstimate());
+    EXPECT_EQ(four.largestTransientBytes, h.tessellationWorkBytesEstimate());
     EXPECT_EQ(one.totalBytes(), one.framebufferBytes + one.tileBytes + one.geometryBytes + one.sourceBytes);
 }
 
-TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandWithRoomForTheShapesTessellatedAtOnce) {
+TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandAndChargedWhileTessellated) {
     Frame f(64, 48);
     f.settings.maximumMemoryBytes = uint64_t(512) << 20;
     f.frameScene = buildFrameScene(f.ev, f.setup, f.settings);
@@ -120,8 +122,9 @@ TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandWithRoomForTheShapesTessell
     EXPECT_FALSE(h.keepsSource());
     EXPECT_GT(h.sourceBytes(), 0u);
     const RenderCamera cam = f.camera();
-    EXPECT_EQ(frameMemory(f.frameScene, cam, f.settings, {}, 3).sourceBytes,
-              h.sourceBytes() + h.tessellationWorkBytesEstimate());
+    const FrameMemory need = frameMemory(f.frameScene, cam, f.settings, {}, 3);
+    EXPECT_EQ(need.sourceBytes, 0u);
+    EXPECT_EQ(need.largestTransientBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
     // Evaluated again, the mesh tessellates exactly as the kept one does.
     RenderSettings free = f.settings;
     free.maximumMemoryBytes = 0;
@@ -136,9 +139,9 @@ TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandWithRoomForTheShapesTessell
     EXPECT_EQ(std::memcmp(capped.rgba.data(), whole.rgba.data(), whole.rgba.size() * sizeof(float)), 0);
 }
 
-// With several shapes, room for the `threads` largest evaluated meshes and working sets together,
-// each counted once however many instances share it.
-TEST(FrameMemory, RoomForAsManyShapesAsThreadsTessellateAtOnce) {
+// With several shapes the frame holds no room for their meshes up front: the largest need while
+// one is tessellated must fit, and each tessellation charges its own need while it is made.
+TEST(FrameMemory, TheLargestNeedWhileTessellatingMustFitBesideTheFrame) {
     std::string text = test::maPreamble(10) + test::greyShadingGroup();
     for (int i = 0; i < 3; ++i) {
         const std::string n = std::to_string(i), steps = std::to_string(2 + 6 * i);
@@ -169,9 +172,49 @@ TEST(FrameMemory, RoomForAsManyShapesAsThreadsTessellateAtOnce) {
     ASSERT_LT(transient[0], transient[1]);
     ASSERT_LT(transient[1], transient[2]);
     const RenderCamera cam = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), 64, 48, 64.0 / 48);
-    EXPECT_EQ(frameMemory(fs, cam, settings, {}, 1).sourceBytes, transient[2]);
-    EXPECT_EQ(frameMemory(fs, cam, settings, {}, 2).sourceBytes, transient[2] + transient[1]);
-    EXPECT_EQ(frameMemory(fs, cam, settings, {}, 8).sourceBytes, transient[2] + transient[1] + transient[0]);
+    for (int threads : {1, 2, 8}) {
+        const FrameMemory need = frameMemory(fs, cam, settings, {}, threads);
+        EXPECT_EQ(need.sourceBytes, 0u);
+        EXPECT_EQ(need.largestTransientBytes, transient[2]);
+    }
+    // Rendered under a cap the three need between them, the geometry charged while tessellating
+    // comes and goes, and nothing stays charged afterwards.
+    MemoryBudget budget(uint64_t(512) << 20);
+    RenderOptions options;
+    options.memoryBudget = &budget;
+    RenderStats stats;
+    (void)renderFrame(fs, cam, settings, stats, options);
+    EXPECT_GE(budget.snapshot().categoryPeakBytes[size_t(MemoryCategory::Geometry)], transient[2]);
+    EXPECT_EQ(budget.usedBytes(), 0u);
+}
+
+// The loaded scene's stored values are charged to the cap before any frame, and the frame's
+// message then names what is already in use.
+TEST(FrameMemory, TheScenesStoredValuesCountAgainstTheCap) {
+    RenderSettings settings;
+    settings.maximumMemoryBytes = uint64_t(1) << 20;
+    MemoryBudget budget(uint64_t(1) << 20);
+    try {
+        (void)chargeScene(budget, uint64_t(3) << 20, settings);
+        ADD_FAILURE() << "3 MB of stored values fit under a 1 MB cap";
+    } catch (const MemoryCapError& e) {
+        EXPECT_EQ(std::string(e.what()), "the scene's stored values need 3.0 MB, over the memory cap of 1 MB (-mm)");
+    }
+    EXPECT_EQ(budget.usedBytes(), 0u);
+    {
+        const cache::MemoryCharge held = chargeScene(budget, 300 << 10, settings);
+        EXPECT_EQ(budget.usedBytes(), uint64_t(300) << 10);
+        EXPECT_EQ(budget.snapshot().categoryBytes[size_t(MemoryCategory::Scene)], uint64_t(300) << 10);
+        Frame f(64, 48);
+        f.settings.maximumMemoryBytes = settings.maximumMemoryBytes;
+        RenderOptions options;
+        options.memoryBudget = &budget;
+        RenderStats stats;
+        const Framebuffer image = renderFrame(f.frameScene, f.camera(), f.settings, stats, options);
+        EXPECT_EQ(image.width, 64);
+        EXPECT_EQ(budget.usedBytes(), uint64_t(300) << 10);
+    }
+    EXPECT_EQ(budget.usedBytes(), 0u);
 }
 
 TEST(FrameMemory, FrameOverTheCapFailsAtOnceWithNothingAllocated) {
@@ -264,7 +307,8 @@ TEST(FrameMemory, CapThatFitsGivesTheSameImageAndReleasesEveryCharge) {
     EXPECT_GE(budget.peakBytes(), need.totalBytes() + tessellations);
     EXPECT_LE(budget.peakBytes(), budget.capBytes());
     EXPECT_EQ(budget.peakBytes(MemoryCategory::Framebuffer), need.framebufferBytes);
-    EXPECT_EQ(budget.peakBytes(MemoryCategory::Geometry), need.sourceBytes);
+    // Geometry: the kept sources, and while a tessellation was made its working memory and itself.
+    EXPECT_GE(budget.peakBytes(MemoryCategory::Geometry), need.sourceBytes + need.largestTransientBytes);
     EXPECT_GE(budget.peakBytes(MemoryCategory::Fragments), need.tileBytes);
     EXPECT_LE(budget.peakBytes(MemoryCategory::Fragments), need.tileBytes + growth);
     EXPECT_EQ(budget.peakBytes(MemoryCategory::Tessellation), need.geometryBytes + tessellations);

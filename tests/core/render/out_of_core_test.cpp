@@ -136,9 +136,9 @@ TEST(OutOfCore, TightCapDropsAndRemakesTessellationsAndKeepsTheImage) {
     const Framebuffer free = g.render(s, freeStats, &unlimited);
     const FrameMemory need = frameMemory(g.frameScene, g.camera, s, {}, 1);
     const uint64_t growth = unlimited.peakBytes(MemoryCategory::Fragments) - need.tileBytes;
-    // Room for the buffers and about five spheres' triangles: enough for the shapes that reach
-    // one tile (at most four), far from all twelve.
-    const uint64_t cap = need.totalBytes() + growth + 5 * need.largestTessellationBytes;
+    // Room for the buffers, the making of one sphere and four spheres' triangles: enough for the
+    // shapes that reach one tile (at most four), far from all twelve.
+    const uint64_t cap = need.totalBytes() + growth + need.largestTransientBytes + 4 * need.largestTessellationBytes;
     ASSERT_LT(cap, need.totalBytes() + growth + g.allTessellationBytes() / 2);
     MemoryBudget budget(cap);
     RenderStats stats;
@@ -193,8 +193,9 @@ TEST(OutOfCore, TileWhoseTrianglesCannotFitStopsTheRenderWithMemoryCapError) {
     const FrameMemory need = frameMemory(g.frameScene, g.camera, g.settings, {}, 1);
     RenderSettings s = g.settings;
     s.numCpusToUse = 1;
-    // The buffers and the largest shape fit (so the frame starts), two shapes do not.
-    MemoryBudget budget(need.totalBytes() + need.largestTessellationBytes + need.largestTessellationBytes / 4);
+    // The buffers and the making of the largest shape fit (so the frame starts), two shapes do not.
+    MemoryBudget budget(need.totalBytes() + need.largestTransientBytes + need.largestTessellationBytes +
+                        need.largestTessellationBytes / 4);
     RenderStats stats;
     try {
         (void)g.render(s, stats, &budget);

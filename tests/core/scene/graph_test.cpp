@@ -105,6 +105,31 @@ TEST(Graph, StoresMultiRangesSparselyAndOverwritesElements) {
     EXPECT_EQ(g.findAttr(m, "uvpt")->multi.runs().size(), 1u);
 }
 
+// What a memory cap charges for a loaded scene: the heap bytes of its stored values, arrays in
+// multi runs and plain values alike, a payload two plugs share counted once.
+TEST(Graph, StoredBytesCountTheValuesPayloads) {
+    Graph g;
+    const uint64_t base = g.storedBytes();
+    NodeId m = g.createNode("mesh", "shape");
+    std::vector<double> points(3 * 10000, 0.5);
+    Numbers big = nums(points);
+    big.values.shrink_to_fit();
+    g.setValue(m, path("vt[0:9999]"), big);
+    EXPECT_EQ(g.storedBytes(), base + 10000 * 3 * sizeof(double));
+    auto surface = std::make_shared<NurbsSurfaceData>();
+    surface->knotsU.assign(10, 0.0);
+    surface->knotsV.assign(10, 0.0);
+    surface->cvs.assign(300, 1.0);
+    surface->knotsU.shrink_to_fit();
+    surface->knotsV.shrink_to_fit();
+    surface->cvs.shrink_to_fit();
+    NodeId s = g.createNode("nurbsSurface", "surface");
+    g.setValue(s, path("cc"), Value(std::shared_ptr<const NurbsSurfaceData>(surface)));
+    NodeId t = g.createNode("nurbsSurface", "again");
+    g.setValue(t, path("cc"), Value(std::shared_ptr<const NurbsSurfaceData>(surface)));
+    EXPECT_EQ(g.storedBytes(), base + 10000 * 3 * sizeof(double) + 320 * sizeof(double));
+}
+
 TEST(Graph, DagPathsAndInstancing) {
     Graph g;
     NodeId a = g.createNode("transform", "a");
