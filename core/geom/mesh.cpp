@@ -28,12 +28,13 @@ glm::dvec3 newell(const Mesh& mesh, std::span<const uint32_t> loop) {
     if (count < 3) return n;
     // Relative to the first point, which keeps precision for meshes far from the origin.
     const glm::dvec3 origin = toD(mesh.points[loop[0]]);
-    for (size_t i = 0; i < count; ++i) {
-        const glm::dvec3 a = toD(mesh.points[loop[i]]) - origin;
-        const glm::dvec3 b = toD(mesh.points[loop[(i + 1) % count]]) - origin;
+    glm::dvec3 a(0.0);  // the first point, relative to itself
+    for (size_t i = 1; i <= count; ++i) {
+        const glm::dvec3 b = i < count ? toD(mesh.points[loop[i]]) - origin : glm::dvec3(0.0);
         n.x += (a.y - b.y) * (a.z + b.z);
         n.y += (a.z - b.z) * (a.x + b.x);
         n.z += (a.x - b.x) * (a.y + b.y);
+        a = b;
     }
     return n;
 }
@@ -201,9 +202,11 @@ MeshValidation Mesh::validate() const {
         if (!degenerate) {
             const std::span<const uint32_t> outer = faceOuterLoop(f);
             double longest2 = 0.0;
-            for (size_t i = 0; i < outer.size(); ++i) {
-                const glm::dvec3 d = toD(points[outer[(i + 1) % outer.size()]]) - toD(points[outer[i]]);
+            glm::dvec3 prev = toD(points[outer.back()]);
+            for (const uint32_t p : outer) {
+                const glm::dvec3 at = toD(points[p]), d = at - prev;
                 longest2 = std::max(longest2, glm::dot(d, d));
+                prev = at;
             }
             const double area = glm::length(faceAreaVector(f));
             if (!(area > 1e-10 * longest2)) degenerate = true;
@@ -364,7 +367,7 @@ std::vector<MeshEdge> deriveEdges(const Mesh& mesh, bool smooth) {
     for (size_t l = 0; l < mesh.loopCount(); ++l) {
         const std::span<const uint32_t> lp = mesh.loop(l);
         for (size_t i = 0; i < lp.size(); ++i) {
-            const uint32_t a = lp[i], b = lp[(i + 1) % lp.size()];
+            const uint32_t a = lp[i], b = i + 1 < lp.size() ? lp[i + 1] : lp[0];
             if (a == b) continue;
             bool inserted = false;
             seen.emplace(edgeKey(a, b), static_cast<uint32_t>(out.size()), &inserted);

@@ -675,8 +675,10 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
         if (occluders[smallest].area < o.area) occluders[smallest] = o;
     }
 
+    bool finished = false;  // whether the fragments are sorted with every object rasterized so far
     if (!w.waiting.empty()) {
         w.rasterizer.finish();
+        finished = true;
         const int bw = base.width();
         w.occludingDepth.assign(size_t(bw) * size_t(base.height()), std::numeric_limits<float>::infinity());
         for (int y = waitingReach.y0; y < waitingReach.y1; ++y)
@@ -697,9 +699,10 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
                 continue;
             }
             rasterize(i);
+            finished = false;
         }
     }
-    w.rasterizer.finish();
+    if (!finished) w.rasterizer.finish();
 }
 
 void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, const Worker& w, uint32_t object, uint32_t triangle,
