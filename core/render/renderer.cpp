@@ -1,6 +1,7 @@
 #include "core/render/renderer.h"
 
 #include "core/geom/tessellation.h"
+#include "core/render/pixel_filter.h"
 #include "core/render/tile_plan.h"
 #include "core/render/visibility.h"
 #include "core/util/json_writer.h"
@@ -48,61 +49,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// ---------------------------------------------------------------- pixel filters
-// reference/algorithms.md §4. Kernels are evaluated at the offset from a surface's centroid to a
-// target pixel's centre and normalised over the target pixels inside the image, so every surface
-// hands out exactly its own colour and alpha (the image keeps its energy at the borders too).
-struct PixelFilter {
-    int type = -1;        // -1: no multi-pixel filter (each pixel keeps its own fragments)
-    double radiusX = 0.5, radiusY = 0.5;  // support half-widths in pixels
-    int reach = 0;        // neighbour pixels a surface can reach in each direction
-
-    static double cubicBSpline(double x) {
-        x = std::fabs(x);
-        if (x < 1.0) return (3.0 * x * x * x - 6.0 * x * x + 4.0) / 6.0;
-        if (x < 2.0) return (2.0 - x) * (2.0 - x) * (2.0 - x) / 6.0;
-        return 0.0;
-    }
-    static double quadraticBSpline(double x) {
-        x = std::fabs(x);
-        if (x <= 0.5) return 0.75 - x * x;
-        if (x <= 1.5) return 0.5 * (x - 1.5) * (x - 1.5);
-        return 0.0;
-    }
-    double weight1d(double x, double r) const {
-        switch (type) {
-        case 0: return std::fabs(x) <= r ? 1.0 : 0.0;
-        case 2: return std::max(0.0, 1.0 - std::fabs(x) / r);
-        case 4: {
-            // Gaussian with sigma = r/2, shifted to reach 0 at the support edge.
-            double s2 = 2.0 * (0.5 * r) * (0.5 * r);
-            return std::fabs(x) >= r ? 0.0 : std::exp(-x * x / s2) - std::exp(-r * r / s2);
-        }
-        case 5: return quadraticBSpline(x * 1.5 / r);
-        case 6: return cubicBSpline(x);  // the 3×3 cubic B-spline at its natural scale
-        default: return 0.0;
-        }
-    }
-    double weight(double dx, double dy) const { return weight1d(dx, radiusX) * weight1d(dy, radiusY); }
-};
-
-PixelFilter makePixelFilter(const RenderSettings& s) {
-    PixelFilter f;
-    if (!s.useMultiPixelFilter) return f;
-    f.type = s.pixelFilterType;
-    if (f.type == 6) {
-        // Carpenter/Maya 1.0 style: the kernel is cut to the 3×3 neighbourhood and renormalised.
-        f.radiusX = f.radiusY = 2.0;
-        f.reach = 1;
-        return f;
-    }
-    if (f.type != 0 && f.type != 2 && f.type != 4 && f.type != 5) f.type = 2;
-    f.radiusX = std::clamp(s.pixelFilterWidthX, 1.0, 3.0) * 0.5;
-    f.radiusY = std::clamp(s.pixelFilterWidthY, 1.0, 3.0) * 0.5;
-    f.reach = int(std::ceil(std::max(f.radiusX, f.radiusY) + 0.5));
-    return f;
 }
 
 // ---------------------------------------------------------------- frame layout
@@ -1078,12 +1024,7 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
                 size_t pi = baseIndex(x, y);
                 for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
                     const SurfaceContribution& c = w.contributions[gi];
-                    double sum = 0.0;
-                    for (int ty = y - reach; ty <= y + reach; ++ty)
-                        for (int tx = x - reach; tx <= x + reach; ++tx)
-                            if (m_region.contains(tx, ty))
-                                sum += m_filter.weight(tx + 0.5 - (x + c.cu), ty + 0.5 - (y + c.cv));
-                    w.contributionNorm[gi] = float(sum);
+                    w.contributionNorm[gi] = float(filterNorm(m_filter, m_region, x, y, c.cu, c.cv));
                 }
             }
     }
@@ -1102,12 +1043,7 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
                         size_t pi = baseIndex(sx, sy);
                         for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
                             const SurfaceContribution& s = w.contributions[gi];
-                            float norm = w.contributionNorm[gi];
-                            double wgt;
-                            if (norm > 0.0f)
-                                wgt = m_filter.weight(x + 0.5 - (sx + s.cu), y + 0.5 - (sy + s.cv)) / norm;
-                            else
-                                wgt = (sx == x && sy == y) ? 1.0 : 0.0;
+                            const double wgt = filterShare(m_filter, w.contributionNorm[gi], sx, sy, s.cu, s.cv, x, y);
                             if (wgt == 0.0) continue;
                             c[0] += wgt * s.color[0], c[1] += wgt * s.color[1], c[2] += wgt * s.color[2];
                             a += wgt * s.alpha;
