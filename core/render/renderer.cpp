@@ -1,6 +1,7 @@
 #include "core/render/renderer.h"
 
 #include "core/geom/tessellation.h"
+#include "core/render/adaptive_shading.h"
 #include "core/render/pixel_filter.h"
 #include "core/render/tile_plan.h"
 #include "core/render/visibility.h"
@@ -937,36 +938,20 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
             w.baseColor[pi] = c;
         }
         const double thr[3] = {m_settings.redThreshold, m_settings.greenThreshold, m_settings.blueThreshold};
-        static constexpr int kNeighbours[5][2] = {{-1, 0}, {-2, 0}, {-1, -1}, {0, -1}, {1, -1}};
         w.groupExtraStart.assign(groupCount + 1, 0);
         std::vector<int> extraCount(groupCount, 0);
         uint32_t extraTotal = 0;
         for (int y = contrib.y0; y < contrib.y1; ++y)
             for (int x = contrib.x0; x < contrib.x1; ++x) {
                 size_t pi = baseIndex(x, y);
-                glm::vec3 lo = w.baseColor[pi], hi = w.baseColor[pi];
-                for (const auto& d : kNeighbours) {
-                    int nx = x + d[0], ny = y + d[1];
-                    if (!m_region.contains(nx, ny)) continue;
-                    const glm::vec3& c = w.baseColor[baseIndex(nx, ny)];
-                    lo = glm::min(lo, c);
-                    hi = glm::max(hi, c);
-                }
-                double f = 0.0;
-                for (int k = 0; k < 3; ++k) {
-                    double mx = std::max(0.0f, hi[k]), mn = std::max(0.0f, lo[k]);
-                    double contrast = mx + mn > 0.0 ? (mx - mn) / (mx + mn) : 0.0;
-                    if (contrast > thr[k]) f = std::max(f, thr[k] < 1.0 ? (contrast - thr[k]) / (1.0 - thr[k]) : 1.0);
-                }
+                const double f = contrastExcess(w.baseColor, base, m_region, x, y, thr);
                 if (f <= 0.0) continue;
                 bool any = false;
                 for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
                     const SurfaceGroup& g = w.groups[gi];
                     if (g.coverage <= 0.0f || g.visibleMask == 0) continue;
                     const RenderObject& obj = m_scene.objects[g.object];
-                    int ss = baseSamples(obj), mss = maxSamples(obj);
-                    int want = ss + int(std::ceil((mss - ss) * f - 1e-9));
-                    want = std::min(want, std::popcount(g.visibleMask));
+                    const int want = adaptiveSampleCount(baseSamples(obj), maxSamples(obj), f, std::popcount(g.visibleMask));
                     int have = int(w.groupSampleStart[gi + 1] - w.groupSampleStart[gi]);
                     if (want > have) {
                         extraCount[gi] = want - have;
