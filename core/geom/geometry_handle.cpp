@@ -56,16 +56,19 @@ void GeometryHandle::measureMesh(const Mesh& mesh) {
         }
     }
     m_materials = std::max<uint32_t>(materials, 1);
+    m_sourceBytes = meshBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t);
+    estimateMeshBytes(mesh.faceVertexCount(), mesh.faceCount(), mesh.points.size(), mesh.edges.size(), usedPoints);
+}
+
+void GeometryHandle::estimateMeshBytes(uint64_t fv, uint64_t faces, uint64_t points, uint64_t edges, uint64_t usedPoints) {
     // Hard edges and uv seams split some points into several vertices.
     m_vertices = usedPoints + usedPoints / 8;
-    m_sourceBytes = meshBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t);
     // The peak of triangulateValidMesh's working memory, phase by phase (bytes per face-vertex fv,
     // face F, point P, edge E, triangle T): smooth shading normals (corner faces, face areas and
     // corner sets throughout; first the edge smoothness table and the half-edges by point, then
     // the corners by point and the normals); the corner loop (normals, corner points, vertex
     // chains); the adjacency (corner points, edge uses by point, the smoothness table again).
-    const uint64_t fv = mesh.faceVertexCount(), faces = mesh.faceCount(), points = mesh.points.size(),
-                   edges = mesh.edges.size(), t = m_triangles;
+    const uint64_t t = m_triangles;
     const uint64_t normalsPhase =
         m_smooth ? std::max(16 * fv + 24 * faces + 8 * points + 5 * edges, 24 * fv + 24 * faces + 4 * points) : 0;
     const uint64_t cornerPhase = (m_smooth ? 12 * fv : 0) + 24 * t + 4 * points;
@@ -91,6 +94,24 @@ std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshSource(std::shared_ptr<c
     h->m_degenerate = std::move(degenerate);
     h->m_smooth = smoothShading;
     h->measureMesh(mesh);
+    h->m_source = std::move(source);
+    return h;
+}
+
+std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshCounts(std::shared_ptr<const MeshSource> source,
+                                                               const PrimitiveCounts& counts, bool smoothShading) {
+    std::shared_ptr<GeometryHandle> h(new GeometryHandle());
+    h->m_smooth = smoothShading;
+    h->m_validate = true;
+    h->m_bounds = counts.bounds;
+    h->m_triangles = counts.triangles;
+    h->m_materials = 1;
+    // What the made mesh holds (meshBytes): points, face-vertices, loop and face starts, edges, uvs
+    // and their ids.
+    h->m_sourceBytes = counts.points * sizeof(glm::vec3) + counts.faceVertices * sizeof(uint32_t) +
+                       2 * (counts.faces + 1) * sizeof(uint32_t) + counts.edges * sizeof(MeshEdge) +
+                       (counts.uvs > 0 ? counts.uvs * sizeof(glm::vec2) + counts.faceVertices * sizeof(int32_t) : 0);
+    h->estimateMeshBytes(counts.faceVertices, counts.faces, counts.points, counts.edges, counts.points);
     h->m_source = std::move(source);
     return h;
 }
@@ -130,6 +151,7 @@ Tessellation GeometryHandle::tessellate(std::string* problem) const {
     if (m_source) {
         static const std::vector<bool> kNone;
         const std::shared_ptr<const Mesh> mesh = m_source->mesh();
+        if (m_validate) return triangulateMesh(*mesh, m_faceMaterial, m_smooth);
         return triangulateValidMesh(*mesh, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone);
     }
     if (m_surface) {

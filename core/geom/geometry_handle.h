@@ -13,6 +13,7 @@
 #include "core/geom/bounds.h"
 #include "core/geom/mesh.h"
 #include "core/geom/nurbs.h"
+#include "core/geom/poly_primitives.h"
 #include "core/geom/tessellation.h"
 
 #include <cstdint>
@@ -49,6 +50,11 @@ public:
                                                           std::vector<uint16_t> faceMaterial,
                                                           std::shared_ptr<const std::vector<bool>> degenerate,
                                                           bool smoothShading);
+    // A mesh not made yet: `source` makes it when the handle first tessellates, and `counts` (a
+    // primitive's PrimitiveCounts) give the bounds, triangles and byte estimates until then. Every
+    // face takes material 0; the mesh is validated when it is made and its degenerate faces dropped.
+    static std::shared_ptr<GeometryHandle> fromMeshCounts(std::shared_ptr<const MeshSource> source,
+                                                          const PrimitiveCounts& counts, bool smoothShading);
     // A NURBS surface tessellated on a uniform grid of divU × divV steps per span (material 0).
     static std::shared_ptr<GeometryHandle> fromNurbs(std::shared_ptr<const NurbsSurface> surface, int divU, int divV);
 
@@ -93,11 +99,15 @@ private:
     GeometryHandle() = default;
 
     void measureMesh(const Mesh& mesh);
+    // The byte estimates from a mesh's counts (face-vertices, faces, points, edges) and the
+    // triangles and points kept.
+    void estimateMeshBytes(uint64_t faceVertices, uint64_t faces, uint64_t points, uint64_t edges, uint64_t usedPoints);
 
     std::shared_ptr<const MeshSource> m_source;
     std::vector<uint16_t> m_faceMaterial;
     std::shared_ptr<const std::vector<bool>> m_degenerate;
     bool m_smooth = true;
+    bool m_validate = false;  // the mesh is made after the handle: validate it when tessellating
     std::shared_ptr<const NurbsSurface> m_surface;
     int m_divU = 1, m_divV = 1;
     Bounds3 m_bounds;

@@ -533,4 +533,88 @@ std::optional<Mesh> makePolyPlatonicSolid(const PolyPlatonicParams& pIn, std::st
     return b.finish(p.axis, false);
 }
 
+// ------------------------------------------------------------------------- counts and bounds
+namespace {
+
+// Sizes and cells the counts vouch for: finite positive sizes of at most 1e12, cells no thinner
+// than 1e-4 of their length and no smaller than 1e-5 of the primitive (float points keep every
+// face's area well above Mesh::validate's degenerate threshold).
+bool sane(double size) { return std::isfinite(size) && size > 0.0 && size <= 1e12; }
+bool saneCell(double a, double b, double extent) {
+    return a >= 1e-4 * b && b >= 1e-4 * a && std::min(a, b) >= 1e-5 * extent;
+}
+
+// The box of `corners` rotated by the axis rotation, widened for the points' float rounding.
+Bounds3 rotatedBox(const glm::dvec3& axis, std::initializer_list<glm::dvec3> corners) {
+    const glm::dmat3 rot = axisRotation(axis);
+    Bounds3 b;
+    double reach = 0.0;
+    for (const glm::dvec3& c : corners) {
+        const glm::dvec3 r = rot * c;
+        b.extend(r);
+        reach = std::max({reach, std::fabs(r.x), std::fabs(r.y), std::fabs(r.z)});
+    }
+    const glm::dvec3 pad(1e-6 * reach);  // about 16 float steps
+    b.lo -= pad;
+    b.hi += pad;
+    return b;
+}
+
+}  // namespace
+
+std::optional<PrimitiveCounts> polySphereCounts(const PolySphereParams& p) {
+    const uint64_t sa = uint64_t(std::max(3, p.subdivisionsAxis)), sh = uint64_t(std::max(2, p.subdivisionsHeight));
+    const double r = p.radius;
+    if (!sane(r) || double(sa) * double(sh) > double(kMaxPrimitiveFaces)) return std::nullopt;
+    if (!saneCell(kTwoPi * r / double(sa), std::numbers::pi * r / double(sh), r)) return std::nullopt;
+    PrimitiveCounts c;
+    c.points = sa * (sh - 1) + 2;
+    c.faces = sa * sh;
+    c.faceVertices = 4 * sa * (sh - 2) + 6 * sa;
+    c.edges = sa * (2 * sh - 1);
+    c.triangles = 2 * sa * (sh - 1);
+    c.uvs = p.createUVs ? (sa + 1) * (sh - 1) + 2 * sa : 0;
+    // Every point lies on the sphere, whatever the axis.
+    c.bounds = rotatedBox({0.0, 1.0, 0.0}, {glm::dvec3(-r), glm::dvec3(r)});
+    return c;
+}
+
+std::optional<PrimitiveCounts> polyPlaneCounts(const PolyPlaneParams& p) {
+    const uint64_t sw = uint64_t(std::max(1, p.subdivisionsWidth)), sh = uint64_t(std::max(1, p.subdivisionsHeight));
+    const double w = p.width, h = p.height;
+    if (!sane(w) || !sane(h) || double(sw) * double(sh) > double(kMaxPrimitiveFaces)) return std::nullopt;
+    if (!saneCell(w / double(sw), h / double(sh), std::max(w, h))) return std::nullopt;
+    PrimitiveCounts c;
+    c.points = (sw + 1) * (sh + 1);
+    c.faces = sw * sh;
+    c.faceVertices = 4 * c.faces;
+    c.edges = sw * (sh + 1) + sh * (sw + 1);
+    c.triangles = 2 * c.faces;
+    c.uvs = p.createUVs ? c.points : 0;
+    c.bounds = rotatedBox(p.axis, {{-w / 2, 0.0, -h / 2}, {w / 2, 0.0, -h / 2}, {-w / 2, 0.0, h / 2}, {w / 2, 0.0, h / 2}});
+    return c;
+}
+
+std::optional<PrimitiveCounts> polyCubeCounts(const PolyCubeParams& p) {
+    const uint64_t sw = uint64_t(std::max(1, p.subdivisionsWidth)), sh = uint64_t(std::max(1, p.subdivisionsHeight)),
+                   sd = uint64_t(std::max(1, p.subdivisionsDepth));
+    const double w = p.width, h = p.height, d = p.depth;
+    if (!sane(w) || !sane(h) || !sane(d)) return std::nullopt;
+    const double faces = 2.0 * (double(sw) * double(sh) + double(sh) * double(sd) + double(sd) * double(sw));
+    if (faces > double(kMaxPrimitiveFaces)) return std::nullopt;
+    const double extent = std::max({w, h, d}), cw = w / double(sw), ch = h / double(sh), cd = d / double(sd);
+    if (!saneCell(cw, ch, extent) || !saneCell(ch, cd, extent) || !saneCell(cd, cw, extent)) return std::nullopt;
+    PrimitiveCounts c;
+    c.faces = uint64_t(faces);
+    c.points = c.faces + 2;  // a closed quad mesh of genus 0: V − E + F = 2 with E = 2F
+    c.faceVertices = 4 * c.faces;
+    c.edges = 2 * c.faces;
+    c.triangles = 2 * c.faces;
+    c.uvs = p.createUVs ? c.faceVertices : 0;  // at most one per face-vertex
+    c.bounds = rotatedBox(p.axis, {{-w / 2, -h / 2, -d / 2}, {w / 2, -h / 2, -d / 2}, {-w / 2, h / 2, -d / 2},
+                                   {w / 2, h / 2, -d / 2}, {-w / 2, -h / 2, d / 2}, {w / 2, -h / 2, d / 2},
+                                   {-w / 2, h / 2, d / 2}, {w / 2, h / 2, d / 2}});
+    return c;
+}
+
 }  // namespace pushpin::geom

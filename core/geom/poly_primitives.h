@@ -18,11 +18,13 @@
 //   cones are hard, every other edge is soft. Edge numbering is not Maya's.
 #pragma once
 
+#include "core/geom/bounds.h"
 #include "core/geom/mesh.h"
 
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -111,5 +113,22 @@ std::optional<Mesh> makePolyPlatonicSolid(const PolyPlatonicParams& p, std::stri
 
 // Column-vector rotation taking +Y onto `axis` (identity for +Y, zero or non-finite axes).
 glm::dmat3 axisRotation(const glm::dvec3& axis);
+
+// What a generator's mesh will hold, known without making it: exact counts of points, faces,
+// face-vertices, edges and triangles (each face fanned), at most `uvs` UVs, and object-space
+// bounds that hold every point (float rounding included: the box of the primitive's corners or
+// sphere, widened by a millionth of its reach).
+struct PrimitiveCounts {
+    uint64_t points = 0, faces = 0, faceVertices = 0, edges = 0, uvs = 0, triangles = 0;
+    Bounds3 bounds;
+};
+
+// The counts of makePolySphere, makePolyPlane and makePolyCube for the same parameters, when the
+// generator makes a mesh without degenerate faces: nullopt when it would fail, when a size is not
+// positive, or when its cells would be so thin or small that float points could make faces
+// degenerate (the generator and Mesh::validate then decide).
+std::optional<PrimitiveCounts> polySphereCounts(const PolySphereParams& p);
+std::optional<PrimitiveCounts> polyPlaneCounts(const PolyPlaneParams& p);
+std::optional<PrimitiveCounts> polyCubeCounts(const PolyCubeParams& p);
 
 }  // namespace pushpin::geom

@@ -291,6 +291,11 @@ struct ShapeGeometry {
     std::shared_ptr<const geom::GeometryHandle> lastHandle;
     std::vector<uint16_t> lastMaterials;
     bool lastSmooth = true;
+    // Meshes straight from a primitive: its counts and bounds, so that an instance in one shading
+    // group as a whole gets a handle that makes the mesh only when a tile first needs it.
+    std::optional<geom::PrimitiveCounts> counts;
+    std::shared_ptr<const geom::GeometryHandle> deferredHandle;
+    bool deferredSmooth = true;
 };
 
 void evaluateShape(scene::Evaluator& ev, NodeId shape, const std::string& label, ShapeGeometry& out,
@@ -306,7 +311,11 @@ void evaluateShape(scene::Evaluator& ev, NodeId shape, const std::string& label,
                     out.evaluation.skipReason.empty() ? "the mesh could not be evaluated" : out.evaluation.skipReason;
                 return;
             }
-            const geom::MeshValidation validation = out.evaluation.mesh->validate();
+            // The evaluation has validated the mesh when nothing changed it afterwards.
+            geom::MeshValidation validation;
+            if (out.evaluation.degenerateFaces) validation.degenerateFaces = std::move(*out.evaluation.degenerateFaces);
+            else validation = out.evaluation.mesh->validate();
+            out.evaluation.degenerateFaces.reset();
             auto mesh = std::make_shared<const geom::Mesh>(std::move(*out.evaluation.mesh));
             out.evaluation.mesh.reset();
             if (!validation.ok()) {
@@ -439,6 +448,9 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
         std::vector<Membership> groups;
         for (const scene::Node& node : g.nodes()) {
             if (node.type != "mesh" && node.type != "nurbsSurface") continue;
+            // A primitive's mesh waits for its first tile (an instance with per-face shading
+            // groups evaluates it below).
+            if (node.type == "mesh" && scene::primitiveShapeCounts(ev, node.id)) continue;
             const auto paths = g.dagPaths(node.id, &budget);
             for (size_t instance = 0; instance < paths.size(); ++instance) {
                 if (!instanceProblem(node, paths[instance], instance, groups).empty()) continue;
@@ -463,8 +475,9 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
         const bool pathsCutBefore = pathBudget.exhausted;
         const auto paths = g.dagPaths(node.id, &pathBudget);
         if (pathBudget.exhausted && !pathsCutBefore) scene.notes.push_back(dagPathBudgetMessage(g, node.id, pathBudget));
-        // Geometry is evaluated once per shape, on its first renderable instance.
+        // Geometry is evaluated once per shape, on its first renderable instance that needs it.
         ShapeGeometry shape;
+        if (node.type == "mesh") shape.counts = scene::primitiveShapeCounts(ev, node.id);
         bool evaluated = false;
         for (size_t instance = 0; instance < paths.size(); ++instance) {
             const std::vector<NodeId>& path = paths[instance];
@@ -479,7 +492,10 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                 continue;
             }
 
-            if (!evaluated) {
+            const bool wholeOnly = std::all_of(groups.begin(), groups.end(),
+                                               [](const Membership& m) { return m.member->objectGroup < 0; });
+            const bool deferred = shape.counts && wholeOnly;
+            if (!deferred && !evaluated) {
                 if (auto it = earlyIndex.find(node.id); it != earlyIndex.end()) {
                     shape = std::move(early[it->second]);
                     for (std::string& note : earlyNotes[it->second]) scene.notes.push_back(std::move(note));
@@ -488,7 +504,7 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
                 }
                 evaluated = true;
             }
-            if (shape.failed) {
+            if (!deferred && shape.failed) {
                 skip(shape.skipReason);
                 continue;
             }
@@ -519,7 +535,16 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
             for (const Membership& m : groups)
                 if (m.member->objectGroup < 0 && !whole) whole = m.group;
 
-            if (shape.surface) {
+            if (deferred) {
+                // One shading group for the whole mesh: slot 0 on every face.
+                slotGroups.push_back(whole);
+                if (!shape.deferredHandle || shape.deferredSmooth != object.smoothShading) {
+                    shape.deferredHandle = geom::GeometryHandle::fromMeshCounts(
+                        std::make_shared<EvaluatedMesh>(evaluators, node.id), *shape.counts, object.smoothShading);
+                    shape.deferredSmooth = object.smoothShading;
+                }
+                object.geometry = shape.deferredHandle;
+            } else if (shape.surface) {
                 const scene::ShadingGroupInfo* sg = whole ? whole : groups.front().group;
                 if (!whole)
                     scene.notes.push_back(label + ": component shading assignment on a NURBS surface; " + sg->name +

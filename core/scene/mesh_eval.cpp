@@ -93,40 +93,57 @@ struct Context {
 std::optional<geom::Mesh> evaluateShape(Context& c, NodeId shape, std::string& reason);
 
 // ------------------------------------------------------------------------------ creator nodes
+geom::PrimitiveAxis primitiveAxis(Evaluator& ev, NodeId n) {
+    geom::PrimitiveAxis common;
+    common.axis = ev.getDouble3(n, "ax", glm::dvec3(0.0, 1.0, 0.0));
+    common.createUVs = ev.getInt(n, "cuv", 1) != 0;
+    return common;
+}
+
+geom::PolyCubeParams polyCubeParams(Evaluator& ev, NodeId n) {
+    geom::PolyCubeParams p;
+    static_cast<geom::PrimitiveAxis&>(p) = primitiveAxis(ev, n);
+    p.width = ev.getDouble(n, "w", 1.0);
+    p.height = ev.getDouble(n, "h", 1.0);
+    p.depth = ev.getDouble(n, "d", 1.0);
+    p.subdivisionsWidth = ev.getInt(n, "sw", 1);
+    p.subdivisionsHeight = ev.getInt(n, "sh", 1);
+    p.subdivisionsDepth = ev.getInt(n, "sd", 1);
+    return p;
+}
+
+geom::PolySphereParams polySphereParams(Evaluator& ev, NodeId n) {
+    geom::PolySphereParams p;
+    static_cast<geom::PrimitiveAxis&>(p) = primitiveAxis(ev, n);
+    p.radius = ev.getDouble(n, "r", 1.0);
+    p.subdivisionsAxis = ev.getInt(n, "sa", 20);
+    p.subdivisionsHeight = ev.getInt(n, "sh", 20);
+    return p;
+}
+
+geom::PolyPlaneParams polyPlaneParams(Evaluator& ev, NodeId n) {
+    geom::PolyPlaneParams p;
+    static_cast<geom::PrimitiveAxis&>(p) = primitiveAxis(ev, n);
+    p.width = ev.getDouble(n, "w", 1.0);
+    p.height = ev.getDouble(n, "h", 1.0);
+    p.subdivisionsWidth = ev.getInt(n, "sw", 10);
+    p.subdivisionsHeight = ev.getInt(n, "sh", 10);
+    return p;
+}
+
 std::optional<geom::Mesh> evaluateCreator(Context& c, NodeId n, std::string& reason) {
     Evaluator& ev = c.ev;
     const Node& node = c.g.node(n);
     const std::string& type = node.type;
-    geom::PrimitiveAxis common;
-    common.axis = ev.getDouble3(n, "ax", glm::dvec3(0.0, 1.0, 0.0));
-    common.createUVs = ev.getInt(n, "cuv", 1) != 0;
+    const geom::PrimitiveAxis common = primitiveAxis(ev, n);
     std::string error;
     std::optional<geom::Mesh> mesh;
     if (type == "polyCube") {
-        geom::PolyCubeParams p;
-        static_cast<geom::PrimitiveAxis&>(p) = common;
-        p.width = ev.getDouble(n, "w", 1.0);
-        p.height = ev.getDouble(n, "h", 1.0);
-        p.depth = ev.getDouble(n, "d", 1.0);
-        p.subdivisionsWidth = ev.getInt(n, "sw", 1);
-        p.subdivisionsHeight = ev.getInt(n, "sh", 1);
-        p.subdivisionsDepth = ev.getInt(n, "sd", 1);
-        mesh = geom::makePolyCube(p, &error);
+        mesh = geom::makePolyCube(polyCubeParams(ev, n), &error);
     } else if (type == "polySphere") {
-        geom::PolySphereParams p;
-        static_cast<geom::PrimitiveAxis&>(p) = common;
-        p.radius = ev.getDouble(n, "r", 1.0);
-        p.subdivisionsAxis = ev.getInt(n, "sa", 20);
-        p.subdivisionsHeight = ev.getInt(n, "sh", 20);
-        mesh = geom::makePolySphere(p, &error);
+        mesh = geom::makePolySphere(polySphereParams(ev, n), &error);
     } else if (type == "polyPlane") {
-        geom::PolyPlaneParams p;
-        static_cast<geom::PrimitiveAxis&>(p) = common;
-        p.width = ev.getDouble(n, "w", 1.0);
-        p.height = ev.getDouble(n, "h", 1.0);
-        p.subdivisionsWidth = ev.getInt(n, "sw", 10);
-        p.subdivisionsHeight = ev.getInt(n, "sh", 10);
-        mesh = geom::makePolyPlane(p, &error);
+        mesh = geom::makePolyPlane(polyPlaneParams(ev, n), &error);
     } else if (type == "polyCylinder") {
         geom::PolyCylinderParams p;
         static_cast<geom::PrimitiveAxis&>(p) = common;
@@ -980,6 +997,7 @@ void applySmoothPreview(Evaluator& ev, NodeId shape, MeshEvaluation& out) {
     }
     out.faceOrigin = std::move(origin);
     out.sourceFaceCount = sourceFaces;
+    out.degenerateFaces.reset();  // of the cage, not of the smoothed mesh
 }
 
 // Runs one evaluation so that scene content never aborts a render: an exception or a mesh that
@@ -995,10 +1013,12 @@ void guardedEvaluation(MeshEvaluation& out, const std::string& label, Evaluate&&
         reason = std::string("evaluation failed: ") + e.what();
     }
     if (out.mesh) {
-        const geom::MeshValidation v = out.mesh->validate();
+        geom::MeshValidation v = out.mesh->validate();
         if (!v.ok()) {
             out.mesh.reset();
             reason = label + v.errors.front();
+        } else {
+            out.degenerateFaces = std::move(v.degenerateFaces);
         }
     }
     if (!out.mesh) out.skipReason = reason;
@@ -1254,6 +1274,21 @@ MeshEvaluation evaluateMeshPlug(Evaluator& ev, const Plug& output) {
     guardedEvaluation(out, "", [&](std::string& reason) { return evaluatePlug(c, output, reason); });
     if (!out.mesh && out.skipReason.empty()) out.skipReason = "the plug's mesh could not be evaluated";
     return out;
+}
+
+std::optional<geom::PrimitiveCounts> primitiveShapeCounts(Evaluator& ev, NodeId meshShape) {
+    const Graph& g = ev.graph();
+    if (meshShape >= g.size() || g.node(meshShape).type != "mesh") return std::nullopt;
+    if (ev.getInt(meshShape, "dsm", 0) != 0) return std::nullopt;
+    const std::optional<Plug> in = inputPlug(g, meshShape, {"inMesh", "i"});
+    if (!in || in->node >= g.size()) return std::nullopt;
+    for (const auto& [index, t] : vectorElements(ev, meshShape, keyOf(g, meshShape, "pnts"), 3))
+        if (t != glm::dvec3(0.0)) return std::nullopt;
+    const std::string& type = g.node(in->node).type;
+    if (type == "polySphere") return geom::polySphereCounts(polySphereParams(ev, in->node));
+    if (type == "polyPlane") return geom::polyPlaneCounts(polyPlaneParams(ev, in->node));
+    if (type == "polyCube") return geom::polyCubeCounts(polyCubeParams(ev, in->node));
+    return std::nullopt;
 }
 
 std::optional<geom::Mesh> evaluateMesh(Evaluator& ev, NodeId meshShape, std::string* skipReason) {

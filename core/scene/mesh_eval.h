@@ -17,6 +17,7 @@
 #pragma once
 
 #include "core/geom/mesh.h"
+#include "core/geom/poly_primitives.h"
 #include "core/scene/evaluator.h"
 #include "core/scene/graph.h"
 #include "core/scene/value.h"
@@ -47,6 +48,9 @@ struct MeshEvaluation {
     // unsmoothed mesh it comes from (the faces shading assignments name), and how many there were.
     std::vector<uint32_t> faceOrigin;
     size_t sourceFaceCount = 0;
+    // The degenerate faces of `mesh` (geom::MeshValidation::degenerateFaces) when the evaluation
+    // validated the mesh it returns; nullopt when the mesh changed after that check.
+    std::optional<std::vector<uint32_t>> degenerateFaces;
 };
 
 // Evaluates mesh shape `meshShape` at the Evaluator's frame. Never throws for bad scene content:
@@ -55,6 +59,13 @@ struct MeshEvaluation {
 // shape showing its smooth mesh preview (displaySmoothMesh on) renders it, as Maya Software does:
 // Catmull-Clark at smoothLevel (renderSmoothLevel when useSmoothPreviewForRender is off).
 MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape);
+
+// What evaluateMeshShape would give for a shape whose mesh comes straight from a polySphere,
+// polyPlane or polyCube (its inMesh connected to the creator, no point tweaks, no smooth mesh
+// preview), known without making it: the mesh's counts and object-space bounds, so that making it
+// can wait until it is needed. nullopt for every other shape, and where the primitive's counts do
+// not vouch for a mesh without degenerate faces (geom::polySphereCounts and the like).
+std::optional<geom::PrimitiveCounts> primitiveShapeCounts(Evaluator& ev, NodeId meshShape);
 
 // The same, reduced to the mesh; on a skip, `skipReason` (if given) receives the reason.
 std::optional<geom::Mesh> evaluateMesh(Evaluator& ev, NodeId meshShape, std::string* skipReason);

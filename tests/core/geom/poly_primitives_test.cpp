@@ -1,5 +1,6 @@
 // Tests for core/geom/poly_primitives.h.
 #include "core/geom/poly_primitives.h"
+#include "core/geom/tessellation.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -8,6 +9,9 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
+#include <string>
+#include <tuple>
 
 namespace pushpin::geom {
 namespace {
@@ -426,6 +430,105 @@ TEST(AxisRotation, MapsUpOntoAxis) {
         EXPECT_NEAR(glm::determinant(r), 1.0, 1e-9);
     }
     EXPECT_EQ(axisRotation(glm::dvec3(std::numeric_limits<double>::quiet_NaN())), glm::dmat3(1.0));
+}
+
+// What the counts promise, checked against the generated mesh: every count exact (uvs at most),
+// no degenerate face, every point inside the bounds; `tight` also asks the bounds to be the
+// points' own box to within their padding.
+void expectCountsMatch(const std::optional<PrimitiveCounts>& counts, const std::optional<Mesh>& mesh, bool tight,
+                       const std::string& what) {
+    SCOPED_TRACE(what);
+    ASSERT_TRUE(counts.has_value());
+    ASSERT_TRUE(mesh.has_value());
+    const MeshValidation v = mesh->validate();
+    ASSERT_TRUE(v.ok());
+    EXPECT_TRUE(v.degenerateFaces.empty());
+    EXPECT_EQ(counts->points, mesh->points.size());
+    EXPECT_EQ(counts->faces, mesh->faceCount());
+    EXPECT_EQ(counts->faceVertices, mesh->faceVertexCount());
+    EXPECT_EQ(counts->edges, mesh->edges.size());
+    EXPECT_EQ(counts->triangles, meshTriangleCount(*mesh, {}, {}));
+    const uint64_t uvs = mesh->uvSets.empty() ? 0 : mesh->uvSets[0].uvs.size();
+    EXPECT_GE(counts->uvs, uvs);
+    const Bounds3 actual = mesh->bounds();
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_LE(counts->bounds.lo[k], actual.lo[k]);
+        EXPECT_GE(counts->bounds.hi[k], actual.hi[k]);
+        if (tight) {
+            const double slack = 1e-4 * std::max(1.0, glm::length(actual.size()));
+            EXPECT_NEAR(counts->bounds.lo[k], actual.lo[k], slack);
+            EXPECT_NEAR(counts->bounds.hi[k], actual.hi[k], slack);
+        }
+    }
+}
+
+TEST(PrimitiveCounts, SphereCountsAndBoundsMatchTheMesh) {
+    for (auto [sa, sh] : {std::pair{20, 20}, std::pair{3, 2}, std::pair{1, 1}, std::pair{64, 7}, std::pair{5, 300}}) {
+        for (const glm::dvec3& axis : {glm::dvec3(0, 1, 0), glm::dvec3(1, 2, 3), glm::dvec3(0, -1, 0)}) {
+            for (bool uvs : {true, false}) {
+                PolySphereParams p;
+                p.radius = 2.5;
+                p.subdivisionsAxis = sa;
+                p.subdivisionsHeight = sh;
+                p.axis = axis;
+                p.createUVs = uvs;
+                expectCountsMatch(polySphereCounts(p), makePolySphere(p), false,
+                                  "sphere " + std::to_string(sa) + "x" + std::to_string(sh));
+                if (uvs) {
+                    EXPECT_EQ(polySphereCounts(p)->uvs, makePolySphere(p)->uvSets[0].uvs.size());
+                }
+            }
+        }
+    }
+}
+
+TEST(PrimitiveCounts, PlaneAndCubeCountsAndBoundsMatchTheMesh) {
+    for (const glm::dvec3& axis : {glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1), glm::dvec3(1, 2, 3), glm::dvec3(0, -1, 0)}) {
+        PolyPlaneParams plane;
+        plane.width = 7.0;
+        plane.height = 0.5;
+        plane.subdivisionsWidth = 13;
+        plane.subdivisionsHeight = 4;
+        plane.axis = axis;
+        expectCountsMatch(polyPlaneCounts(plane), makePolyPlane(plane), true, "plane");
+        EXPECT_EQ(polyPlaneCounts(plane)->uvs, makePolyPlane(plane)->uvSets[0].uvs.size());
+        for (auto [sw, sh, sd] : {std::tuple{1, 1, 1}, std::tuple{3, 2, 5}, std::tuple{0, 7, 1}}) {
+            PolyCubeParams cube;
+            cube.width = 1.5;
+            cube.height = 4.0;
+            cube.depth = 0.75;
+            cube.subdivisionsWidth = sw;
+            cube.subdivisionsHeight = sh;
+            cube.subdivisionsDepth = sd;
+            cube.axis = axis;
+            expectCountsMatch(polyCubeCounts(cube), makePolyCube(cube), true,
+                              "cube " + std::to_string(sw) + "x" + std::to_string(sh) + "x" + std::to_string(sd));
+        }
+    }
+}
+
+// Where the generator fails or may make degenerate faces, the counts vouch for nothing.
+TEST(PrimitiveCounts, NothingIsPromisedForZeroBadOrExtremeSizes) {
+    PolySphereParams sphere;
+    for (double r : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(), 1e13}) {
+        sphere.radius = r;
+        EXPECT_FALSE(polySphereCounts(sphere).has_value()) << r;
+    }
+    sphere.radius = 1.0;
+    sphere.subdivisionsAxis = 1 << 20;
+    sphere.subdivisionsHeight = 1 << 20;  // past kMaxPrimitiveFaces
+    EXPECT_FALSE(polySphereCounts(sphere).has_value());
+    PolyPlaneParams plane;
+    plane.width = 1e6;
+    plane.height = 1e-3;  // cells a billion times longer than wide
+    EXPECT_FALSE(polyPlaneCounts(plane).has_value());
+    plane.width = plane.height = 1.0;
+    plane.subdivisionsWidth = 1 << 20;  // cells a millionth of the plane
+    plane.subdivisionsHeight = 1;
+    EXPECT_FALSE(polyPlaneCounts(plane).has_value());
+    PolyCubeParams cube;
+    cube.depth = 0.0;
+    EXPECT_FALSE(polyCubeCounts(cube).has_value());
 }
 
 }  // namespace

@@ -101,15 +101,16 @@ TEST(FrameMemory, CountsTheFramebufferAndTheWritersCopyPerPixel) {
     const FrameMemory four = frameMemory(f.frameScene, cam, f.settings, {}, 4);
     EXPECT_GT(four.tileBytes, one.tileBytes);
     EXPECT_GT(one.geometryBytes, 0u);
-    // No cap: the box's evaluated mesh is kept, and counted once whatever the threads.
+    // The box comes straight from its creator: its mesh is made when a tile first needs it, so
+    // nothing stays resident; making its tessellation needs the mesh and the working memory,
+    // charged while it is made, whatever the threads.
     ASSERT_EQ(f.frameScene.objects.size(), 1u);
-    EXPECT_TRUE(f.frameScene.objects[0].geometry->keepsSource());
+    EXPECT_FALSE(f.frameScene.objects[0].geometry->keepsSource());
     const geom::GeometryHandle& h = *f.frameScene.objects[0].geometry;
-    EXPECT_EQ(one.sourceBytes, h.sourceBytes());
-    EXPECT_EQ(four.sourceBytes, h.sourceBytes());
-    // Making its tessellation needs the working memory on top, charged while it is made.
-    EXPECT_EQ(one.largestTransientBytes, h.tessellationWorkBytesEstimate());
-    EXPECT_EQ(four.largestTransientBytes, h.tessellationWorkBytesEstimate());
+    EXPECT_EQ(one.sourceBytes, 0u);
+    EXPECT_EQ(four.sourceBytes, 0u);
+    EXPECT_EQ(one.largestTransientBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
+    EXPECT_EQ(four.largestTransientBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
     EXPECT_EQ(one.totalBytes(), one.framebufferBytes + one.tileBytes + one.geometryBytes + one.sourceBytes);
 }
 

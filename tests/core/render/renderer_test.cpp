@@ -263,6 +263,73 @@ TEST(Renderer, SameImageWithOneOrTwoThreadsAndAnyTileSize) {
     }
 }
 
+// ---------------------------------------------------------------- deferred primitives
+
+// A lit sphere from a polySphere and a cube from a polyCube, each in one shading group as a whole
+// (`membership` "whole"), or through per-face groups listing every face ("faces"), or with a
+// point tweak of zero on the sphere ("zeroTweak").
+std::string primitiveScene(const std::string& membership) {
+    std::string t = header() + orthoCamera(8.0) + resolution(96, 72) +
+                    "createNode transform -n \"sun\";\n\tsetAttr \".r\" -type \"double3\" -30 40 0;\n"
+                    "createNode directionalLight -n \"sunShape\" -p \"sun\";\n"
+                    "createNode lambert -n \"grey\";\ncreateNode shadingEngine -n \"greySG\";\n"
+                    "connectAttr \"grey.oc\" \"greySG.ss\";\nconnectAttr \"greySG.pa\" \":renderPartition.st\" -na;\n"
+                    "createNode transform -n \"ball\";\n\tsetAttr \".t\" -type \"double3\" -1.2 0.3 0;\n"
+                    "createNode mesh -n \"ballShape\" -p \"ball\";\n";
+    if (membership == "faces")
+        t += "\tsetAttr \".iog[0].og[0].gcl\" -type \"componentList\" 1 \"f[0:383]\";\n";
+    if (membership == "zeroTweak") t += "\tsetAttr \".pt[5]\" -type \"float3\" 0 0 0;\n";
+    t += "createNode polySphere -n \"ballMaker\";\n\tsetAttr \".r\" 1.5;\n\tsetAttr \".sa\" 24;\n\tsetAttr \".sh\" 16;\n"
+         "connectAttr \"ballMaker.out\" \"ballShape.i\";\n"
+         "createNode transform -n \"box\";\n\tsetAttr \".t\" -type \"double3\" 1.8 -0.5 -1;\n"
+         "\tsetAttr \".r\" -type \"double3\" 20 35 0;\n"
+         "createNode mesh -n \"boxShape\" -p \"box\";\n";
+    if (membership == "faces")
+        t += "\tsetAttr \".iog[0].og[0].gcl\" -type \"componentList\" 1 \"f[0:23]\";\n";
+    t += "createNode polyCube -n \"boxMaker\";\n\tsetAttr \".w\" 2;\n\tsetAttr \".sw\" 2;\n\tsetAttr \".sh\" 2;\n"
+         "\tsetAttr \".sd\" 2;\n\tsetAttr \".ax\" -type \"double3\" 1 1 0;\n"
+         "connectAttr \"boxMaker.out\" \"boxShape.i\";\n";
+    const std::string plug = membership == "faces" ? ".iog.og[0]" : ".iog";
+    t += "connectAttr \"ballShape" + plug + "\" \"greySG.dsm\" -na;\n"
+         "connectAttr \"boxShape" + plug + "\" \"greySG.dsm\" -na;\n";
+    return t;
+}
+
+// A shape straight from a primitive in one shading group gets its bounds and counts from the
+// creator and makes its mesh only when a tile needs it; it renders every bit its evaluated mesh
+// renders (per-face groups and tweaks take the evaluated path).
+TEST(Renderer, PrimitivesMakeTheirMeshWhenATileNeedsItAndRenderTheSameImage) {
+    const Scene deferred(primitiveScene("whole")), faces(primitiveScene("faces")), tweaked(primitiveScene("zeroTweak"));
+    for (const Scene* sc : {&deferred, &faces, &tweaked}) {
+        scene::Evaluator ev(sc->graph, sc->frame);
+        const render::FrameScene fs = render::buildFrameScene(ev, sc->setup, sc->settings);
+        ASSERT_EQ(fs.objects.size(), 2u) << (fs.notes.empty() ? "" : fs.notes.front());
+        const bool shouldDefer = sc == &deferred || sc == &tweaked;  // a zero tweak moves nothing
+        for (const render::RenderObject& o : fs.objects) {
+            SCOPED_TRACE(o.name);
+            // Without a cap an evaluated mesh is kept; a deferred one is made on demand.
+            EXPECT_EQ(o.geometry->keepsSource(), !shouldDefer);
+            EXPECT_EQ(o.geometry->triangleCount(), o.name == "|ball|ballShape" ? 2u * 24 * 15 : 2u * 24);
+        }
+        if (sc == &deferred) {
+            const geom::Bounds3& b = fs.objects[0].geometry->bounds();
+            EXPECT_NEAR(b.lo.x, -1.5, 1e-5);
+            EXPECT_NEAR(b.hi.y, 1.5, 1e-5);
+        }
+    }
+    render::RenderSettings s = deferred.settings;
+    s.numCpusToUse = 2;
+    s.tileWidth = s.tileHeight = 16;
+    const Rendered a = deferred.render(s), b = faces.render(s), c = tweaked.render(s);
+    EXPECT_EQ(a.stats.trianglesRasterized, b.stats.trianglesRasterized);
+    ASSERT_EQ(a.image.rgba.size(), b.image.rgba.size());
+    EXPECT_EQ(0, std::memcmp(a.image.rgba.data(), b.image.rgba.data(), a.image.rgba.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(a.image.rgba.data(), c.image.rgba.data(), a.image.rgba.size() * sizeof(float)));
+    float covered = 0.0f;
+    for (size_t i = 3; i < a.image.rgba.size(); i += 4) covered += a.image.rgba[i];
+    EXPECT_GT(covered, 500.0f) << "both shapes are in view";
+}
+
 // ---------------------------------------------------------------- occlusion
 
 // A dense wall over the left of the view with a transparent card and a ball in front of it, and
