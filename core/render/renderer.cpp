@@ -197,6 +197,7 @@ struct Worker {
     // depth behind which the fragments rasterized so far hide everything
     std::vector<uint32_t> waiting;
     std::vector<float> occludingDepth;
+    std::vector<float> blockSeal;   // per 8×8 block of the tile, the farthest of its occludingDepth
     RenderStats stats;
     // What the buffers above hold beyond the fixed share frameMemory() charges per thread; they
     // grow with the fragments of the busiest tile so far.
@@ -221,6 +222,7 @@ struct Worker {
         adaptive = {};
         waiting = {};
         occludingDepth = {};
+        blockSeal = {};
         std::vector<PendingBatch>().swap(pending);
         pendingCount = 0;
         pendingIndex = {};
@@ -234,7 +236,7 @@ struct Worker {
                      cap(nearestDepth) + cap(groupSampleStart) + cap(samples) + cap(groupExtraStart) + cap(extraSamples) +
                      cap(shades) + cap(contributions) + cap(contributionNorm) + cap(baseColor) + cap(adaptive) +
                      cap(tileObjects) + cap(pins) + cap(tessellation) + cap(topology) + cap(waiting) +
-                     cap(occludingDepth);
+                     cap(occludingDepth) + cap(blockSeal);
         b += uint64_t(pending.size()) * (sizeof(shade::ShadingBatch) + sizeof(PendingBatch));
         return b;
     }
@@ -634,9 +636,28 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
                 if (!frags.empty())
                     w.occludingDepth[size_t(y - base.y0) * bw + (x - base.x0)] = w.resolver.occludingDepth(frags);
             }
+        // The farthest occluding depth of each 8×8 block: an object behind the farthest of the
+        // blocks its reach meets is behind every pixel of it (occludedBehind is monotone in the
+        // occluding depth), and only the others are tested pixel by pixel.
+        constexpr int kBlock = 8;
+        const int blocksX = (bw + kBlock - 1) / kBlock, blocksY = (base.height() + kBlock - 1) / kBlock;
+        w.blockSeal.assign(size_t(blocksX) * size_t(blocksY), -std::numeric_limits<float>::infinity());
+        for (int y = 0; y < base.height(); ++y)
+            for (int x = 0; x < bw; ++x) {
+                float& seal = w.blockSeal[size_t(y / kBlock) * blocksX + size_t(x / kBlock)];
+                seal = std::max(seal, w.occludingDepth[size_t(y) * bw + x]);
+            }
         for (uint32_t i : w.waiting) {
             const ObjectView& v = m_views[i];
             const PixelRect reach = reachOf(v, base);
+            float seal = -std::numeric_limits<float>::infinity();
+            for (int by = (reach.y0 - base.y0) / kBlock; by <= (reach.y1 - 1 - base.y0) / kBlock; ++by)
+                for (int bx = (reach.x0 - base.x0) / kBlock; bx <= (reach.x1 - 1 - base.x0) / kBlock; ++bx)
+                    seal = std::max(seal, w.blockSeal[size_t(by) * blocksX + size_t(bx)]);
+            if (occludedBehind(seal, v.nearKey)) {
+                ++w.stats.skippedOccluded;
+                continue;
+            }
             bool hidden = true;
             for (int y = reach.y0; y < reach.y1 && hidden; ++y)
                 for (int x = reach.x0; x < reach.x1 && hidden; ++x)

@@ -670,7 +670,10 @@ float PixelResolver::occludingDepth(std::span<const Fragment> input) {
     }
     const size_t n = m_sorted.size();
     if (n == 0 || active == 0) return kInf;
-    std::sort(m_sorted.begin(), m_sorted.end(), fragmentLess);
+    // A few fragments are joined pair by pair below; more are sorted so that the fragments of a
+    // triangle are found by a binary search.
+    constexpr size_t kPairwise = 12;
+    if (n > kPairwise) std::sort(m_sorted.begin(), m_sorted.end(), fragmentLess);
     const std::vector<Fragment>& F = m_sorted;
 
     // The farthest each fragment's plane reaches over the pixel square (a plane is largest at a
@@ -694,7 +697,23 @@ float PixelResolver::occludingDepth(std::span<const Fragment> input) {
     // a group resolve() forms, so its area is a lower bound of that group's.
     m_parent.resize(n);
     for (size_t i = 0; i < n; ++i) m_parent[i] = uint32_t(i);
-    for (size_t i = 0; i < n; ++i) {
+    // Whether the triangle of `a` names that of `b` as a neighbour across a soft edge.
+    auto softNeighbour = [&](const Fragment& a, const Fragment& b) {
+        if (a.object >= m_topology.size()) return false;
+        const ObjectTopology& topo = m_topology[a.object];
+        if (!topo.neighbors || a.triangle >= topo.triangleCount) return false;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t nb = topo.neighbors[3 * size_t(a.triangle) + k];
+            if (!(nb & kHardEdgeBit) && nb == b.triangle) return true;
+        }
+        return false;
+    };
+    for (size_t i = 0; i < n && n <= kPairwise; ++i)
+        for (size_t j = i + 1; j < n; ++j)
+            if (F[i].object == F[j].object &&
+                (F[i].triangle == F[j].triangle || softNeighbour(F[i], F[j]) || softNeighbour(F[j], F[i])))
+                unite(m_parent, uint32_t(i), uint32_t(j));
+    for (size_t i = 0; i < n && n > kPairwise; ++i) {
         const Fragment& f = F[i];
         if (i > 0 && F[i - 1].object == f.object && F[i - 1].triangle == f.triangle) {
             unite(m_parent, uint32_t(i - 1), uint32_t(i));

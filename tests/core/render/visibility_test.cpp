@@ -1224,6 +1224,24 @@ TEST(PixelResolver, OccludingDepthNeedsAWholeOpaqueSurfaceOverThePixel) {
                 EXPECT_FALSE(occludedBehind(seal, planeFar(z0, dzdx, dzdy, x, y) * 1.0005));
             }
 
+        // A coarser soft mesh (a few fragments a pixel, joined pair by pair rather than through
+        // the sorted search) seals every pixel at the same depth.
+        Fan coarse = makeGrid(4, -0.3, -0.4, kSize + 0.2, kSize + 0.1, 0, z0, dzdx, dzdy);
+        const ObjectTopology coarseTopo[1] = {{coarse.neighbors.data(), uint32_t(coarse.neighbors.size() / 3)}};
+        PixelResolver coarseResolver(p, coarseTopo);
+        rasterizer.reset(region);
+        for (const ScreenTriangle& t : coarse.triangles) rasterizer.add(t);
+        rasterizer.finish();
+        size_t most = 0;
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x) {
+                most = std::max(most, rasterizer.fragments(x, y).size());
+                EXPECT_NEAR(coarseResolver.occludingDepth(rasterizer.fragments(x, y)), planeFar(z0, dzdx, dzdy, x, y), 1e-5)
+                    << "eaa " << eaa << " pixel " << x << "," << y;
+            }
+        EXPECT_LE(most, 12u);
+        EXPECT_GT(most, 1u);
+
         // The same mesh with hard edges seals only the pixels one triangle covers; transparent, or
         // covering part of the pixel, it seals none.
         Fan hard = makeGrid(2, -0.3, -0.4, kSize + 0.2, kSize + 0.1, 0, z0, dzdx, dzdy, true);
