@@ -1106,10 +1106,15 @@ Framebuffer FrameRenderer::run() {
         Worker& w = *workers.local();
         for (size_t i = r.begin(); i != r.end(); ++i) {
             const RenderStats before = w.stats;
+            const RasterStats rasterBefore = w.rasterizer.stats();
+            const ResolveStats resolveBefore = w.resolver.stats();
             try {
                 renderTile(m_tiles[i], w);
             } catch (const TileDoesNotFit&) {
+                // What the tile counted is counted again when it is rendered alone.
                 w.stats = before;
+                w.rasterizer.restoreStats(rasterBefore);
+                w.resolver.restoreStats(resolveBefore);
                 std::lock_guard<std::mutex> lock(deferredMutex);
                 deferred.push_back(i);
             }

@@ -51,6 +51,8 @@ public:
     std::span<const Fragment> fragments(int x, int y) const;
 
     const RasterStats& stats() const { return m_stats; }
+    // Puts the counts back to `s` (a tile that is given up and rendered again later).
+    void restoreStats(const RasterStats& s) { m_stats = s; }
     // Heap bytes the rasterizer's buffers hold (their capacities).
     uint64_t bytes() const;
     // Gives the buffers' memory back (stats are kept); the next reset() starts from nothing.
@@ -141,6 +143,8 @@ public:
     void composite(std::span<const SurfaceShade> shades, std::span<SurfaceContribution> out) const;
 
     const ResolveStats& stats() const { return m_stats; }
+    // Puts the counts back to `s` (a tile that is given up and rendered again later).
+    void restoreStats(const ResolveStats& s) { m_stats = s; }
     // Heap bytes the resolver's buffers hold (their capacities).
     uint64_t bytes() const;
     // Gives the buffers' memory back (stats are kept); results are invalid afterwards.
