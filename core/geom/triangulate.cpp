@@ -99,7 +99,8 @@ size_t PolygonTriangulator::triangulate(std::span<const glm::dvec3> points, std:
         if (area > 0.0) std::reverse(m_holes.begin() + std::ptrdiff_t(first), m_holes.end());
         m_holeStarts.push_back(uint32_t(m_holes.size()));
     }
-    std::vector<size_t> order(m_holeStarts.size() - 1);
+    std::vector<size_t>& order = m_order;
+    order.resize(m_holeStarts.size() - 1);
     std::iota(order.begin(), order.end(), size_t(0));
     auto maxX = [&](size_t h) {
         double x = -std::numeric_limits<double>::infinity();

@@ -38,6 +38,7 @@ private:
     std::vector<uint32_t> m_ring;      // the outer ring with holes bridged in (indices into m_p)
     std::vector<uint32_t> m_holes;     // hole rings, back to back
     std::vector<uint32_t> m_holeStarts;
+    std::vector<size_t> m_order;       // holes, rightmost first
     std::vector<uint32_t> m_prev, m_next;  // linked list over ring positions during clipping
     std::vector<uint8_t> m_reflex;
     double m_epsArea = 0.0;            // cross products below this count as zero
