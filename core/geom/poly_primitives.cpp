@@ -617,4 +617,93 @@ std::optional<PrimitiveCounts> polyCubeCounts(const PolyCubeParams& p) {
     return c;
 }
 
+namespace {
+
+// A flat cap of `sc` rings (0: one n-gon) closing a ring of `sa` points: what it adds.
+void addCapCounts(PrimitiveCounts& c, uint64_t sa, uint64_t sc, bool uvs) {
+    if (sc == 0) {
+        c.faces += 1;
+        c.faceVertices += sa;
+        c.triangles += sa - 2;
+        c.uvs += uvs ? sa : 0;
+        return;
+    }
+    c.points += (sc - 1) * sa + 1;
+    c.faces += sc * sa;
+    c.faceVertices += 4 * sa * (sc - 1) + 3 * sa;
+    c.triangles += 2 * sa * (sc - 1) + sa;
+    c.edges += sa * (2 * sc - 1);
+    c.uvs += uvs ? sc * sa + 1 : 0;
+}
+
+}  // namespace
+
+std::optional<PrimitiveCounts> polyCylinderCounts(const PolyCylinderParams& p) {
+    const uint64_t sa = uint64_t(std::max(3, p.subdivisionsAxis)), sh = uint64_t(std::max(1, p.subdivisionsHeight)),
+                   sc = uint64_t(std::max(0, p.subdivisionsCaps));
+    const double r = p.radius, h = p.height;
+    if (!sane(r) || !sane(h) || double(sa) * (double(sh) + 2.0 * double(std::max<uint64_t>(sc, 1))) > double(kMaxPrimitiveFaces))
+        return std::nullopt;
+    const double extent = std::max(r, h), rings = double(std::max<uint64_t>(sc, 1));
+    if (!saneCell(kTwoPi * r / double(sa), h / double(sh), extent) ||
+        !saneCell(kTwoPi * r / (double(sa) * rings), r / rings, extent))
+        return std::nullopt;
+    PrimitiveCounts c;
+    c.points = (sh + 1) * sa;
+    c.faces = sa * sh;
+    c.faceVertices = 4 * sa * sh;
+    c.triangles = 2 * sa * sh;
+    c.edges = (sh + 1) * sa + sh * sa;
+    c.uvs = p.createUVs ? (sh + 1) * (sa + 1) : 0;
+    addCapCounts(c, sa, sc, p.createUVs);
+    addCapCounts(c, sa, sc, p.createUVs);
+    c.bounds = rotatedBox(p.axis, {{-r, -h / 2, -r}, {r, -h / 2, -r}, {-r, h / 2, -r}, {r, h / 2, -r},
+                                   {-r, -h / 2, r}, {r, -h / 2, r}, {-r, h / 2, r}, {r, h / 2, r}});
+    return c;
+}
+
+std::optional<PrimitiveCounts> polyConeCounts(const PolyConeParams& p) {
+    const uint64_t sa = uint64_t(std::max(3, p.subdivisionsAxis)), sh = uint64_t(std::max(1, p.subdivisionsHeight)),
+                   sc = uint64_t(std::max(0, p.subdivisionsCap));
+    const double r = p.radius, h = p.height;
+    if (!sane(r) || !sane(h) || double(sa) * (double(sh) + double(std::max<uint64_t>(sc, 1))) > double(kMaxPrimitiveFaces))
+        return std::nullopt;
+    const double extent = std::max(r, h), rings = double(std::max<uint64_t>(sc, 1));
+    // The ring nearest the apex is the thinnest side cell: radius r / sh.
+    if (!saneCell(kTwoPi * r / (double(sa) * double(sh)), h / double(sh), extent) ||
+        !saneCell(kTwoPi * r / (double(sa) * rings), r / rings, extent))
+        return std::nullopt;
+    PrimitiveCounts c;
+    c.points = sh * sa + 1;
+    c.faces = (sh - 1) * sa + sa;
+    c.faceVertices = 4 * (sh - 1) * sa + 3 * sa;
+    c.triangles = 2 * (sh - 1) * sa + sa;
+    c.edges = sh * sa + (sh - 1) * sa + sa;
+    c.uvs = p.createUVs ? sh * (sa + 1) + sa : 0;
+    addCapCounts(c, sa, sc, p.createUVs);
+    c.bounds = rotatedBox(p.axis, {{-r, -h / 2, -r}, {r, -h / 2, -r}, {-r, h / 2, -r}, {r, h / 2, -r},
+                                   {-r, -h / 2, r}, {r, -h / 2, r}, {-r, h / 2, r}, {r, h / 2, r}});
+    return c;
+}
+
+std::optional<PrimitiveCounts> polyTorusCounts(const PolyTorusParams& p) {
+    const uint64_t sa = uint64_t(std::max(3, p.subdivisionsAxis)), sh = uint64_t(std::max(3, p.subdivisionsHeight));
+    const double r = p.radius, sr = p.sectionRadius;
+    if (!sane(r) || !sane(sr) || !std::isfinite(p.twistRadians) || !(sr < r) ||
+        double(sa) * double(sh) > double(kMaxPrimitiveFaces))
+        return std::nullopt;
+    const double outer = r + sr;
+    if (!saneCell(kTwoPi * (r - sr) / double(sa), kTwoPi * sr / double(sh), outer)) return std::nullopt;
+    PrimitiveCounts c;
+    c.points = sa * sh;
+    c.faces = sa * sh;
+    c.faceVertices = 4 * c.faces;
+    c.edges = 2 * c.faces;
+    c.triangles = 2 * c.faces;
+    c.uvs = p.createUVs ? (sa + 1) * (sh + 1) : 0;
+    c.bounds = rotatedBox(p.axis, {{-outer, -sr, -outer}, {outer, -sr, -outer}, {-outer, sr, -outer}, {outer, sr, -outer},
+                                   {-outer, -sr, outer}, {outer, -sr, outer}, {-outer, sr, outer}, {outer, sr, outer}});
+    return c;
+}
+
 }  // namespace pushpin::geom

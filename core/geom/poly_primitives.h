@@ -123,12 +123,17 @@ struct PrimitiveCounts {
     Bounds3 bounds;
 };
 
-// The counts of makePolySphere, makePolyPlane and makePolyCube for the same parameters, when the
+// The counts of makePolySphere, makePolyPlane, makePolyCube, makePolyCylinder, makePolyCone and
+// makePolyTorus for the same parameters, when the
 // generator makes a mesh without degenerate faces: nullopt when it would fail, when a size is not
 // positive, or when its cells would be so thin or small that float points could make faces
 // degenerate (the generator and Mesh::validate then decide).
 std::optional<PrimitiveCounts> polySphereCounts(const PolySphereParams& p);
 std::optional<PrimitiveCounts> polyPlaneCounts(const PolyPlaneParams& p);
 std::optional<PrimitiveCounts> polyCubeCounts(const PolyCubeParams& p);
+std::optional<PrimitiveCounts> polyCylinderCounts(const PolyCylinderParams& p);
+std::optional<PrimitiveCounts> polyConeCounts(const PolyConeParams& p);
+// A torus whose section radius is not below its ring radius meets itself at the axis: nullopt.
+std::optional<PrimitiveCounts> polyTorusCounts(const PolyTorusParams& p);
 
 }  // namespace pushpin::geom

@@ -131,6 +131,40 @@ geom::PolyPlaneParams polyPlaneParams(Evaluator& ev, NodeId n) {
     return p;
 }
 
+geom::PolyCylinderParams polyCylinderParams(Evaluator& ev, NodeId n) {
+    geom::PolyCylinderParams p;
+    static_cast<geom::PrimitiveAxis&>(p) = primitiveAxis(ev, n);
+    p.radius = ev.getDouble(n, "r", 1.0);
+    p.height = ev.getDouble(n, "h", 2.0);
+    p.subdivisionsAxis = ev.getInt(n, "sa", 20);
+    p.subdivisionsHeight = ev.getInt(n, "sh", 1);
+    p.subdivisionsCaps = ev.getInt(n, "sc", 1);
+    p.roundCap = ev.getBool(n, "rcp", false);
+    return p;
+}
+
+geom::PolyConeParams polyConeParams(Evaluator& ev, NodeId n) {
+    geom::PolyConeParams p;
+    static_cast<geom::PrimitiveAxis&>(p) = primitiveAxis(ev, n);
+    p.radius = ev.getDouble(n, "r", 1.0);
+    p.height = ev.getDouble(n, "h", 2.0);
+    p.subdivisionsAxis = ev.getInt(n, "sa", 20);
+    p.subdivisionsHeight = ev.getInt(n, "sh", 1);
+    p.subdivisionsCap = ev.getInt(n, "sc", 0);
+    return p;
+}
+
+geom::PolyTorusParams polyTorusParams(Evaluator& ev, NodeId n) {
+    geom::PolyTorusParams p;
+    static_cast<geom::PrimitiveAxis&>(p) = primitiveAxis(ev, n);
+    p.radius = ev.getDouble(n, "r", 1.0);
+    p.sectionRadius = ev.getDouble(n, "sr", 0.5);
+    p.twistRadians = ev.getDouble(n, "tw", 0.0);
+    p.subdivisionsAxis = ev.getInt(n, "sa", 20);
+    p.subdivisionsHeight = ev.getInt(n, "sh", 20);
+    return p;
+}
+
 std::optional<geom::Mesh> evaluateCreator(Context& c, NodeId n, std::string& reason) {
     Evaluator& ev = c.ev;
     const Node& node = c.g.node(n);
@@ -145,34 +179,13 @@ std::optional<geom::Mesh> evaluateCreator(Context& c, NodeId n, std::string& rea
     } else if (type == "polyPlane") {
         mesh = geom::makePolyPlane(polyPlaneParams(ev, n), &error);
     } else if (type == "polyCylinder") {
-        geom::PolyCylinderParams p;
-        static_cast<geom::PrimitiveAxis&>(p) = common;
-        p.radius = ev.getDouble(n, "r", 1.0);
-        p.height = ev.getDouble(n, "h", 2.0);
-        p.subdivisionsAxis = ev.getInt(n, "sa", 20);
-        p.subdivisionsHeight = ev.getInt(n, "sh", 1);
-        p.subdivisionsCaps = ev.getInt(n, "sc", 1);
-        p.roundCap = ev.getBool(n, "rcp", false);
+        const geom::PolyCylinderParams p = polyCylinderParams(ev, n);
         if (p.roundCap) c.out.notes.push_back(nodeLabel(node) + ": roundCap is not modelled; caps are flat");
         mesh = geom::makePolyCylinder(p, &error);
     } else if (type == "polyCone") {
-        geom::PolyConeParams p;
-        static_cast<geom::PrimitiveAxis&>(p) = common;
-        p.radius = ev.getDouble(n, "r", 1.0);
-        p.height = ev.getDouble(n, "h", 2.0);
-        p.subdivisionsAxis = ev.getInt(n, "sa", 20);
-        p.subdivisionsHeight = ev.getInt(n, "sh", 1);
-        p.subdivisionsCap = ev.getInt(n, "sc", 0);
-        mesh = geom::makePolyCone(p, &error);
+        mesh = geom::makePolyCone(polyConeParams(ev, n), &error);
     } else if (type == "polyTorus") {
-        geom::PolyTorusParams p;
-        static_cast<geom::PrimitiveAxis&>(p) = common;
-        p.radius = ev.getDouble(n, "r", 1.0);
-        p.sectionRadius = ev.getDouble(n, "sr", 0.5);
-        p.twistRadians = ev.getDouble(n, "tw", 0.0);
-        p.subdivisionsAxis = ev.getInt(n, "sa", 20);
-        p.subdivisionsHeight = ev.getInt(n, "sh", 20);
-        mesh = geom::makePolyTorus(p, &error);
+        mesh = geom::makePolyTorus(polyTorusParams(ev, n), &error);
     } else if (type == "polyPlatonicSolid") {
         geom::PolyPlatonicParams p;
         static_cast<geom::PrimitiveAxis&>(p) = common;
@@ -1288,6 +1301,13 @@ std::optional<geom::PrimitiveCounts> primitiveShapeCounts(Evaluator& ev, NodeId 
     if (type == "polySphere") return geom::polySphereCounts(polySphereParams(ev, in->node));
     if (type == "polyPlane") return geom::polyPlaneCounts(polyPlaneParams(ev, in->node));
     if (type == "polyCube") return geom::polyCubeCounts(polyCubeParams(ev, in->node));
+    if (type == "polyCylinder") {
+        // A round cap is noted when the mesh is evaluated: that shape is not deferred.
+        const geom::PolyCylinderParams p = polyCylinderParams(ev, in->node);
+        return p.roundCap ? std::nullopt : geom::polyCylinderCounts(p);
+    }
+    if (type == "polyCone") return geom::polyConeCounts(polyConeParams(ev, in->node));
+    if (type == "polyTorus") return geom::polyTorusCounts(polyTorusParams(ev, in->node));
     return std::nullopt;
 }
 

@@ -61,8 +61,8 @@ struct MeshEvaluation {
 MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape);
 
 // What evaluateMeshShape would give for a shape whose mesh comes straight from a polySphere,
-// polyPlane or polyCube (its inMesh connected to the creator, no point tweaks, no smooth mesh
-// preview), known without making it: the mesh's counts and object-space bounds, so that making it
+// polyPlane, polyCube, polyCylinder (flat caps), polyCone or polyTorus (its inMesh connected to
+// the creator, no point tweaks, no smooth mesh preview), known without making it: the mesh's counts and object-space bounds, so that making it
 // can wait until it is needed. nullopt for every other shape, and where the primitive's counts do
 // not vouch for a mesh without degenerate faces (geom::polySphereCounts and the like).
 std::optional<geom::PrimitiveCounts> primitiveShapeCounts(Evaluator& ev, NodeId meshShape);

@@ -507,6 +507,59 @@ TEST(PrimitiveCounts, PlaneAndCubeCountsAndBoundsMatchTheMesh) {
     }
 }
 
+TEST(PrimitiveCounts, CylinderConeAndTorusCountsAndBoundsMatchTheMesh) {
+    for (const glm::dvec3& axis : {glm::dvec3(0, 1, 0), glm::dvec3(1, 2, 3), glm::dvec3(0, -1, 0)}) {
+        for (bool uvs : {true, false}) {
+            for (auto [sa, sh, sc] : {std::tuple{20, 1, 1}, std::tuple{8, 3, 0}, std::tuple{5, 2, 3}, std::tuple{1, 0, -1}}) {
+                const std::string what = std::to_string(sa) + "x" + std::to_string(sh) + "x" + std::to_string(sc) +
+                                         (uvs ? " uvs" : "");
+                PolyCylinderParams cylinder;
+                cylinder.radius = 0.8;
+                cylinder.height = 3.0;
+                cylinder.subdivisionsAxis = sa;
+                cylinder.subdivisionsHeight = sh;
+                cylinder.subdivisionsCaps = sc;
+                cylinder.axis = axis;
+                cylinder.createUVs = uvs;
+                expectCountsMatch(polyCylinderCounts(cylinder), makePolyCylinder(cylinder), false, "cylinder " + what);
+                PolyConeParams cone;
+                cone.radius = 1.3;
+                cone.height = 2.0;
+                cone.subdivisionsAxis = sa;
+                cone.subdivisionsHeight = sh;
+                cone.subdivisionsCap = sc;
+                cone.axis = axis;
+                cone.createUVs = uvs;
+                expectCountsMatch(polyConeCounts(cone), makePolyCone(cone), false, "cone " + what);
+                if (uvs) {
+                    EXPECT_EQ(polyCylinderCounts(cylinder)->uvs, makePolyCylinder(cylinder)->uvSets[0].uvs.size());
+                    EXPECT_EQ(polyConeCounts(cone)->uvs, makePolyCone(cone)->uvSets[0].uvs.size());
+                }
+            }
+            PolyTorusParams torus;
+            torus.radius = 2.0;
+            torus.sectionRadius = 0.6;
+            torus.twistRadians = 0.7;
+            torus.subdivisionsAxis = 17;
+            torus.subdivisionsHeight = 9;
+            torus.axis = axis;
+            torus.createUVs = uvs;
+            expectCountsMatch(polyTorusCounts(torus), makePolyTorus(torus), false, "torus");
+            if (uvs) {
+                EXPECT_EQ(polyTorusCounts(torus)->uvs, makePolyTorus(torus)->uvSets[0].uvs.size());
+            }
+        }
+    }
+    // A section as wide as the ring meets itself at the axis: no promise.
+    PolyTorusParams fat;
+    fat.radius = 1.0;
+    fat.sectionRadius = 1.0;
+    EXPECT_FALSE(polyTorusCounts(fat).has_value());
+    PolyCylinderParams flat;
+    flat.height = 0.0;
+    EXPECT_FALSE(polyCylinderCounts(flat).has_value());
+}
+
 // Where the generator fails or may make degenerate faces, the counts vouch for nothing.
 TEST(PrimitiveCounts, NothingIsPromisedForZeroBadOrExtremeSizes) {
     PolySphereParams sphere;

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -265,9 +266,9 @@ TEST(Renderer, SameImageWithOneOrTwoThreadsAndAnyTileSize) {
 
 // ---------------------------------------------------------------- deferred primitives
 
-// A lit sphere from a polySphere and a cube from a polyCube, each in one shading group as a whole
-// (`membership` "whole"), or through per-face groups listing every face ("faces"), or with a
-// point tweak of zero on the sphere ("zeroTweak").
+// A lit sphere from a polySphere, a cube from a polyCube, a torus and a cylinder with n-gon caps,
+// each in one shading group as a whole (`membership` "whole"), or through per-face groups listing
+// every face ("faces"), or with a point tweak of zero on the sphere ("zeroTweak").
 std::string primitiveScene(const std::string& membership) {
     std::string t = header() + orthoCamera(8.0) + resolution(96, 72) +
                     "createNode transform -n \"sun\";\n\tsetAttr \".r\" -type \"double3\" -30 40 0;\n"
@@ -289,9 +290,23 @@ std::string primitiveScene(const std::string& membership) {
     t += "createNode polyCube -n \"boxMaker\";\n\tsetAttr \".w\" 2;\n\tsetAttr \".sw\" 2;\n\tsetAttr \".sh\" 2;\n"
          "\tsetAttr \".sd\" 2;\n\tsetAttr \".ax\" -type \"double3\" 1 1 0;\n"
          "connectAttr \"boxMaker.out\" \"boxShape.i\";\n";
+    t += "createNode transform -n \"ring\";\n\tsetAttr \".t\" -type \"double3\" 0.5 2 -2;\n"
+         "createNode mesh -n \"ringShape\" -p \"ring\";\n";
+    if (membership == "faces")
+        t += "\tsetAttr \".iog[0].og[0].gcl\" -type \"componentList\" 1 \"f[0:95]\";\n";
+    t += "createNode polyTorus -n \"ringMaker\";\n\tsetAttr \".r\" 1.2;\n\tsetAttr \".sr\" 0.3;\n"
+         "\tsetAttr \".sa\" 12;\n\tsetAttr \".sh\" 8;\n\tsetAttr \".ax\" -type \"double3\" 0 0.3 1;\n"
+         "connectAttr \"ringMaker.out\" \"ringShape.i\";\n"
+         "createNode transform -n \"post\";\n\tsetAttr \".t\" -type \"double3\" -2.5 -1.5 -0.5;\n"
+         "createNode mesh -n \"postShape\" -p \"post\";\n";
+    if (membership == "faces")
+        t += "\tsetAttr \".iog[0].og[0].gcl\" -type \"componentList\" 1 \"f[0:21]\";\n";
+    t += "createNode polyCylinder -n \"postMaker\";\n\tsetAttr \".r\" 0.5;\n\tsetAttr \".h\" 1.5;\n"
+         "\tsetAttr \".sa\" 10;\n\tsetAttr \".sh\" 2;\n\tsetAttr \".sc\" 0;\n\tsetAttr \".ax\" -type \"double3\" 1 0 0.4;\n"
+         "connectAttr \"postMaker.out\" \"postShape.i\";\n";
     const std::string plug = membership == "faces" ? ".iog.og[0]" : ".iog";
-    t += "connectAttr \"ballShape" + plug + "\" \"greySG.dsm\" -na;\n"
-         "connectAttr \"boxShape" + plug + "\" \"greySG.dsm\" -na;\n";
+    for (const char* shape : {"ballShape", "boxShape", "ringShape", "postShape"})
+        t += "connectAttr \"" + std::string(shape) + plug + "\" \"greySG.dsm\" -na;\n";
     return t;
 }
 
@@ -303,13 +318,17 @@ TEST(Renderer, PrimitivesMakeTheirMeshWhenATileNeedsItAndRenderTheSameImage) {
     for (const Scene* sc : {&deferred, &faces, &tweaked}) {
         scene::Evaluator ev(sc->graph, sc->frame);
         const render::FrameScene fs = render::buildFrameScene(ev, sc->setup, sc->settings);
-        ASSERT_EQ(fs.objects.size(), 2u) << (fs.notes.empty() ? "" : fs.notes.front());
+        ASSERT_EQ(fs.objects.size(), 4u) << (fs.notes.empty() ? "" : fs.notes.front());
         const bool shouldDefer = sc == &deferred || sc == &tweaked;  // a zero tweak moves nothing
         for (const render::RenderObject& o : fs.objects) {
             SCOPED_TRACE(o.name);
             // Without a cap an evaluated mesh is kept; a deferred one is made on demand.
             EXPECT_EQ(o.geometry->keepsSource(), !shouldDefer);
-            EXPECT_EQ(o.geometry->triangleCount(), o.name == "|ball|ballShape" ? 2u * 24 * 15 : 2u * 24);
+            const std::map<std::string, uint64_t> triangles = {{"|ball|ballShape", 2 * 24 * 15},
+                                                               {"|box|boxShape", 2 * 24},
+                                                               {"|ring|ringShape", 2 * 96},
+                                                               {"|post|postShape", 2 * 20 + 2 * 8}};
+            EXPECT_EQ(o.geometry->triangleCount(), triangles.at(o.name));
         }
         if (sc == &deferred) {
             const geom::Bounds3& b = fs.objects[0].geometry->bounds();
