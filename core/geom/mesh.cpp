@@ -2,6 +2,7 @@
 #include "core/geom/mesh.h"
 
 #include "core/geom/union_find.h"
+#include "core/util/counting_sort.h"
 
 #include <array>
 
@@ -261,24 +262,23 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
     struct HalfEdge {
         uint32_t startCorner, endCorner;
     };
-    auto forEachHalfEdge = [&](auto&& fn) {
-        for (size_t l = 0; l < loopCount(); ++l) {
-            const uint32_t begin = loopStarts[l], end = loopStarts[l + 1];
-            for (uint32_t i = begin; i < end; ++i) {
-                const uint32_t j = (i + 1 < end) ? i + 1 : begin;
-                if (faceVertices[i] != faceVertices[j]) fn(i, j);
-            }
-        }
-    };
     uint32_t pointCount = 0;
     for (uint32_t p : faceVertices) pointCount = std::max(pointCount, p + 1);
-    std::vector<uint32_t> start(size_t(pointCount) + 1, 0);
-    forEachHalfEdge([&](uint32_t i, uint32_t j) { ++start[std::min(faceVertices[i], faceVertices[j]) + size_t(1)]; });
-    for (size_t p = 0; p < pointCount; ++p) start[p + 1] += start[p];
-    std::vector<HalfEdge> halfEdges(start[pointCount]);
-    forEachHalfEdge([&](uint32_t i, uint32_t j) { halfEdges[start[std::min(faceVertices[i], faceVertices[j])]++] = {i, j}; });
-    for (size_t p = pointCount; p > 0; --p) start[p] = start[p - 1];
-    start[0] = 0;
+    std::vector<uint32_t> start;
+    std::vector<HalfEdge> halfEdges;
+    util::fileByKey(
+        pointCount,
+        [&](auto&& visit) {
+            for (size_t l = 0; l < loopCount(); ++l) {
+                const uint32_t begin = loopStarts[l], end = loopStarts[l + 1];
+                for (uint32_t i = begin; i < end; ++i) {
+                    const uint32_t j = (i + 1 < end) ? i + 1 : begin;
+                    if (faceVertices[i] != faceVertices[j])
+                        visit(std::min(faceVertices[i], faceVertices[j]), HalfEdge{i, j});
+                }
+            }
+        },
+        start, halfEdges);
     auto upper = [&](const HalfEdge& h) { return std::max(faceVertices[h.startCorner], faceVertices[h.endCorner]); };
     auto joinAcross = [&](const HalfEdge& first, const HalfEdge& other) {
         for (uint32_t c : {other.startCorner, other.endCorner}) {
@@ -316,13 +316,13 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
     smoothness.reset();
     // A smoothing group's corners all sit on one point: point by point, each group's area-weighted
     // sum adds its corners' faces in corner order (a group is known by its root, its first corner).
-    std::vector<uint32_t> byPoint(fvCount);
-    std::fill(start.begin(), start.end(), 0u);
-    for (uint32_t c = 0; c < fvCount; ++c) ++start[faceVertices[c] + size_t(1)];
-    for (size_t p = 0; p < pointCount; ++p) start[p + 1] += start[p];
-    for (uint32_t c = 0; c < fvCount; ++c) byPoint[start[faceVertices[c]]++] = c;
-    for (size_t p = pointCount; p > 0; --p) start[p] = start[p - 1];
-    if (!start.empty()) start[0] = 0;
+    std::vector<uint32_t> byPoint;
+    util::fileByKey(
+        pointCount,
+        [&](auto&& visit) {
+            for (uint32_t c = 0; c < fvCount; ++c) visit(faceVertices[c], c);
+        },
+        start, byPoint);
     std::vector<glm::vec3> out(fvCount);
     std::vector<uint32_t> roots;     // of the point's groups, ascending
     std::vector<glm::dvec3> sums;   // parallel to roots

@@ -2,6 +2,7 @@
 
 #include "core/geom/finite.h"
 #include "core/geom/triangulate.h"
+#include "core/util/counting_sort.h"
 
 #include <glm/geometric.hpp>
 
@@ -37,19 +38,16 @@ void buildNeighbors(Tessellation& t, const std::vector<uint32_t>& cornerPoint, H
     };
     uint32_t points = 0;
     for (size_t c = 0; c < 3 * triangles; ++c) points = std::max(points, cornerPoint[c] + 1);
-    std::vector<uint32_t> start(size_t(points) + 1, 0);
-    for (uint32_t slot = 0; slot < 3 * triangles; ++slot) {
-        const auto [lo, hi] = ends(slot);
-        if (lo != hi) ++start[size_t(lo) + 1];
-    }
-    for (size_t p = 0; p < points; ++p) start[p + 1] += start[p];
-    std::vector<uint32_t> uses(start[points]);
-    for (uint32_t slot = 0; slot < 3 * triangles; ++slot) {
-        const auto [lo, hi] = ends(slot);
-        if (lo != hi) uses[start[lo]++] = slot;
-    }
-    for (size_t p = points; p > 0; --p) start[p] = start[p - 1];
-    start[0] = 0;
+    std::vector<uint32_t> start, uses;  // each edge use (corner slot) filed under its lower point
+    util::fileByKey(
+        points,
+        [&](auto&& visit) {
+            for (uint32_t slot = 0; slot < 3 * triangles; ++slot) {
+                const auto [lo, hi] = ends(slot);
+                if (lo != hi) visit(lo, slot);
+            }
+        },
+        start, uses);
 
     std::vector<std::pair<uint32_t, uint32_t>> sorted;  // (upper point, slot) of a busy point
     auto pair = [&](uint32_t lo, uint32_t hi, uint32_t s0, uint32_t s1) {

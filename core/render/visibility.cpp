@@ -2,6 +2,8 @@
 // resolution and compositing (reference/algorithms.md §2: Carpenter's A-buffer with exact areas).
 #include "core/render/visibility.h"
 
+#include "core/util/counting_sort.h"
+
 #include <algorithm>
 #include <bit>
 #include <cfloat>
@@ -355,14 +357,12 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
 
 void TileRasterizer::finish() {
     const size_t pixels = size_t(m_region.width()) * size_t(m_region.height());
-    m_pixelStart.assign(pixels + 1, 0);
-    for (uint32_t p : m_pixelOf) ++m_pixelStart[p + 1];
-    for (size_t p = 0; p < pixels; ++p) m_pixelStart[p + 1] += m_pixelStart[p];
-    m_sorted.resize(m_fragments.size());
-    // Stable counting sort: m_pixelStart[p] advances to the end of pixel p's range while placing.
-    for (size_t i = 0; i < m_fragments.size(); ++i) m_sorted[m_pixelStart[m_pixelOf[i]]++] = m_fragments[i];
-    for (size_t p = pixels; p > 0; --p) m_pixelStart[p] = m_pixelStart[p - 1];
-    m_pixelStart[0] = 0;
+    util::fileByKey(
+        pixels,
+        [&](auto&& visit) {
+            for (size_t i = 0; i < m_fragments.size(); ++i) visit(m_pixelOf[i], m_fragments[i]);
+        },
+        m_pixelStart, m_sorted);
 }
 
 std::span<const Fragment> TileRasterizer::fragments(int x, int y) const {
@@ -708,24 +708,27 @@ float PixelResolver::occludingDepth(std::span<const Fragment> input) {
         }
         return false;
     };
-    for (size_t i = 0; i < n && n <= kPairwise; ++i)
-        for (size_t j = i + 1; j < n; ++j)
-            if (F[i].object == F[j].object &&
-                (F[i].triangle == F[j].triangle || softNeighbour(F[i], F[j]) || softNeighbour(F[j], F[i])))
-                unite(m_parent, uint32_t(i), uint32_t(j));
-    for (size_t i = 0; i < n && n > kPairwise; ++i) {
-        const Fragment& f = F[i];
-        if (i > 0 && F[i - 1].object == f.object && F[i - 1].triangle == f.triangle) {
-            unite(m_parent, uint32_t(i - 1), uint32_t(i));
-        }
-        if (f.object >= m_topology.size()) continue;
-        const ObjectTopology& topo = m_topology[f.object];
-        if (!topo.neighbors || f.triangle >= topo.triangleCount) continue;
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t nb = topo.neighbors[3 * size_t(f.triangle) + k];
-            if (nb & kHardEdgeBit) continue;
-            const auto [lo, hi] = findTriangle(F, f.object, nb);
-            for (size_t j = lo; j < hi; ++j) unite(m_parent, uint32_t(i), uint32_t(j));
+    if (n <= kPairwise) {
+        for (size_t i = 0; i < n; ++i)
+            for (size_t j = i + 1; j < n; ++j)
+                if (F[i].object == F[j].object &&
+                    (F[i].triangle == F[j].triangle || softNeighbour(F[i], F[j]) || softNeighbour(F[j], F[i])))
+                    unite(m_parent, uint32_t(i), uint32_t(j));
+    } else {
+        for (size_t i = 0; i < n; ++i) {
+            const Fragment& f = F[i];
+            if (i > 0 && F[i - 1].object == f.object && F[i - 1].triangle == f.triangle) {
+                unite(m_parent, uint32_t(i - 1), uint32_t(i));
+            }
+            if (f.object >= m_topology.size()) continue;
+            const ObjectTopology& topo = m_topology[f.object];
+            if (!topo.neighbors || f.triangle >= topo.triangleCount) continue;
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t nb = topo.neighbors[3 * size_t(f.triangle) + k];
+                if (nb & kHardEdgeBit) continue;
+                const auto [lo, hi] = findTriangle(F, f.object, nb);
+                for (size_t j = lo; j < hi; ++j) unite(m_parent, uint32_t(i), uint32_t(j));
+            }
         }
     }
     m_groupArea.assign(n, 0.0);
