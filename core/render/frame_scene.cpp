@@ -436,6 +436,13 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
         return {};
     };
 
+    // Shapes straight from a primitive: their counts and bounds, read once.
+    std::unordered_map<NodeId, geom::PrimitiveCounts> primitiveCounts;
+    for (const scene::Node& node : g.nodes())
+        if (node.type == "mesh")
+            if (std::optional<geom::PrimitiveCounts> c = scene::primitiveShapeCounts(ev, node.id))
+                primitiveCounts.emplace(node.id, *c);
+
     // Without a cap every shape's geometry stays resident anyway, so the shapes that render are
     // evaluated up front on all threads (each on its thread's Evaluator); under a cap they are
     // evaluated one at a time below, so that only one is resident at once.
@@ -450,7 +457,7 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
             if (node.type != "mesh" && node.type != "nurbsSurface") continue;
             // A primitive's mesh waits for its first tile (an instance with per-face shading
             // groups evaluates it below).
-            if (node.type == "mesh" && scene::primitiveShapeCounts(ev, node.id)) continue;
+            if (primitiveCounts.count(node.id)) continue;
             const auto paths = g.dagPaths(node.id, &budget);
             for (size_t instance = 0; instance < paths.size(); ++instance) {
                 if (!instanceProblem(node, paths[instance], instance, groups).empty()) continue;
@@ -477,7 +484,7 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
         if (pathBudget.exhausted && !pathsCutBefore) scene.notes.push_back(dagPathBudgetMessage(g, node.id, pathBudget));
         // Geometry is evaluated once per shape, on its first renderable instance that needs it.
         ShapeGeometry shape;
-        if (node.type == "mesh") shape.counts = scene::primitiveShapeCounts(ev, node.id);
+        if (auto it = primitiveCounts.find(node.id); it != primitiveCounts.end()) shape.counts = it->second;
         bool evaluated = false;
         for (size_t instance = 0; instance < paths.size(); ++instance) {
             const std::vector<NodeId>& path = paths[instance];

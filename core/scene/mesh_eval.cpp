@@ -1295,20 +1295,24 @@ std::optional<geom::PrimitiveCounts> primitiveShapeCounts(Evaluator& ev, NodeId 
     if (ev.getInt(meshShape, "dsm", 0) != 0) return std::nullopt;
     const std::optional<Plug> in = inputPlug(g, meshShape, {"inMesh", "i"});
     if (!in || in->node >= g.size()) return std::nullopt;
-    for (const auto& [index, t] : vectorElements(ev, meshShape, keyOf(g, meshShape, "pnts"), 3))
-        if (t != glm::dvec3(0.0)) return std::nullopt;
-    const std::string& type = g.node(in->node).type;
-    if (type == "polySphere") return geom::polySphereCounts(polySphereParams(ev, in->node));
-    if (type == "polyPlane") return geom::polyPlaneCounts(polyPlaneParams(ev, in->node));
-    if (type == "polyCube") return geom::polyCubeCounts(polyCubeParams(ev, in->node));
-    if (type == "polyCylinder") {
+    const NodeId n = in->node;
+    const std::string& type = g.node(n).type;
+    std::optional<geom::PrimitiveCounts> counts;
+    if (type == "polySphere") counts = geom::polySphereCounts(polySphereParams(ev, n));
+    else if (type == "polyPlane") counts = geom::polyPlaneCounts(polyPlaneParams(ev, n));
+    else if (type == "polyCube") counts = geom::polyCubeCounts(polyCubeParams(ev, n));
+    else if (type == "polyCone") counts = geom::polyConeCounts(polyConeParams(ev, n));
+    else if (type == "polyTorus") counts = geom::polyTorusCounts(polyTorusParams(ev, n));
+    else if (type == "polyCylinder") {
         // A round cap is noted when the mesh is evaluated: that shape is not deferred.
-        const geom::PolyCylinderParams p = polyCylinderParams(ev, in->node);
-        return p.roundCap ? std::nullopt : geom::polyCylinderCounts(p);
+        const geom::PolyCylinderParams p = polyCylinderParams(ev, n);
+        if (!p.roundCap) counts = geom::polyCylinderCounts(p);
     }
-    if (type == "polyCone") return geom::polyConeCounts(polyConeParams(ev, in->node));
-    if (type == "polyTorus") return geom::polyTorusCounts(polyTorusParams(ev, in->node));
-    return std::nullopt;
+    // Only a primitive's shape reads its point tweaks here: a tweak that moves a point needs the mesh.
+    if (counts)
+        for (const auto& [index, t] : vectorElements(ev, meshShape, keyOf(g, meshShape, "pnts"), 3))
+            if (t != glm::dvec3(0.0)) return std::nullopt;
+    return counts;
 }
 
 std::optional<geom::Mesh> evaluateMesh(Evaluator& ev, NodeId meshShape, std::string* skipReason) {

@@ -252,7 +252,6 @@ int run(int argc, char** argv) {
     const std::string sceneName = cl.demo ? std::string(scene::kDemoSceneName) : cl.scene;
     scene::Graph graph = cl.demo ? scene::MaReader::readString(scene::demoSceneText(), sceneName, readOptions)
                                  : scene::MaReader::readFile(cl.scene, readOptions);
-    const uint64_t storedBytes = graph.storedBytes();
     const double loadSeconds = secondsSince(tLoad);
 
     if (cl.info) {
@@ -274,6 +273,7 @@ int run(int argc, char** argv) {
     }
     const fs::path outputDir = outputFolder(cl);
     const std::string sceneStem = fs::path(sceneName).stem().string();
+    std::optional<uint64_t> storedBytes;  // the scene's stored values, measured when a cap needs them
     std::error_code ec;
     const fs::path scenePath = cl.demo ? fs::path() : fs::weakly_canonical(fs::path(cl.scene), ec);
 
@@ -352,7 +352,8 @@ int run(int argc, char** argv) {
             cache::MemoryCharge sceneCharge;
             if (const uint64_t capBytes = render::memoryCapBytes(cameraSettings); capBytes != 0) {
                 budget.emplace(capBytes);
-                sceneCharge = render::chargeScene(*budget, storedBytes, cameraSettings);
+                if (!storedBytes) storedBytes = graph.storedBytes();
+                sceneCharge = render::chargeScene(*budget, *storedBytes, cameraSettings);
                 renderOptions.memoryBudget = &*budget;
             }
             render::Framebuffer image = render::renderFrame(frameScene, camera, cameraSettings, renderStats, renderOptions);
