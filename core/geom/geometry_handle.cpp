@@ -24,14 +24,22 @@ private:
     std::shared_ptr<const Mesh> m_mesh;
 };
 
+// Bytes of a mesh's arrays from their lengths: points, face-vertices, loop and face starts, edges,
+// uvs and uv ids.
+uint64_t meshArrayBytes(uint64_t points, uint64_t faceVertices, uint64_t starts, uint64_t edges, uint64_t uvs,
+                        uint64_t uvIds) {
+    return points * sizeof(glm::vec3) + faceVertices * sizeof(uint32_t) + starts * sizeof(uint32_t) +
+           edges * sizeof(MeshEdge) + uvs * sizeof(glm::vec2) + uvIds * sizeof(int32_t);
+}
+
 uint64_t meshBytes(const Mesh& m) {
-    uint64_t bytes = uint64_t(m.points.capacity()) * sizeof(glm::vec3) +
-                     uint64_t(m.faceVertices.capacity()) * sizeof(uint32_t) +
-                     uint64_t(m.loopStarts.capacity() + m.faceLoopStarts.capacity()) * sizeof(uint32_t) +
-                     uint64_t(m.edges.capacity()) * sizeof(MeshEdge);
-    for (const UvSet& s : m.uvSets)
-        bytes += uint64_t(s.uvs.capacity()) * sizeof(glm::vec2) + uint64_t(s.faceVertexUvs.capacity()) * sizeof(int32_t);
-    return bytes;
+    uint64_t uvs = 0, uvIds = 0;
+    for (const UvSet& s : m.uvSets) {
+        uvs += s.uvs.capacity();
+        uvIds += s.faceVertexUvs.capacity();
+    }
+    return meshArrayBytes(m.points.capacity(), m.faceVertices.capacity(),
+                          m.loopStarts.capacity() + m.faceLoopStarts.capacity(), m.edges.capacity(), uvs, uvIds);
 }
 
 }  // namespace
@@ -106,11 +114,9 @@ std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshCounts(std::shared_ptr<c
     h->m_bounds = counts.bounds;
     h->m_triangles = counts.triangles;
     h->m_materials = 1;
-    // What the made mesh holds (meshBytes): points, face-vertices, loop and face starts, edges, uvs
-    // and their ids.
-    h->m_sourceBytes = counts.points * sizeof(glm::vec3) + counts.faceVertices * sizeof(uint32_t) +
-                       2 * (counts.faces + 1) * sizeof(uint32_t) + counts.edges * sizeof(MeshEdge) +
-                       (counts.uvs > 0 ? counts.uvs * sizeof(glm::vec2) + counts.faceVertices * sizeof(int32_t) : 0);
+    // What the made mesh will hold (one loop per face).
+    h->m_sourceBytes = meshArrayBytes(counts.points, counts.faceVertices, 2 * (counts.faces + 1), counts.edges,
+                                      counts.uvs, counts.uvs > 0 ? counts.faceVertices : 0);
     h->estimateMeshBytes(counts.faceVertices, counts.faces, counts.points, counts.edges, counts.points);
     h->m_source = std::move(source);
     return h;
