@@ -383,17 +383,6 @@ PixelResolver::PixelResolver(const SubsamplePattern& pattern, std::span<const Ob
 
 namespace {
 
-// Index range in the sorted fragments holding (object, triangle).
-std::pair<size_t, size_t> findTriangle(const std::vector<Fragment>& sorted, uint32_t object, uint32_t triangle) {
-    auto less = [](const Fragment& f, std::pair<uint32_t, uint32_t> key) {
-        return f.object != key.first ? f.object < key.first : f.triangle < key.second;
-    };
-    auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(object, triangle), less);
-    size_t lo = size_t(it - sorted.begin()), hi = lo;
-    while (hi < sorted.size() && sorted[hi].object == object && sorted[hi].triangle == triangle) ++hi;
-    return {lo, hi};
-}
-
 uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
     while (parent[i] != i) {
         parent[i] = parent[parent[i]];
@@ -410,6 +399,64 @@ void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
     else parent[a] = b;
 }
 
+
+// Whether triangle `a` of an object names triangle `b` as a neighbour across a soft edge.
+bool softNeighbour(const ObjectTopology& topo, uint32_t a, uint32_t b) {
+    if (!topo.neighbors || a >= topo.triangleCount) return false;
+    const uint32_t* nb = topo.neighbors + 3 * size_t(a);
+    return (!(nb[0] & kHardEdgeBit) && nb[0] == b) || (!(nb[1] & kHardEdgeBit) && nb[1] == b) ||
+           (!(nb[2] & kHardEdgeBit) && nb[2] == b);
+}
+
+// Joins the fragments of one object whose triangles are the same or soft-edge neighbours (either
+// naming the other). `sorted` says whether F is in fragmentLess order; unsorted input is joined
+// pair by pair (meant for a few fragments). Sorted input is taken one object's run at a time: a
+// short run pair by pair, a long one by a binary search of each soft neighbour within the run.
+// The partition is the same either way; unite() makes the smallest index each group's root.
+void joinSoftNeighbours(std::span<const Fragment> F, bool sorted, std::span<const ObjectTopology> topology,
+                        std::vector<uint32_t>& parent) {
+    static const ObjectTopology kNoTopology{};
+    auto topologyOf = [&](uint32_t object) -> const ObjectTopology& {
+        return object < topology.size() ? topology[object] : kNoTopology;
+    };
+    auto pairwise = [&](size_t a, size_t b, bool sameObject) {
+        for (size_t i = a; i < b; ++i) {
+            const ObjectTopology& topo = topologyOf(F[i].object);
+            for (size_t j = i + 1; j < b; ++j)
+                if ((sameObject || F[i].object == F[j].object) &&
+                    (F[i].triangle == F[j].triangle || softNeighbour(topo, F[i].triangle, F[j].triangle) ||
+                     softNeighbour(topo, F[j].triangle, F[i].triangle)))
+                    unite(parent, uint32_t(i), uint32_t(j));
+        }
+    };
+    if (!sorted) {
+        pairwise(0, F.size(), false);
+        return;
+    }
+    constexpr size_t kPairwiseRun = 8;
+    for (size_t a = 0, b = 0; a < F.size(); a = b) {
+        const uint32_t object = F[a].object;
+        b = a + 1;
+        while (b < F.size() && F[b].object == object) ++b;
+        if (b - a <= kPairwiseRun) {
+            pairwise(a, b, true);
+            continue;
+        }
+        const ObjectTopology& topo = topologyOf(object);
+        auto byTriangle = [](const Fragment& f, uint32_t t) { return f.triangle < t; };
+        for (size_t i = a; i < b; ++i) {
+            if (i > a && F[i - 1].triangle == F[i].triangle) unite(parent, uint32_t(i - 1), uint32_t(i));
+            if (!topo.neighbors || F[i].triangle >= topo.triangleCount) continue;
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t nb = topo.neighbors[3 * size_t(F[i].triangle) + k];
+                if (nb & kHardEdgeBit) continue;  // hard edge, or kNoTriangle
+                for (size_t j = size_t(std::lower_bound(F.begin() + a, F.begin() + b, nb, byTriangle) - F.begin());
+                     j < b && F[j].triangle == nb; ++j)
+                    unite(parent, uint32_t(i), uint32_t(j));
+            }
+        }
+    }
+}
 }  // namespace
 
 void PixelResolver::resolve(std::span<const Fragment> input) {
@@ -475,21 +522,7 @@ void PixelResolver::resolve(std::span<const Fragment> input) {
     // b. Surface groups: union–find over soft-edge neighbours of one object (and duplicates).
     m_parent.resize(n);
     for (size_t i = 0; i < n; ++i) m_parent[i] = uint32_t(i);
-    for (size_t i = 0; i < n; ++i) {
-        const Fragment& f = F[i];
-        if (i > 0 && F[i - 1].object == f.object && F[i - 1].triangle == f.triangle) {
-            unite(m_parent, uint32_t(i - 1), uint32_t(i));
-        }
-        if (f.object >= m_topology.size()) continue;
-        const ObjectTopology& topo = m_topology[f.object];
-        if (!topo.neighbors || f.triangle >= topo.triangleCount) continue;
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t nb = topo.neighbors[3 * size_t(f.triangle) + k];
-            if (nb & kHardEdgeBit) continue;  // hard edge, or kNoTriangle
-            const auto [lo, hi] = findTriangle(F, f.object, nb);
-            for (size_t j = lo; j < hi; ++j) unite(m_parent, uint32_t(i), uint32_t(j));
-        }
-    }
+    joinSoftNeighbours(F, true, m_topology, m_parent);
     // Replace roots by group ids numbered in order of first member (roots are the smallest index).
     uint32_t groupCount = 0;
     for (size_t i = 0; i < n; ++i) m_parent[i] = findRoot(m_parent, uint32_t(i));
@@ -697,40 +730,7 @@ float PixelResolver::occludingDepth(std::span<const Fragment> input) {
     // a group resolve() forms, so its area is a lower bound of that group's.
     m_parent.resize(n);
     for (size_t i = 0; i < n; ++i) m_parent[i] = uint32_t(i);
-    // Whether the triangle of `a` names that of `b` as a neighbour across a soft edge.
-    auto softNeighbour = [&](const Fragment& a, const Fragment& b) {
-        if (a.object >= m_topology.size()) return false;
-        const ObjectTopology& topo = m_topology[a.object];
-        if (!topo.neighbors || a.triangle >= topo.triangleCount) return false;
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t nb = topo.neighbors[3 * size_t(a.triangle) + k];
-            if (!(nb & kHardEdgeBit) && nb == b.triangle) return true;
-        }
-        return false;
-    };
-    if (n <= kPairwise) {
-        for (size_t i = 0; i < n; ++i)
-            for (size_t j = i + 1; j < n; ++j)
-                if (F[i].object == F[j].object &&
-                    (F[i].triangle == F[j].triangle || softNeighbour(F[i], F[j]) || softNeighbour(F[j], F[i])))
-                    unite(m_parent, uint32_t(i), uint32_t(j));
-    } else {
-        for (size_t i = 0; i < n; ++i) {
-            const Fragment& f = F[i];
-            if (i > 0 && F[i - 1].object == f.object && F[i - 1].triangle == f.triangle) {
-                unite(m_parent, uint32_t(i - 1), uint32_t(i));
-            }
-            if (f.object >= m_topology.size()) continue;
-            const ObjectTopology& topo = m_topology[f.object];
-            if (!topo.neighbors || f.triangle >= topo.triangleCount) continue;
-            for (int k = 0; k < 3; ++k) {
-                const uint32_t nb = topo.neighbors[3 * size_t(f.triangle) + k];
-                if (nb & kHardEdgeBit) continue;
-                const auto [lo, hi] = findTriangle(F, f.object, nb);
-                for (size_t j = lo; j < hi; ++j) unite(m_parent, uint32_t(i), uint32_t(j));
-            }
-        }
-    }
+    joinSoftNeighbours(F, n > kPairwise, m_topology, m_parent);
     m_groupArea.assign(n, 0.0);
     m_groupFar.assign(n, -kInf);
     m_visible.assign(n, 0);  // the group's mask, at its root

@@ -709,6 +709,136 @@ TEST(PixelResolver, DenseSoftMeshMergesIntoOneSurfacePerPixel) {
     }
 }
 
+TEST(PixelResolver, SurfaceGroupsAreTheSoftNeighbourComponentsOfEachObject) {
+    // Two overlapping soft grids of small cells (object 1 under object 0) with random hard edges,
+    // and one neighbour named soft on one side only. Every pixel holds many fragments of each
+    // object, short runs and long; the groups must be the connected components of "same object
+    // and the same triangle or a soft neighbour named by either", found here pair by pair.
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    constexpr int kCells = 40;
+    std::vector<std::vector<uint32_t>> neighborStore(2);
+    std::vector<ScreenTriangle> tris;
+    for (uint32_t object = 0; object < 2; ++object) {
+        const double cellSize = object == 0 ? 0.29 : 0.61, angle = object == 0 ? 0.3 : -0.7;
+        const Pt origin{object == 0 ? -3.0 : -6.0, object == 0 ? -6.0 : -9.0};
+        auto vertex = [&](int i, int j) {
+            const double u = i * cellSize, v = j * cellSize;
+            return Pt{origin.x + std::cos(angle) * u - std::sin(angle) * v,
+                      origin.y + std::sin(angle) * u + std::cos(angle) * v};
+        };
+        auto cellTri = [&](int i, int j, int k) {
+            return (i < 0 || j < 0 || i >= kCells || j >= kCells) ? kNoTriangle : uint32_t(2 * (j * kCells + i) + k);
+        };
+        std::vector<uint32_t>& nb = neighborStore[object];
+        for (int j = 0; j < kCells; ++j) {
+            for (int i = 0; i < kCells; ++i) {
+                const Pt v00 = vertex(i, j), v10 = vertex(i + 1, j), v11 = vertex(i + 1, j + 1), v01 = vertex(i, j + 1);
+                ScreenTriangle t0 = makeTriangle(v00, v10, v11, object, cellTri(i, j, 0));
+                ScreenTriangle t1 = makeTriangle(v00, v11, v01, object, cellTri(i, j, 1));
+                setPlaneDepth(t0, 2.0 + object, 0.01, 0.02);
+                setPlaneDepth(t1, 2.0 + object, 0.01, 0.02);
+                tris.push_back(t0);
+                tris.push_back(t1);
+                nb.insert(nb.end(), {cellTri(i, j - 1, 1), cellTri(i + 1, j, 1), cellTri(i, j, 1)});
+                nb.insert(nb.end(), {cellTri(i, j, 0), cellTri(i, j + 1, 0), cellTri(i - 1, j, 0)});
+            }
+        }
+        // Hard edges on both sides of about a third of the shared edges.
+        for (uint32_t t = 0; t < nb.size() / 3; ++t) {
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t other = nb[3 * t + k];
+                if ((other & kHardEdgeBit) || other < t || uni(rng) > 0.35) continue;  // hard or none
+                nb[3 * t + k] |= kHardEdgeBit;
+                for (int m = 0; m < 3; ++m)
+                    if (nb[3 * other + m] == t) nb[3 * other + m] |= kHardEdgeBit;
+            }
+        }
+    }
+    // In the cell of object 0 under pixel (3, 3), the second triangle names the first soft and the
+    // first names the second hard; every other edge of the two is hard on both sides.
+    {
+        const double u = std::cos(0.3) * (3.5 + 3.0) + std::sin(0.3) * (3.5 + 6.0);
+        const double v = -std::sin(0.3) * (3.5 + 3.0) + std::cos(0.3) * (3.5 + 6.0);
+        const uint32_t first = uint32_t(2 * (int(v / 0.29) * kCells + int(u / 0.29)));
+        std::vector<uint32_t>& nb = neighborStore[0];
+        for (uint32_t t : {first, first + 1}) {
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t other = nb[3 * t + k] & ~kHardEdgeBit;
+                nb[3 * t + k] |= kHardEdgeBit;
+                if (other >= nb.size() / 3) continue;
+                for (int m = 0; m < 3; ++m)
+                    if ((nb[3 * other + m] & ~kHardEdgeBit) == t) nb[3 * other + m] |= kHardEdgeBit;
+            }
+        }
+        nb[3 * (first + 1) + 0] = first;  // the diagonal, soft on this side only
+    }
+    const std::vector<ObjectTopology> topo = {{neighborStore[0].data(), uint32_t(neighborStore[0].size() / 3)},
+                                              {neighborStore[1].data(), uint32_t(neighborStore[1].size() / 3)}};
+    auto softNamed = [&](const Fragment& a, const Fragment& b) {
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t n = topo[a.object].neighbors[3 * size_t(a.triangle) + k];
+            if (!(n & kHardEdgeBit) && n == b.triangle) return true;
+        }
+        return false;
+    };
+    auto byBytes = [](const Fragment& a, const Fragment& b) { return std::memcmp(&a, &b, sizeof(Fragment)) < 0; };
+    using Partition = std::vector<std::vector<Fragment>>;
+    auto canonical = [&](Partition p) {
+        for (auto& g : p) std::sort(g.begin(), g.end(), byBytes);
+        std::sort(p.begin(), p.end(), [&](const auto& a, const auto& b) { return byBytes(a[0], b[0]); });
+        return p;
+    };
+    const SubsamplePattern pattern = SubsamplePattern::forEdgeAntiAliasing(1);
+    TileRasterizer rasterizer(pattern);
+    rasterizer.reset({0, 0, 6, 6});
+    for (const ScreenTriangle& t : tris) rasterizer.add(t);
+    rasterizer.finish();
+    PixelResolver resolver(pattern, topo);
+    size_t longRuns = 0, splitPixels = 0;
+    for (int y = 0; y < 6; ++y) {
+        for (int x = 0; x < 6; ++x) {
+            const auto frags = rasterizer.fragments(x, y);
+            const size_t n = frags.size();
+            std::vector<uint32_t> root(n);
+            for (uint32_t i = 0; i < n; ++i) root[i] = i;
+            auto find = [&](uint32_t i) {
+                while (root[i] != i) i = root[i];
+                return i;
+            };
+            size_t ofObject0 = 0;
+            for (size_t i = 0; i < n; ++i) {
+                ofObject0 += frags[i].object == 0;
+                for (size_t j = i + 1; j < n; ++j)
+                    if (frags[i].object == frags[j].object &&
+                        (frags[i].triangle == frags[j].triangle || softNamed(frags[i], frags[j]) ||
+                         softNamed(frags[j], frags[i])))
+                        root[find(uint32_t(j))] = find(uint32_t(i));
+            }
+            longRuns += ofObject0 > 8;
+            Partition want(n);
+            for (uint32_t i = 0; i < n; ++i) want[find(i)].push_back(frags[i]);
+            std::erase_if(want, [](const auto& g) { return g.empty(); });
+            resolver.resolve(frags);
+            Partition got;
+            for (const SurfaceGroup& g : resolver.groups())
+                got.emplace_back(resolver.members().begin() + g.memberBegin,
+                                 resolver.members().begin() + g.memberBegin + g.memberCount);
+            splitPixels += want.size() > 2;
+            ASSERT_EQ(got.size(), want.size()) << "pixel " << x << "," << y;
+            want = canonical(std::move(want));
+            got = canonical(std::move(got));
+            for (size_t g = 0; g < want.size(); ++g) {
+                ASSERT_EQ(got[g].size(), want[g].size());
+                for (size_t k = 0; k < want[g].size(); ++k)
+                    EXPECT_EQ(std::memcmp(&got[g][k], &want[g][k], sizeof(Fragment)), 0);
+            }
+        }
+    }
+    EXPECT_GT(longRuns, 20u);
+    EXPECT_GT(splitPixels, 10u);
+}
+
 TEST(PixelResolver, FoldedSurfaceGivesTwoGroupsUnlessJoinedInThePixel) {
     const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(0);
     // Triangles 0–1–2 of one object in a strip; 0 (front, z 1) and 2 (back, z 3) overlap here.
