@@ -5,6 +5,7 @@
 #include "core/render/pixel_filter.h"
 #include "core/render/tile_plan.h"
 #include "core/render/visibility.h"
+#include "core/render/visible_set.h"
 #include "core/util/json_writer.h"
 
 #include "cache/error.h"
@@ -90,21 +91,12 @@ uint64_t transientBytes(const geom::GeometryHandle& h) {
 }
 
 // ---------------------------------------------------------------- per-object view data
-// Where one object sits for this camera, found once per frame without its triangles: the
-// matrices, the lights of each material slot in camera space, and its screen box. Each tile
-// projects the triangles it needs from the object's tessellation.
-struct ObjectView {
-    glm::dmat4 cameraFromObject{1.0};
-    glm::dmat4 objectFromCamera{1.0};
-    glm::dmat3 normalToCamera{1.0};
+// Where one object sits for this camera (visible_set.h), found once per frame without its
+// triangles, and the lights of each material slot in camera space. Each tile projects the
+// triangles it needs from the object's tessellation.
+struct ObjectView : ObjectPlacement {
     std::vector<std::vector<shade::Light>> slotLights;  // per material slot, camera space
     std::vector<uint8_t> slotTransparent;                // per material slot
-    bool kept = false;
-    bool culledFar = false;
-    // Screen box in raster space (the whole plane when the bounds cross the near plane) and the
-    // smallest depth key of the bounds (front-to-back order of a tile's objects).
-    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    double nearKey = 0, farKey = 0;
     bool mayOcclude = false;  // some material slot is opaque
     // Screen boxes of the tessellation's clusters, made by the first tile that needs them.
     std::once_flag clustersMade;
@@ -305,52 +297,10 @@ int FrameRenderer::maxSamples(const RenderObject& o) const {
 void FrameRenderer::prepareObject(uint32_t index) {
     const RenderObject& obj = m_scene.objects[index];
     ObjectView& v = m_views[index];
-    v.cameraFromObject = m_camera.cameraFromWorld * obj.worldFromObject;
-    v.objectFromCamera = glm::inverse(v.cameraFromObject);
-    // An object flattened by a scale of 0 still renders (Maya shows it flat) but has no inverse;
-    // its object-space shading positions are then the origin rather than NaN or overflowing
-    // floats. The same goes for a scale so small that the inverse leaves the scene range.
-    bool invertible = true;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r)
-            invertible = invertible && std::isfinite(v.objectFromCamera[c][r]) &&
-                         std::abs(v.objectFromCamera[c][r]) <= kMaxSceneCoordinate;
-    if (!invertible) {
-        v.objectFromCamera = glm::dmat4(0.0);
-        v.objectFromCamera[3][3] = 1.0;
-    }
-    v.normalToCamera = glm::transpose(glm::inverse(glm::dmat3(v.cameraFromObject)));
-
-    // Far-plane culling per object, and objects wholly behind the near plane.
-    geom::Bounds3 cb = obj.geometry->bounds().transformed(v.cameraFromObject);
-    if (cb.empty() || !std::isfinite(cb.lo.x) || !std::isfinite(cb.hi.x)) return;
-    if (-cb.hi.z > m_camera.farClipPlane) {  // wholly past the far plane
-        v.culledFar = true;
-        return;
-    }
-    if (-cb.lo.z < m_camera.nearClipPlane) return;  // wholly between the eye and the near plane, or behind
-    // Frustum culling by screen-space bounds: exact for boxes wholly past the near plane;
-    // a box that crosses it is kept and reaches everywhere.
-    v.x0 = v.y0 = -std::numeric_limits<double>::infinity();
-    v.x1 = v.y1 = std::numeric_limits<double>::infinity();
-    v.nearKey = -std::numeric_limits<double>::infinity();
-    if (-cb.hi.z >= m_camera.nearClipPlane) {
-        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300, z0 = 1e300, z1 = -1e300;
-        for (int c = 0; c < 8; ++c) {
-            glm::dvec3 p((c & 1) ? cb.hi.x : cb.lo.x, (c & 2) ? cb.hi.y : cb.lo.y, (c & 4) ? cb.hi.z : cb.lo.z);
-            glm::dvec2 r = m_camera.rasterFromCamera(p);
-            x0 = std::min(x0, r.x), x1 = std::max(x1, r.x), y0 = std::min(y0, r.y), y1 = std::max(y1, r.y);
-            z0 = std::min(z0, m_camera.depthKey(p));
-            z1 = std::max(z1, m_camera.depthKey(p));
-        }
-        if (x1 < m_region.x0 - m_marginRight || x0 > m_region.x1 + m_marginLeft ||
-            y1 < m_region.y0 - m_marginBottom || y0 > m_region.y1 + m_marginTop)
-            return;
-        v.x0 = x0, v.y0 = y0, v.x1 = x1, v.y1 = y1, v.nearKey = z0, v.farKey = z1;
-    } else {
-        v.farKey = std::numeric_limits<double>::infinity();
-    }
-    v.kept = true;
+    const PixelRect reach{m_region.x0 - m_marginRight, m_region.y0 - m_marginBottom, m_region.x1 + m_marginLeft,
+                          m_region.y1 + m_marginTop};
+    static_cast<ObjectPlacement&>(v) = placeObject(obj.geometry->bounds(), obj.worldFromObject, m_camera, reach);
+    if (!v.kept) return;
 
     v.slotLights.resize(obj.materials.size());
     v.slotTransparent.resize(obj.materials.size());
