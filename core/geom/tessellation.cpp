@@ -85,16 +85,6 @@ void buildNeighbors(Tessellation& t, const std::vector<uint32_t>& cornerPoint, H
     }
 }
 
-void computeBounds(Tessellation& t) {
-    t.bounds = Bounds3();
-    for (const glm::vec3& p : t.positions) t.bounds.extend(glm::dvec3(p));
-    const size_t triangles = t.triangleCount();
-    const size_t clusters = (triangles + Tessellation::kClusterTriangles - 1) / Tessellation::kClusterTriangles;
-    t.clusterBounds.assign(clusters, Bounds3());
-    for (size_t c = 0; c < 3 * triangles; ++c)
-        t.clusterBounds[c / (3 * Tessellation::kClusterTriangles)].extend(glm::dvec3(t.positions[t.corners[c]]));
-}
-
 bool sameBits(const glm::vec3& a, const glm::vec3& b) {
     return std::bit_cast<uint32_t>(a.x) == std::bit_cast<uint32_t>(b.x) &&
            std::bit_cast<uint32_t>(a.y) == std::bit_cast<uint32_t>(b.y) &&
@@ -145,17 +135,30 @@ Tessellation triangulateMesh(const Mesh& mesh, const std::vector<uint16_t>& face
     return triangulateValidMesh(mesh, faceMaterial, smoothShading, degenerate);
 }
 
+uint32_t faceTriangleBound(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
+                           const std::vector<bool>& degenerate, size_t f) {
+    const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
+    if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) return 0;
+    const uint64_t corners = mesh.faceVertexEnd(f) - mesh.faceVertexBegin(f);
+    const uint64_t holes = mesh.holeCount(f);
+    return corners + 2 * holes >= 3 ? uint32_t(corners + 2 * holes - 2) : 0u;
+}
+
 uint64_t meshTriangleCount(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
                            const std::vector<bool>& degenerate) {
     uint64_t count = 0;
-    for (size_t f = 0; f < mesh.faceCount(); ++f) {
-        const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
-        if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) continue;
-        const uint64_t corners = mesh.faceVertexEnd(f) - mesh.faceVertexBegin(f);
-        const uint64_t holes = mesh.holeCount(f);
-        if (corners + 2 * holes >= 3) count += corners + 2 * holes - 2;
-    }
+    for (size_t f = 0; f < mesh.faceCount(); ++f) count += faceTriangleBound(mesh, faceMaterial, degenerate, f);
     return count;
+}
+
+void computeTessellationBounds(Tessellation& t) {
+    t.bounds = Bounds3();
+    for (const glm::vec3& p : t.positions) t.bounds.extend(glm::dvec3(p));
+    const size_t triangles = t.triangleCount();
+    const size_t clusters = (triangles + Tessellation::kClusterTriangles - 1) / Tessellation::kClusterTriangles;
+    t.clusterBounds.assign(clusters, Bounds3());
+    for (size_t c = 0; c < 3 * triangles; ++c)
+        t.clusterBounds[c / (3 * Tessellation::kClusterTriangles)].extend(glm::dvec3(t.positions[t.corners[c]]));
 }
 
 Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
@@ -244,7 +247,7 @@ Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>&
     out.positions.shrink_to_fit();
     out.normals.shrink_to_fit();
     out.uvs.shrink_to_fit();
-    computeBounds(out);
+    computeTessellationBounds(out);
 
     shading = {};  // the adjacency below needs none of the per-corner or per-point tables
     firstVertex = {};
@@ -382,7 +385,7 @@ std::optional<Tessellation> tessellateNurbs(const NurbsSurface& s, int divU, int
     out.positions.shrink_to_fit();
     out.normals.shrink_to_fit();
     out.uvs.shrink_to_fit();
-    computeBounds(out);
+    computeTessellationBounds(out);
     buildNeighbors(out, cornerPoint, [](uint32_t, uint32_t, uint32_t, uint32_t) { return false; });
     return out;
 }

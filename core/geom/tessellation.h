@@ -79,6 +79,12 @@ Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>&
 // an upper bound always.
 uint64_t meshTriangleCount(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
                            const std::vector<bool>& degenerate);
+// The same for face `f` alone: 0 for a face not kept.
+uint32_t faceTriangleBound(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
+                           const std::vector<bool>& degenerate, size_t f);
+
+// Fills t.bounds and t.clusterBounds from the vertices and corners.
+void computeTessellationBounds(Tessellation& t);
 
 // Uniform per-span grid tessellation of a NURBS surface (reference/algorithms.md §8, primary
 // pass) with `divU` × `divV` steps per span: positions and normals evaluated exactly, uvs the

@@ -1,0 +1,233 @@
+#include "core/geom/mesh_pieces.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace pushpin::geom {
+
+namespace {
+
+constexpr uint32_t kNotLocal = 0xffffffffu;
+
+}  // namespace
+
+MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
+                             const std::vector<bool>& degenerate, uint32_t maxSlots) {
+    MeshPieces out;
+    maxSlots = std::max<uint32_t>(maxSlots, 1);
+    const size_t faces = mesh.faceCount();
+    out.m_strideSlots.reserve(faces / kSlotStride + 1);
+    MeshPiece current;
+    bool kept = false;
+    uint64_t slot = 0;
+    auto close = [&](uint32_t end) {
+        current.endFace = end;
+        if (kept) out.m_pieces.push_back(current);
+        current = MeshPiece{};
+        current.firstFace = end;
+        current.firstSlot = uint32_t(slot);
+        kept = false;
+    };
+    for (size_t f = 0; f < faces; ++f) {
+        if (f % kSlotStride == 0) out.m_strideSlots.push_back(uint32_t(slot));
+        const uint32_t n = faceTriangleBound(mesh, faceMaterial, degenerate, f);
+        if (n == 0) continue;
+        if (current.slotCount > 0 && uint64_t(current.slotCount) + n > maxSlots) close(uint32_t(f));
+        if (!kept) {
+            // A piece starts at its first kept face.
+            current.firstFace = uint32_t(f);
+            current.firstSlot = uint32_t(slot);
+        }
+        kept = true;
+        current.slotCount += n;
+        slot += n;
+        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c)
+            current.bounds.extend(glm::dvec3(mesh.points[mesh.faceVertices[c]]));
+    }
+    close(uint32_t(faces));
+    out.m_slots = slot;
+    return out;
+}
+
+uint32_t MeshPieces::faceSlot(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
+                              const std::vector<bool>& degenerate, size_t f) const {
+    uint32_t slot = m_strideSlots[f / kSlotStride];
+    for (size_t g = f - f % kSlotStride; g < f; ++g) slot += faceTriangleBound(mesh, faceMaterial, degenerate, g);
+    return slot;
+}
+
+uint64_t meshPieceWorkBytes(uint64_t faceVertices, uint64_t slots, uint64_t usedPoints, uint64_t meshPoints) {
+    // The point map and marks over the whole mesh; the piece's own mesh (points, face-vertices,
+    // offsets, edges, uvs and their ids, normals); its whole tessellation with that of the faces
+    // around it, with triangulateValidMesh's working memory; the slot and vertex maps.
+    const uint64_t pointMap = meshPoints * sizeof(uint32_t);
+    const uint64_t subMesh = usedPoints * (sizeof(glm::vec3) + 3 * sizeof(MeshEdge) + sizeof(glm::vec2)) +
+                             faceVertices * (3 * sizeof(uint32_t) + sizeof(glm::vec3) + sizeof(int32_t));
+    const uint64_t triangles = slots + faceVertices;  // the faces around the piece add some
+    const uint64_t tessellation = triangles * 40 + usedPoints * 2 * 32;
+    const uint64_t work = 24 * faceVertices + 24 * triangles + 8 * usedPoints;
+    return pointMap + subMesh + tessellation + work + triangles * 2 * sizeof(uint32_t);
+}
+
+Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
+                                  const std::vector<bool>& degenerate, const MeshPieces& pieces, size_t pieceIndex) {
+    const MeshPiece& piece = pieces.pieces()[pieceIndex];
+    const size_t faces = mesh.faceCount();
+    auto keptFace = [&](size_t f) { return faceTriangleBound(mesh, faceMaterial, degenerate, f) > 0; };
+
+    // The points of the piece's kept faces, marked; then every face with a corner at a marked point
+    // (the piece's faces among them), in face order: the piece's own mesh. Every face around a
+    // marked point is in it, so the smoothing groups and sums at those points, and the triangles
+    // across the edges of the piece's triangles, are the whole mesh's.
+    std::vector<uint32_t> local(mesh.points.size(), kNotLocal);
+    constexpr uint32_t kMarked = kNotLocal - 1;
+    for (size_t f = piece.firstFace; f < piece.endFace; ++f)
+        if (keptFace(f))
+            for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) local[mesh.faceVertices[c]] = kMarked;
+    std::vector<uint32_t> subFaces;
+    for (size_t f = 0; f < faces; ++f) {
+        bool touches = f >= piece.firstFace && f < piece.endFace;
+        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f) && !touches; ++c)
+            touches = local[mesh.faceVertices[c]] == kMarked;
+        if (touches) subFaces.push_back(uint32_t(f));
+    }
+    // Local point ids in ascending global order.
+    for (uint32_t f : subFaces)
+        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c)
+            if (local[mesh.faceVertices[c]] == kNotLocal) local[mesh.faceVertices[c]] = kMarked;
+    Mesh sub;
+    std::vector<uint32_t> globalPoint;
+    for (size_t p = 0; p < local.size(); ++p)
+        if (local[p] == kMarked) {
+            local[p] = uint32_t(globalPoint.size());
+            globalPoint.push_back(uint32_t(p));
+        }
+    sub.points.reserve(globalPoint.size());
+    for (uint32_t p : globalPoint) sub.points.push_back(mesh.points[p]);
+
+    const UvSet* uvSet = nullptr;
+    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
+        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount())
+        uvSet = &mesh.uvSets[size_t(mesh.currentUvSet)];
+    std::vector<int32_t> localUv;
+    if (uvSet) {
+        sub.uvSets.resize(1);
+        sub.uvSets[0].name = uvSet->name;
+        localUv.assign(uvSet->uvs.size(), -1);
+    }
+    const bool explicitNormals = mesh.normals.size() == mesh.faceVertexCount();
+    std::vector<uint16_t> subMaterial;
+    std::vector<bool> subDegenerate;
+    subMaterial.reserve(subFaces.size());
+    subDegenerate.reserve(subFaces.size());
+    sub.loopStarts.clear();
+    sub.faceLoopStarts.clear();
+    for (uint32_t f : subFaces) {
+        sub.faceLoopStarts.push_back(uint32_t(sub.loopStarts.size()));
+        for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
+            sub.loopStarts.push_back(uint32_t(sub.faceVertices.size()));
+            for (uint32_t c = mesh.loopStarts[l]; c < mesh.loopStarts[l + 1]; ++c) {
+                sub.faceVertices.push_back(local[mesh.faceVertices[c]]);
+                if (explicitNormals) sub.normals.push_back(mesh.normals[c]);
+                if (uvSet) {
+                    const int32_t id = uvSet->faceVertexUvs[c];
+                    if (id >= 0 && localUv[size_t(id)] < 0) {
+                        localUv[size_t(id)] = int32_t(sub.uvSets[0].uvs.size());
+                        sub.uvSets[0].uvs.push_back(uvSet->uvs[size_t(id)]);
+                    }
+                    sub.uvSets[0].faceVertexUvs.push_back(id >= 0 ? localUv[size_t(id)] : -1);
+                }
+            }
+        }
+        subMaterial.push_back(f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0));
+        subDegenerate.push_back(f < degenerate.size() && degenerate[f]);
+    }
+    sub.loopStarts.push_back(uint32_t(sub.faceVertices.size()));
+    sub.faceLoopStarts.push_back(uint32_t(sub.loopStarts.size() - 1));
+    localUv = {};
+    // The mesh's edges between points of the piece's mesh, in their order (the last listing of an
+    // edge decides its smoothness, as in the whole mesh).
+    for (const MeshEdge& e : mesh.edges)
+        if (e.v0 < local.size() && e.v1 < local.size() && local[e.v0] != kNotLocal && local[e.v1] != kNotLocal)
+            sub.edges.push_back({local[e.v0], local[e.v1], e.smooth});
+    local = {};
+
+    Tessellation whole = triangulateValidMesh(sub, subMaterial, smoothShading, subDegenerate);
+
+    // Triangle ranges per local face (triangles come in face order), and the slot of each face.
+    const size_t subFaceCount = subFaces.size();
+    std::vector<uint32_t> firstTriangle(subFaceCount + 1, 0);
+    for (uint32_t lf : whole.face) ++firstTriangle[lf + 1];
+    for (size_t lf = 0; lf < subFaceCount; ++lf) firstTriangle[lf + 1] += firstTriangle[lf];
+    std::vector<uint32_t> faceSlot(subFaceCount);
+    size_t ownBegin = subFaceCount, ownEnd = 0;  // the piece's faces among the local ones
+    {
+        uint32_t slot = piece.firstSlot;
+        for (size_t lf = 0; lf < subFaceCount; ++lf) {
+            const uint32_t f = subFaces[lf];
+            if (f >= piece.firstFace && f < piece.endFace) {
+                ownBegin = std::min(ownBegin, lf);
+                ownEnd = lf + 1;
+                faceSlot[lf] = slot;
+                slot += faceTriangleBound(mesh, faceMaterial, degenerate, f);
+            } else {
+                faceSlot[lf] = pieces.faceSlot(mesh, faceMaterial, degenerate, f);
+            }
+        }
+    }
+    auto slotOf = [&](uint32_t t) {
+        const uint32_t lf = whole.face[t];
+        return faceSlot[lf] + (t - firstTriangle[lf]);
+    };
+
+    // The piece's triangles in slot order, their vertices renumbered in order of first use, and
+    // a zero-area triangle for each slot its face left unused.
+    Tessellation out;
+    out.corners.reserve(3 * size_t(piece.slotCount));
+    out.face.reserve(piece.slotCount);
+    out.material.reserve(piece.slotCount);
+    out.neighbors.reserve(3 * size_t(piece.slotCount));
+    std::vector<uint32_t> vertexOf(whole.positions.size(), kNotLocal);
+    auto vertex = [&](uint32_t v) {
+        if (vertexOf[v] == kNotLocal) {
+            vertexOf[v] = uint32_t(out.positions.size());
+            out.positions.push_back(whole.positions[v]);
+            out.normals.push_back(whole.normals[v]);
+            if (!whole.uvs.empty()) out.uvs.push_back(whole.uvs[v]);
+        }
+        return vertexOf[v];
+    };
+    for (size_t lf = ownBegin; lf < ownEnd; ++lf) {
+        const uint32_t f = subFaces[lf];
+        const uint32_t promised = faceTriangleBound(mesh, faceMaterial, degenerate, f);
+        const uint32_t made = firstTriangle[lf + 1] - firstTriangle[lf];
+        for (uint32_t t = firstTriangle[lf]; t < firstTriangle[lf + 1]; ++t) {
+            for (int k = 0; k < 3; ++k) {
+                out.corners.push_back(vertex(whole.corners[3 * size_t(t) + k]));
+                const uint32_t nb = whole.neighbors[3 * size_t(t) + k];
+                out.neighbors.push_back(nb == kNoNeighbor ? kNoNeighbor
+                                                          : slotOf(nb & ~kHardNeighborBit) | (nb & kHardNeighborBit));
+            }
+            out.face.push_back(f);
+            out.material.push_back(whole.material[t]);
+        }
+        uint32_t spare = made > 0 ? out.corners.back() : kNotLocal;
+        for (uint32_t k = made; k < promised; ++k) {
+            // A slot the face left unused: a point-sized triangle at one of the face's corners.
+            if (spare == kNotLocal) {
+                spare = uint32_t(out.positions.size());
+                out.positions.push_back(mesh.points[mesh.faceOuterLoop(f)[0]]);
+                out.normals.push_back(glm::vec3(0.0f, 0.0f, 1.0f));
+                if (!whole.uvs.empty()) out.uvs.push_back(glm::vec2(0.0f));
+            }
+            out.corners.insert(out.corners.end(), {spare, spare, spare});
+            out.neighbors.insert(out.neighbors.end(), {kNoNeighbor, kNoNeighbor, kNoNeighbor});
+            out.face.push_back(f);
+            out.material.push_back(f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0));
+        }
+    }
+    computeTessellationBounds(out);
+    return out;
+}
+
+}  // namespace pushpin::geom

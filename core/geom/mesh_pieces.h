@@ -1,0 +1,71 @@
+// core/geom/mesh_pieces.h: a large mesh tessellated piece by piece (DESIGN.md steps 2 and 6a), so
+// that no tile needs the triangles of the whole shape at once and threads make different pieces
+// at the same time. A piece is a run of consecutive faces holding at most a given number of
+// triangle ids. Triangle ids ("slots") are those of the whole shape: face f's triangles take
+// slots faceSlot(f) + 0, 1, …, one per triangle its corner count promises (n + 2h − 2,
+// faceTriangleBound), in face order, so ids grow with the face and with the triangle within it
+// exactly as in triangulateValidMesh's numbering and every piece knows the ids of its
+// neighbours' triangles without making them. A face whose ear clipping gives fewer triangles
+// leaves its last slots as zero-area triangles that rasterize to nothing.
+// A piece's tessellation is the whole shape's, cut to its triangles: the same corner positions,
+// normals and uvs bit for bit, and neighbours (by slot) across piece borders too, because the
+// piece is made with every face around its points.
+// Thread safety: MeshPieces is immutable after split(); triangulateMeshPiece is pure.
+// Memory: MeshPieces holds 56 bytes a piece and 4 bytes per kSlotStride faces.
+#pragma once
+
+#include "core/geom/bounds.h"
+#include "core/geom/mesh.h"
+#include "core/geom/tessellation.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace pushpin::geom {
+
+struct MeshPiece {
+    uint32_t firstFace = 0, endFace = 0;   // faces [firstFace, endFace)
+    uint32_t firstSlot = 0, slotCount = 0;  // triangle ids [firstSlot, firstSlot + slotCount)
+    Bounds3 bounds;                         // of the points of its kept faces
+};
+
+class MeshPieces {
+public:
+    // Faces between two stored slot offsets (faceSlot reads at most this many faces).
+    static constexpr uint32_t kSlotStride = 64;
+
+    // Splits `mesh` (valid; `faceMaterial` and `degenerate` as triangulateValidMesh takes them)
+    // into runs of faces of at most `maxSlots` triangle ids each (a single face with more takes a
+    // piece of its own). Pieces without kept faces are left out. The mesh must have fewer than
+    // 2^31 − 1 triangle ids.
+    static MeshPieces split(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
+                            const std::vector<bool>& degenerate, uint32_t maxSlots);
+
+    const std::vector<MeshPiece>& pieces() const { return m_pieces; }
+    uint64_t slotCount() const { return m_slots; }
+    // The first triangle id of face `f`.
+    uint32_t faceSlot(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, const std::vector<bool>& degenerate,
+                      size_t f) const;
+    uint64_t bytes() const {
+        return uint64_t(m_pieces.capacity()) * sizeof(MeshPiece) + uint64_t(m_strideSlots.capacity()) * sizeof(uint32_t);
+    }
+
+private:
+    std::vector<MeshPiece> m_pieces;
+    std::vector<uint32_t> m_strideSlots;  // faceSlot(k · kSlotStride)
+    uint64_t m_slots = 0;
+};
+
+// The tessellation of piece `piece`: triangle i is the one of slot pieces[piece].firstSlot + i
+// (zero-area where its face made fewer triangles than it promised); `face` holds mesh face
+// indices and `neighbors` slots, with kHardNeighborBit and kNoNeighbor as in a whole tessellation.
+// Arguments as MeshPieces::split took them, and `smoothShading` as triangulateValidMesh takes it.
+Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
+                                  const std::vector<bool>& degenerate, const MeshPieces& pieces, size_t piece);
+
+// Bytes triangulateMeshPiece holds while it runs besides the mesh and its result, for a piece of
+// `faceVertices` face-vertices (its faces and those around its points), `slots` triangle ids and
+// `usedPoints` points, on a mesh of `meshPoints` points.
+uint64_t meshPieceWorkBytes(uint64_t faceVertices, uint64_t slots, uint64_t usedPoints, uint64_t meshPoints);
+
+}  // namespace pushpin::geom

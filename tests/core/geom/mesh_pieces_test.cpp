@@ -1,0 +1,250 @@
+// Tests for core/geom/mesh_pieces.h: a mesh tessellated piece by piece gives the whole
+// tessellation's triangles, corner values and neighbours bit for bit, under the whole shape's
+// triangle ids, whatever the piece size.
+#include "core/geom/mesh_pieces.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstring>
+#include <random>
+#include <vector>
+
+namespace pushpin::geom {
+namespace {
+
+bool sameBits(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool sameBits(const glm::vec2& a, const glm::vec2& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+struct Case {
+    Mesh mesh;
+    std::vector<uint16_t> material;
+    std::vector<bool> degenerate;
+};
+
+// A bumpy grid of W × H quads in row order with everything that changes a triangle's neighbours
+// or corner values: random hard edges (one edge listed twice, the second listing deciding), three
+// materials and faces in none, faces dropped as degenerate, a uv seam in the current (second)
+// uv set, corners with stored normals, a pentagon with a point on an edge, one with a point given
+// twice in a row (ear clipping makes two triangles of the three it promises), a face with a hole,
+// and a fin sharing a grid edge (an edge of three faces).
+Case bumpyGrid(int W, int H, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    Case c;
+    Mesh& m = c.mesh;
+    auto height = [](double i, double j) { return 0.05 * i * j + 0.3 * std::sin(0.7 * i) * std::cos(0.4 * j); };
+    auto pointAt = [&](int i, int j) { return uint32_t(j * (W + 1) + i); };
+    for (int j = 0; j <= H; ++j)
+        for (int i = 0; i <= W; ++i) m.points.push_back(glm::vec3(float(i), float(height(i, j)), float(j)));
+    const int pentI = W / 3, pentJ = H / 2, holeI = 2 * W / 3, holeJ = H / 3, finI = W / 2, finJ = 2 * H / 3;
+    std::vector<int32_t> uvIds;
+    uint32_t finA = 0, finB = 0;
+    for (int j = 0; j < H; ++j) {
+        for (int i = 0; i < W; ++i) {
+            const uint32_t a = pointAt(i, j), b = pointAt(i, j + 1), cc = pointAt(i + 1, j + 1), d = pointAt(i + 1, j);
+            if (i == pentI && j == pentJ) {
+                // A point halfway along the edge a–b, on the straight line between them.
+                const glm::vec3 pa = m.points[a], pb = m.points[b];
+                const uint32_t mid = uint32_t(m.points.size());
+                m.points.push_back(glm::vec3(pa.x, 0.5f * (pa.y + pb.y), 0.5f * (pa.z + pb.z)));
+                m.addFace({a, mid, b, cc, d});
+            } else if (i == pentI + 1 && j == pentJ) {
+                m.addFace({a, b, b, cc, d});  // a point given twice in a row
+            } else if (i == holeI && j == holeJ) {
+                m.addFace({a, b, cc, d});
+                const uint32_t h0 = uint32_t(m.points.size());
+                const glm::vec3 o = m.points[a];
+                for (const auto& [du, dv] : {std::pair{0.3f, 0.3f}, {0.7f, 0.3f}, {0.7f, 0.7f}, {0.3f, 0.7f}})
+                    m.points.push_back(glm::vec3(o.x + du, o.y, o.z + dv));
+                const uint32_t hole[4] = {h0, h0 + 1, h0 + 2, h0 + 3};
+                m.addHole(hole);
+            } else {
+                m.addFace({a, b, cc, d});
+            }
+            if (i == finI && j == finJ) {
+                finA = a;
+                finB = b;
+            }
+        }
+    }
+    // The fin: a triangle standing on the grid edge finA–finB.
+    const uint32_t top = uint32_t(m.points.size());
+    m.points.push_back(m.points[finA] + glm::vec3(0.0f, 1.0f, 0.5f));
+    m.addFace({finA, finB, top});
+
+    m.edges = deriveEdges(m, true);
+    for (MeshEdge& e : m.edges) e.smooth = uni(rng) > 0.3;
+    MeshEdge again = m.edges[m.edges.size() / 2];
+    again.smooth = !again.smooth;
+    m.edges.push_back(again);
+
+    const size_t faces = m.faceCount();
+    for (size_t f = 0; f < faces; ++f) {
+        const double r = uni(rng);
+        c.material.push_back(r < 0.08 ? kNoFaceMaterial : uint16_t(r < 0.5 ? 0 : r < 0.8 ? 1 : 2));
+        c.degenerate.push_back(uni(rng) < 0.04);
+    }
+    // Keep the special faces.
+    for (size_t f = 0; f < faces; ++f)
+        if (m.faceVertexEnd(f) - m.faceVertexBegin(f) != 4 || m.holeCount(f) > 0) {
+            c.material[f] = 1;
+            c.degenerate[f] = false;
+        }
+
+    // Uv sets: the first unused, the second current with a seam down column W/2.
+    UvSet unused{"unused", {glm::vec2(0.5f)}, std::vector<int32_t>(m.faceVertexCount(), 0)};
+    UvSet current{"map2", {}, {}};
+    const uint32_t gridPoints = uint32_t((W + 1) * (H + 1));
+    for (const glm::vec3& p : m.points) current.uvs.push_back(glm::vec2(p.x / float(W), p.z / float(H)));
+    for (uint32_t p = 0; p < gridPoints; ++p) current.uvs.push_back(glm::vec2(m.points[p].x / float(W) + 0.5f, 0.1f));
+    for (size_t f = 0; f < faces; ++f)
+        for (uint32_t k = m.faceVertexBegin(f); k < m.faceVertexEnd(f); ++k) {
+            const uint32_t p = m.faceVertices[k];
+            const bool right = m.points[m.faceVertices[m.faceVertexBegin(f)]].x >= float(W / 2);
+            current.faceVertexUvs.push_back(right && p < gridPoints ? int32_t(m.points.size() + p) : int32_t(p));
+        }
+    m.uvSets = {unused, current};
+    m.currentUvSet = 1;
+    m.normals.assign(m.faceVertexCount(), glm::vec3(0.0f));
+    for (size_t k = 0; k < m.normals.size(); k += 37) m.normals[k] = glm::vec3(0.0f, 1.0f, 0.0f);
+    EXPECT_TRUE(m.validate().ok());
+    return c;
+}
+
+// Checks that the pieces of `c` at `maxSlots` give `whole`'s triangles under their slots.
+void expectPiecesMatchWhole(const Case& c, bool smooth, uint32_t maxSlots) {
+    SCOPED_TRACE("maxSlots " + std::to_string(maxSlots) + (smooth ? " smooth" : " faceted"));
+    const Mesh& m = c.mesh;
+    const Tessellation whole = triangulateValidMesh(m, c.material, smooth, c.degenerate);
+    const MeshPieces pieces = MeshPieces::split(m, c.material, c.degenerate, maxSlots);
+    ASSERT_FALSE(pieces.pieces().empty());
+    EXPECT_EQ(pieces.slotCount(), meshTriangleCount(m, c.material, c.degenerate));
+    uint32_t next = 0;
+    for (const MeshPiece& p : pieces.pieces()) {
+        EXPECT_EQ(p.firstSlot, next);
+        EXPECT_LT(p.firstFace, p.endFace);
+        size_t keptFaces = 0;
+        for (uint32_t f = p.firstFace; f < p.endFace; ++f)
+            keptFaces += faceTriangleBound(m, c.material, c.degenerate, f) > 0;
+        EXPECT_TRUE(p.slotCount <= maxSlots || keptFaces == 1);
+        next += p.slotCount;
+    }
+    EXPECT_EQ(next, pieces.slotCount());
+
+    std::vector<Tessellation> made;
+    for (size_t k = 0; k < pieces.pieces().size(); ++k) {
+        made.push_back(triangulateMeshPiece(m, c.material, smooth, c.degenerate, pieces, k));
+        const MeshPiece& p = pieces.pieces()[k];
+        ASSERT_EQ(made.back().triangleCount(), p.slotCount);
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_GE(made.back().bounds.lo[a], p.bounds.lo[a]);
+            EXPECT_LE(made.back().bounds.hi[a], p.bounds.hi[a]);
+        }
+    }
+    auto find = [&](uint32_t slot) -> std::pair<const Tessellation*, uint32_t> {
+        for (size_t k = 0; k < made.size(); ++k) {
+            const MeshPiece& p = pieces.pieces()[k];
+            if (slot >= p.firstSlot && slot < p.firstSlot + p.slotCount) return {&made[k], slot - p.firstSlot};
+        }
+        return {nullptr, 0};
+    };
+    // The slot of each whole triangle: its face's first slot plus its place within the face.
+    std::vector<uint32_t> slotOf(whole.triangleCount());
+    for (size_t t = 0; t < whole.triangleCount(); ++t) {
+        const uint32_t f = whole.face[t];
+        slotOf[t] = t > 0 && whole.face[t - 1] == f ? slotOf[t - 1] + 1 : pieces.faceSlot(m, c.material, c.degenerate, f);
+    }
+    std::vector<uint8_t> used(pieces.slotCount(), 0);
+    for (size_t t = 0; t < whole.triangleCount(); ++t) {
+        const auto [g, i] = find(slotOf[t]);
+        ASSERT_NE(g, nullptr);
+        used[slotOf[t]] = 1;
+        EXPECT_EQ(g->face[i], whole.face[t]);
+        EXPECT_EQ(g->material[i], whole.material[t]);
+        for (int k = 0; k < 3; ++k) {
+            const size_t wc = 3 * t + size_t(k), pc = 3 * size_t(i) + size_t(k);
+            EXPECT_TRUE(sameBits(g->position(pc), whole.position(wc))) << "triangle " << t;
+            EXPECT_TRUE(sameBits(g->normal(pc), whole.normal(wc))) << "triangle " << t;
+            EXPECT_TRUE(sameBits(g->uv(pc), whole.uv(wc))) << "triangle " << t;
+            const uint32_t nb = whole.neighbors[wc];
+            const uint32_t want =
+                nb == kNoNeighbor ? kNoNeighbor : slotOf[nb & ~kHardNeighborBit] | (nb & kHardNeighborBit);
+            EXPECT_EQ(g->neighbors[pc], want) << "triangle " << t << " edge " << k;
+        }
+    }
+    // Slots no whole triangle took: point-sized, without neighbours.
+    size_t spare = 0;
+    for (uint32_t s = 0; s < pieces.slotCount(); ++s) {
+        if (used[s]) continue;
+        ++spare;
+        const auto [g, i] = find(s);
+        ASSERT_NE(g, nullptr);
+        EXPECT_EQ(g->corners[3 * i], g->corners[3 * i + 1]);
+        EXPECT_EQ(g->corners[3 * i], g->corners[3 * i + 2]);
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(g->neighbors[3 * i + k], kNoNeighbor);
+    }
+    EXPECT_EQ(spare, pieces.slotCount() - whole.triangleCount());
+}
+
+TEST(MeshPieces, PiecesGiveTheWholeTessellationUnderItsTriangleIds) {
+    const Case c = bumpyGrid(23, 17, 5);
+    // The pentagon with a point given twice promises three triangles and makes two.
+    const Tessellation whole = triangulateValidMesh(c.mesh, c.material, true, c.degenerate);
+    ASSERT_GE(meshTriangleCount(c.mesh, c.material, c.degenerate), whole.triangleCount() + 1);
+    size_t hard = 0, none = 0;
+    for (uint32_t nb : whole.neighbors) {
+        hard += nb != kNoNeighbor && (nb & kHardNeighborBit);
+        none += nb == kNoNeighbor;
+    }
+    EXPECT_GT(hard, 100u);
+    EXPECT_GT(none, 50u);
+    for (uint32_t maxSlots : {1u, 2u, 7u, 40u, 333u, 100000u})
+        for (bool smooth : {true, false}) expectPiecesMatchWhole(c, smooth, maxSlots);
+}
+
+TEST(MeshPieces, ASplitKeepsWholeFacesAndLeavesOutPiecesWithoutTriangles) {
+    Case c = bumpyGrid(6, 5, 9);
+    // Faces 0..9 not rendered: the first piece starts at the first kept face.
+    for (size_t f = 0; f < 10; ++f) c.material[f] = kNoFaceMaterial;
+    const MeshPieces pieces = MeshPieces::split(c.mesh, c.material, c.degenerate, 6);
+    ASSERT_FALSE(pieces.pieces().empty());
+    size_t firstKept = 0;
+    while (faceTriangleBound(c.mesh, c.material, c.degenerate, firstKept) == 0) ++firstKept;
+    EXPECT_EQ(pieces.pieces().front().firstFace, firstKept);
+    EXPECT_EQ(pieces.pieces().front().firstSlot, 0u);
+    for (const MeshPiece& p : pieces.pieces()) {
+        uint32_t slots = 0;
+        for (uint32_t f = p.firstFace; f < p.endFace; ++f) slots += faceTriangleBound(c.mesh, c.material, c.degenerate, f);
+        EXPECT_EQ(slots, p.slotCount);
+        EXPECT_GT(p.slotCount, 0u);
+    }
+    // Every face's first slot, read through the stride table, is the running sum.
+    uint32_t slot = 0;
+    for (size_t f = 0; f < c.mesh.faceCount(); ++f) {
+        EXPECT_EQ(pieces.faceSlot(c.mesh, c.material, c.degenerate, f), slot);
+        slot += faceTriangleBound(c.mesh, c.material, c.degenerate, f);
+    }
+    expectPiecesMatchWhole(c, true, 6);
+}
+
+TEST(MeshPieces, APieceNeedsOnlyTheFacesAroundIt) {
+    // A 200 × 100 grid in pieces of about ten rows: each piece makes only the vertices of its own
+    // triangles.
+    const Case c = bumpyGrid(200, 100, 3);
+    const MeshPieces pieces = MeshPieces::split(c.mesh, c.material, c.degenerate, 4000);
+    ASSERT_GE(pieces.pieces().size(), 9u);
+    const Tessellation whole = triangulateValidMesh(c.mesh, c.material, true, c.degenerate);
+    size_t vertices = 0;
+    for (size_t k = 0; k < pieces.pieces().size(); ++k) {
+        const Tessellation t = triangulateMeshPiece(c.mesh, c.material, true, c.degenerate, pieces, k);
+        EXPECT_LE(t.vertexCount(), 3 * t.triangleCount());
+        vertices += t.vertexCount();
+    }
+    // Vertices on the nine piece borders are made on both sides: under a tenth more than the whole.
+    EXPECT_GE(vertices, whole.vertexCount());
+    EXPECT_LT(double(vertices), 1.1 * double(whole.vertexCount()));
+}
+
+}  // namespace
+}  // namespace pushpin::geom
