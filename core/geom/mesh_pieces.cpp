@@ -46,6 +46,50 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
     }
     close(uint32_t(faces));
     out.m_slots = slot;
+
+    // The faces and edges around each piece: per point the first and last face (then edge) that
+    // uses it, gathered over the points of the piece's kept faces.
+    std::vector<uint32_t> first(mesh.points.size()), last(mesh.points.size());
+    auto overPiecePoints = [&](const MeshPiece& p, auto&& visit) {
+        for (uint32_t f = p.firstFace; f < p.endFace; ++f)
+            if (faceTriangleBound(mesh, faceMaterial, degenerate, f) > 0)
+                for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) visit(mesh.faceVertices[c]);
+    };
+    std::fill(first.begin(), first.end(), kNotLocal);
+    std::fill(last.begin(), last.end(), 0u);
+    for (size_t f = 0; f < faces; ++f)
+        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) {
+            const uint32_t p = mesh.faceVertices[c];
+            first[p] = std::min(first[p], uint32_t(f));
+            last[p] = uint32_t(f);
+        }
+    for (MeshPiece& p : out.m_pieces) {
+        p.aroundFirst = p.firstFace;
+        p.aroundEnd = p.endFace;
+        overPiecePoints(p, [&](uint32_t q) {
+            p.aroundFirst = std::min(p.aroundFirst, first[q]);
+            p.aroundEnd = std::max(p.aroundEnd, last[q] + 1);
+        });
+    }
+    std::fill(first.begin(), first.end(), kNotLocal);
+    std::fill(last.begin(), last.end(), 0u);
+    const size_t points = mesh.points.size();
+    for (size_t e = 0; e < mesh.edges.size(); ++e)
+        for (uint32_t q : {mesh.edges[e].v0, mesh.edges[e].v1})
+            if (q < points) {
+                first[q] = std::min(first[q], uint32_t(e));
+                last[q] = uint32_t(e) + 1;
+            }
+    for (MeshPiece& p : out.m_pieces) {
+        p.edgeFirst = uint32_t(mesh.edges.size());
+        p.edgeEnd = 0;
+        overPiecePoints(p, [&](uint32_t q) {
+            if (first[q] == kNotLocal) return;
+            p.edgeFirst = std::min(p.edgeFirst, first[q]);
+            p.edgeEnd = std::max(p.edgeEnd, last[q]);
+        });
+        if (p.edgeEnd < p.edgeFirst) p.edgeFirst = p.edgeEnd = 0;
+    }
     return out;
 }
 
@@ -72,7 +116,6 @@ uint64_t meshPieceWorkBytes(uint64_t faceVertices, uint64_t slots, uint64_t used
 Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
                                   const std::vector<bool>& degenerate, const MeshPieces& pieces, size_t pieceIndex) {
     const MeshPiece& piece = pieces.pieces()[pieceIndex];
-    const size_t faces = mesh.faceCount();
     auto keptFace = [&](size_t f) { return faceTriangleBound(mesh, faceMaterial, degenerate, f) > 0; };
 
     // The points of the piece's kept faces, marked; then every face with a corner at a marked point
@@ -85,7 +128,7 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
         if (keptFace(f))
             for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) local[mesh.faceVertices[c]] = kMarked;
     std::vector<uint32_t> subFaces;
-    for (size_t f = 0; f < faces; ++f) {
+    for (size_t f = piece.aroundFirst; f < piece.aroundEnd; ++f) {
         bool touches = f >= piece.firstFace && f < piece.endFace;
         for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f) && !touches; ++c)
             touches = local[mesh.faceVertices[c]] == kMarked;
@@ -146,10 +189,13 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
     sub.faceLoopStarts.push_back(uint32_t(sub.loopStarts.size() - 1));
     localUv = {};
     // The mesh's edges between points of the piece's mesh, in their order (the last listing of an
-    // edge decides its smoothness, as in the whole mesh).
-    for (const MeshEdge& e : mesh.edges)
+    // edge decides its smoothness, as in the whole mesh). Those that matter have an end at a point
+    // of the piece's kept faces, so they lie in the piece's edge range.
+    for (uint32_t k = piece.edgeFirst; k < piece.edgeEnd; ++k) {
+        const MeshEdge& e = mesh.edges[k];
         if (e.v0 < local.size() && e.v1 < local.size() && local[e.v0] != kNotLocal && local[e.v1] != kNotLocal)
             sub.edges.push_back({local[e.v0], local[e.v1], e.smooth});
+    }
     local = {};
 
     Tessellation whole = triangulateValidMesh(sub, subMaterial, smoothShading, subDegenerate);
@@ -226,6 +272,9 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
             out.material.push_back(f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0));
         }
     }
+    out.positions.shrink_to_fit();
+    out.normals.shrink_to_fit();
+    out.uvs.shrink_to_fit();
     computeTessellationBounds(out);
     return out;
 }

@@ -11,7 +11,8 @@
 // normals and uvs bit for bit, and neighbours (by slot) across piece borders too, because the
 // piece is made with every face around its points.
 // Thread safety: MeshPieces is immutable after split(); triangulateMeshPiece is pure.
-// Memory: MeshPieces holds 56 bytes a piece and 4 bytes per kSlotStride faces.
+// Memory: MeshPieces holds 72 bytes a piece and 4 bytes per kSlotStride faces; split() works with
+// 8 bytes a point besides.
 #pragma once
 
 #include "core/geom/bounds.h"
@@ -26,7 +27,11 @@ namespace pushpin::geom {
 struct MeshPiece {
     uint32_t firstFace = 0, endFace = 0;   // faces [firstFace, endFace)
     uint32_t firstSlot = 0, slotCount = 0;  // triangle ids [firstSlot, firstSlot + slotCount)
-    Bounds3 bounds;                         // of the points of its kept faces
+    // Every face with a corner at a point of the piece's kept faces lies in [aroundFirst,
+    // aroundEnd), every edge with an end there in [edgeFirst, edgeEnd).
+    uint32_t aroundFirst = 0, aroundEnd = 0;
+    uint32_t edgeFirst = 0, edgeEnd = 0;
+    Bounds3 bounds;  // of the points of its kept faces
 };
 
 class MeshPieces {
