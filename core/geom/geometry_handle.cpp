@@ -32,7 +32,7 @@ uint64_t meshArrayBytes(uint64_t points, uint64_t faceVertices, uint64_t starts,
            edges * sizeof(MeshEdge) + uvs * sizeof(glm::vec2) + uvIds * sizeof(int32_t);
 }
 
-uint64_t meshBytes(const Mesh& m) {
+uint64_t meshArraysBytes(const Mesh& m) {
     uint64_t uvs = 0, uvIds = 0;
     for (const UvSet& s : m.uvSets) {
         uvs += s.uvs.capacity();
@@ -64,7 +64,12 @@ void GeometryHandle::measureMesh(const Mesh& mesh) {
         }
     }
     m_materials = std::max<uint32_t>(materials, 1);
-    m_sourceBytes = meshBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t);
+    m_meshPoints = mesh.points.size();
+    m_meshFaces = mesh.faceCount();
+    m_meshFaceVertices = mesh.faceVertexCount();
+    if (m_pieceTriangles > 0 && m_triangles > m_pieceTriangles && m_triangles < uint64_t(kHardNeighborBit) - 1)
+        m_pieces = std::make_shared<const MeshPieces>(MeshPieces::split(mesh, m_faceMaterial, drop, m_pieceTriangles));
+    m_sourceBytes = meshArraysBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t) + (m_pieces ? m_pieces->bytes() : 0);
     estimateMeshBytes(mesh.faceVertexCount(), mesh.faceCount(), mesh.points.size(), mesh.edges.size(), usedPoints);
 }
 
@@ -118,6 +123,9 @@ std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshCounts(std::shared_ptr<c
     h->m_sourceBytes = meshArrayBytes(counts.points, counts.faceVertices, 2 * (counts.faces + 1), counts.edges,
                                       counts.uvs, counts.uvs > 0 ? counts.faceVertices : 0);
     h->estimateMeshBytes(counts.faceVertices, counts.faces, counts.points, counts.edges, counts.points);
+    h->m_meshPoints = counts.points;
+    h->m_meshFaces = counts.faces;
+    h->m_meshFaceVertices = counts.faceVertices;
     h->m_source = std::move(source);
     return h;
 }
@@ -151,6 +159,66 @@ double GeometryHandle::trianglesPerScanline(double screenHeight) const {
 
 uint64_t GeometryHandle::tessellationBytesEstimate() const {
     return m_vertices * kVertexBytes + m_triangles * kTriangleBytes;
+}
+
+std::shared_ptr<GeometryHandle> GeometryHandle::withPieces(uint32_t pieceTriangles) const {
+    std::shared_ptr<GeometryHandle> h(new GeometryHandle());
+    h->m_source = m_source;
+    h->m_faceMaterial = m_faceMaterial;
+    h->m_degenerate = m_degenerate;
+    h->m_smooth = m_smooth;
+    h->m_validate = m_validate;
+    h->m_surface = m_surface;
+    h->m_divU = m_divU;
+    h->m_divV = m_divV;
+    h->m_bounds = m_bounds;
+    h->m_triangles = m_triangles;
+    h->m_vertices = m_vertices;
+    h->m_materials = m_materials;
+    h->m_sourceBytes = m_sourceBytes;
+    h->m_workBytes = m_workBytes;
+    h->m_meshPoints = m_meshPoints;
+    h->m_meshFaces = m_meshFaces;
+    h->m_meshFaceVertices = m_meshFaceVertices;
+    h->m_pieceTriangles = pieceTriangles;
+    if (m_source && !m_validate) {
+        h->m_bounds = Bounds3();
+        h->measureMesh(*m_source->mesh());
+    }
+    return h;
+}
+
+size_t GeometryHandle::pieceOf(uint32_t triangle) const {
+    if (!m_pieces) return 0;
+    const std::vector<MeshPiece>& p = m_pieces->pieces();
+    const auto it = std::upper_bound(p.begin(), p.end(), triangle,
+                                     [](uint32_t t, const MeshPiece& piece) { return t < piece.firstSlot; });
+    return it == p.begin() ? 0 : size_t(it - p.begin()) - 1;
+}
+
+uint64_t GeometryHandle::pieceBytesEstimate(size_t k) const {
+    if (!m_pieces) return tessellationBytesEstimate();
+    // The piece's share of the vertices, and a tenth more for those its borders repeat.
+    const uint64_t slots = m_pieces->pieces()[k].slotCount;
+    const uint64_t vertices = uint64_t(double(m_vertices) * double(slots) / double(std::max<uint64_t>(m_triangles, 1)) * 1.1) + 64;
+    return vertices * kVertexBytes + slots * kTriangleBytes;
+}
+
+uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
+    if (!m_pieces) return m_workBytes;
+    return meshPieceWorkBytes(m_pieces->pieces()[k], m_meshPoints, m_smooth);
+}
+
+Tessellation GeometryHandle::tessellatePiece(size_t k, std::string* problem) const {
+    if (!m_pieces) return tessellate(problem);
+    return tessellatePiece(k, *m_source->mesh());
+}
+
+Tessellation GeometryHandle::tessellatePiece(size_t k, const Mesh& mesh) const {
+    static const std::vector<bool> kNone;
+    // A mesh that can no longer be made as it was measured (an empty one) gives no triangles.
+    if (!m_pieces || mesh.faceCount() < m_pieces->pieces().back().endFace || mesh.points.size() != m_meshPoints) return {};
+    return triangulateMeshPiece(mesh, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone, *m_pieces, k);
 }
 
 Tessellation GeometryHandle::tessellate(std::string* problem) const {

@@ -6,12 +6,14 @@
 // keeps one per handle, shared by every instance that uses the handle).
 // Thread safety: immutable after creation; every method may be called from any thread at once.
 // Memory: a handle shares its source (std::shared_ptr) with the other handles of the same shape
-// and keeps no triangles; a MeshSource that evaluates on demand keeps no mesh either.
+// and keeps no triangles; a MeshSource that evaluates on demand keeps no mesh either. A shape in
+// pieces keeps its piece table (MeshPieces), counted in sourceBytes().
 // sourceBytes() and tessellationBytesEstimate() are what it costs while it tessellates.
 #pragma once
 
 #include "core/geom/bounds.h"
 #include "core/geom/mesh.h"
+#include "core/geom/mesh_pieces.h"
 #include "core/geom/nurbs.h"
 #include "core/geom/poly_primitives.h"
 #include "core/geom/tessellation.h"
@@ -95,6 +97,37 @@ public:
     // NaN/Inf the result is empty and `problem` (when given) says why.
     Tessellation tessellate(std::string* problem = nullptr) const;
 
+    // A mesh (kept or made on demand, not a primitive's counts) of more than kPieceTriangles
+    // triangles is tessellated in pieces of at most that many triangle ids (mesh_pieces.h), each
+    // made when a tile first needs it; every other shape is one piece, its whole tessellation.
+    // Triangle ids are the whole shape's either way.
+    static constexpr uint32_t kPieceTriangles = 1u << 18;
+    size_t pieceCount() const { return m_pieces ? m_pieces->pieces().size() : 1; }
+    const Bounds3& pieceBounds(size_t k) const { return m_pieces ? m_pieces->pieces()[k].bounds : m_bounds; }
+    uint32_t pieceFirstTriangle(size_t k) const { return m_pieces ? m_pieces->pieces()[k].firstSlot : 0u; }
+    uint64_t pieceTriangleCount(size_t k) const { return m_pieces ? m_pieces->pieces()[k].slotCount : m_triangles; }
+    // The same shape split into pieces of at most `pieceTriangles` triangle ids (0: one piece), for
+    // comparing piece sizes; a primitive's counts or a NURBS surface stays one piece.
+    std::shared_ptr<GeometryHandle> withPieces(uint32_t pieceTriangles) const;
+    // The piece that holds triangle id `triangle` (of one of the pieces).
+    size_t pieceOf(uint32_t triangle) const;
+    // tessellationBytesEstimate() and tessellationWorkBytesEstimate() for piece k.
+    uint64_t pieceBytesEstimate(size_t k) const;
+    uint64_t pieceWorkBytesEstimate(size_t k) const;
+    // Makes piece k's tessellation (tessellate() for a shape in one piece): triangle i has id
+    // pieceFirstTriangle(k) + i.
+    Tessellation tessellatePiece(size_t k, std::string* problem = nullptr) const;
+    // The same for a shape in pieces, from its mesh as makeMesh() gives it (so that one mesh serves
+    // the pieces made while it is at hand).
+    Tessellation tessellatePiece(size_t k, const Mesh& mesh) const;
+    // The mesh of a mesh shape (made again when the source does not keep it), and the bytes it
+    // holds (sourceBytes() without the piece table).
+    std::shared_ptr<const Mesh> makeMesh() const { return m_source ? m_source->mesh() : nullptr; }
+    uint64_t meshBytes() const { return m_sourceBytes - (m_pieces ? m_pieces->bytes() : 0); }
+    // What making that mesh again holds at its peak: the mesh and the decoder's tables (a few
+    // words a face and a face-vertex).
+    uint64_t meshMakingBytes() const { return meshBytes() + 8 * m_meshFaces + 4 * m_meshFaceVertices; }
+
 private:
     GeometryHandle() = default;
 
@@ -116,6 +149,9 @@ private:
     uint32_t m_materials = 1;
     uint64_t m_sourceBytes = 0;
     uint64_t m_workBytes = 0;
+    uint64_t m_meshPoints = 0, m_meshFaces = 0, m_meshFaceVertices = 0;
+    uint32_t m_pieceTriangles = kPieceTriangles;
+    std::shared_ptr<const MeshPieces> m_pieces;  // null: one piece
 };
 
 }  // namespace pushpin::geom

@@ -70,6 +70,23 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
             p.aroundFirst = std::min(p.aroundFirst, first[q]);
             p.aroundEnd = std::max(p.aroundEnd, last[q] + 1);
         });
+        p.aroundFaceVertices = mesh.faceVertexBegin(p.aroundEnd) - mesh.faceVertexBegin(p.aroundFirst);
+        // n + 2h − 2 a face: face-vertices, twice the loops, less four times the faces.
+        const uint64_t loops = mesh.faceLoopStarts[p.aroundEnd] - mesh.faceLoopStarts[p.aroundFirst];
+        p.aroundTriangles = p.aroundFaceVertices + 2 * loops - std::min<uint64_t>(p.aroundFaceVertices + 2 * loops,
+                                                                                  4 * uint64_t(p.aroundEnd - p.aroundFirst));
+    }
+    // The points of each piece's surrounding faces, counted with a stamp per point.
+    std::fill(first.begin(), first.end(), kNotLocal);
+    for (size_t k = 0; k < out.m_pieces.size(); ++k) {
+        MeshPiece& p = out.m_pieces[k];
+        for (uint32_t c = mesh.faceVertexBegin(p.aroundFirst); c < mesh.faceVertexBegin(p.aroundEnd); ++c) {
+            uint32_t& stamp = first[mesh.faceVertices[c]];
+            if (stamp != uint32_t(k)) {
+                stamp = uint32_t(k);
+                ++p.aroundPoints;
+            }
+        }
     }
     std::fill(first.begin(), first.end(), kNotLocal);
     std::fill(last.begin(), last.end(), 0u);
@@ -100,17 +117,26 @@ uint32_t MeshPieces::faceSlot(const Mesh& mesh, const std::vector<uint16_t>& fac
     return slot;
 }
 
-uint64_t meshPieceWorkBytes(uint64_t faceVertices, uint64_t slots, uint64_t usedPoints, uint64_t meshPoints) {
-    // The point map and marks over the whole mesh; the piece's own mesh (points, face-vertices,
-    // offsets, edges, uvs and their ids, normals); its whole tessellation with that of the faces
-    // around it, with triangulateValidMesh's working memory; the slot and vertex maps.
+uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool smoothShading) {
+    const uint64_t fv = piece.aroundFaceVertices, points = piece.aroundPoints, t = piece.aroundTriangles;
+    const uint64_t faces = piece.aroundEnd - piece.aroundFirst;
+    // The point map; the piece's mesh (points, face-vertices with their normals and uv ids, loop
+    // and face starts, edges, uvs, and the uv map as large as the uvs); its tessellation (vertices
+    // of position, normal and uv; corners, face, material, neighbours, cluster bounds); the
+    // slot and vertex maps.
     const uint64_t pointMap = meshPoints * sizeof(uint32_t);
-    const uint64_t subMesh = usedPoints * (sizeof(glm::vec3) + 3 * sizeof(MeshEdge) + sizeof(glm::vec2)) +
-                             faceVertices * (3 * sizeof(uint32_t) + sizeof(glm::vec3) + sizeof(int32_t));
-    const uint64_t triangles = slots + faceVertices;  // the faces around the piece add some
-    const uint64_t tessellation = triangles * 40 + usedPoints * 2 * 32;
-    const uint64_t work = 24 * faceVertices + 24 * triangles + 8 * usedPoints;
-    return pointMap + subMesh + tessellation + work + triangles * 2 * sizeof(uint32_t);
+    const uint64_t mesh = points * (sizeof(glm::vec3) + 3 * sizeof(MeshEdge) + 2 * sizeof(glm::vec2) + sizeof(int32_t)) +
+                          fv * (3 * sizeof(uint32_t) + sizeof(glm::vec3)) + 2 * (faces + 1) * sizeof(uint32_t);
+    const uint64_t vertices = points + points / 8;
+    const uint64_t tessellation = vertices * 32 + t * (7 * sizeof(uint32_t) + sizeof(uint16_t) + 1);
+    // triangulateValidMesh's working memory, phase by phase (GeometryHandle's estimate).
+    const uint64_t edges = 3 * points;
+    const uint64_t normalsPhase =
+        smoothShading ? std::max(16 * fv + 24 * faces + 8 * points + 5 * edges, 24 * fv + 24 * faces + 4 * points) : 0;
+    const uint64_t cornerPhase = (smoothShading ? 12 * fv : 0) + 24 * t + 4 * points;
+    const uint64_t adjacencyPhase = 24 * t + 4 * points + (smoothShading ? 4 * points + 5 * edges : 0);
+    const uint64_t maps = vertices * sizeof(uint32_t) + 2 * faces * sizeof(uint32_t);
+    return pointMap + mesh + tessellation + std::max({normalsPhase, cornerPhase, adjacencyPhase}) + maps;
 }
 
 Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,

@@ -11,7 +11,7 @@
 // normals and uvs bit for bit, and neighbours (by slot) across piece borders too, because the
 // piece is made with every face around its points.
 // Thread safety: MeshPieces is immutable after split(); triangulateMeshPiece is pure.
-// Memory: MeshPieces holds 72 bytes a piece and 4 bytes per kSlotStride faces; split() works with
+// Memory: MeshPieces holds 96 bytes a piece and 4 bytes per kSlotStride faces; split() works with
 // 8 bytes a point besides.
 #pragma once
 
@@ -31,6 +31,9 @@ struct MeshPiece {
     // aroundEnd), every edge with an end there in [edgeFirst, edgeEnd).
     uint32_t aroundFirst = 0, aroundEnd = 0;
     uint32_t edgeFirst = 0, edgeEnd = 0;
+    uint64_t aroundFaceVertices = 0;  // face-vertices of the faces [aroundFirst, aroundEnd)
+    uint64_t aroundTriangles = 0;     // the triangle ids those faces promise (kept or not)
+    uint64_t aroundPoints = 0;        // the points those faces use
     Bounds3 bounds;  // of the points of its kept faces
 };
 
@@ -68,9 +71,10 @@ private:
 Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
                                   const std::vector<bool>& degenerate, const MeshPieces& pieces, size_t piece);
 
-// Bytes triangulateMeshPiece holds while it runs besides the mesh and its result, for a piece of
-// `faceVertices` face-vertices (its faces and those around its points), `slots` triangle ids and
-// `usedPoints` points, on a mesh of `meshPoints` points.
-uint64_t meshPieceWorkBytes(uint64_t faceVertices, uint64_t slots, uint64_t usedPoints, uint64_t meshPoints);
+// Bytes triangulateMeshPiece holds while it runs besides the mesh and its result, for `piece` of
+// a mesh of `meshPoints` points: the point map over the whole mesh, and the piece's own mesh (its
+// faces and those around its points: at most aroundFaceVertices face-vertices, aroundPoints points
+// and aroundTriangles triangles) with its whole tessellation and that tessellation's working memory.
+uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool smoothShading);
 
 }  // namespace pushpin::geom

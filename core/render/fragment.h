@@ -78,14 +78,40 @@ struct Fragment {
 constexpr uint32_t kFragmentTransparent = 1u;
 static_assert(sizeof(Fragment) == 48, "Fragment is the unit of tile memory; keep it at 48 bytes");
 
+// The adjacency of the triangles [firstTriangle, firstTriangle + triangleCount) of an object
+// made in pieces: neighbors[3·(t − firstTriangle) + k] for triangle t; null while the piece is
+// not at hand (its triangles then have no fragments).
+struct TopologyPiece {
+    uint32_t firstTriangle = 0;
+    uint32_t triangleCount = 0;
+    const uint32_t* neighbors = nullptr;
+};
+
 // Triangle adjacency of one render object, for merging and occlusion decisions:
 // neighbors[3·t + k] is the triangle across edge k of triangle t (edge k joins corner k and
 // corner (k+1)%3), with kHardEdgeBit set when the edge is hard or the two triangles belong to
 // different shading groups; kNoTriangle on a boundary. Fragments of one object merge across
-// soft edges only.
+// soft edges only. An object made in pieces lists them instead (`pieces`, ascending
+// firstTriangle, `neighbors` null); neighbours are then triangle ids of any piece.
 struct ObjectTopology {
     const uint32_t* neighbors = nullptr;
     uint32_t triangleCount = 0;
+    const TopologyPiece* pieces = nullptr;
+    uint32_t pieceCount = 0;
+
+    // The three neighbour entries of triangle t, or null when it has none at hand.
+    const uint32_t* neighborsOf(uint32_t t) const {
+        if (!pieces) return neighbors && t < triangleCount ? neighbors + 3 * size_t(t) : nullptr;
+        uint32_t lo = 0, hi = pieceCount;  // the last piece starting at or before t
+        while (hi - lo > 1) {
+            const uint32_t mid = (lo + hi) / 2;
+            (pieces[mid].firstTriangle <= t ? lo : hi) = mid;
+        }
+        const TopologyPiece& p = pieces[lo];
+        if (!p.neighbors || t < p.firstTriangle || t - p.firstTriangle >= p.triangleCount) return nullptr;
+        return p.neighbors + 3 * size_t(t - p.firstTriangle);
+    }
+    bool empty() const { return !neighbors && !pieces; }
 };
 
 }  // namespace pushpin::render

@@ -84,10 +84,10 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
     return l;
 }
 
-// What making a shape's tessellation needs beyond the tessellation itself: the mesh evaluated
+// What making a piece of a shape's tessellation needs beyond the piece itself: the mesh evaluated
 // again (when the shape does not keep it) and the working memory.
-uint64_t transientBytes(const geom::GeometryHandle& h) {
-    return (h.keepsSource() ? 0 : h.sourceBytes()) + h.tessellationWorkBytesEstimate();
+uint64_t transientBytes(const geom::GeometryHandle& h, size_t piece) {
+    return (h.keepsSource() ? 0 : h.meshMakingBytes()) + h.pieceWorkBytesEstimate(piece);
 }
 
 // ---------------------------------------------------------------- per-object view data
@@ -98,6 +98,17 @@ struct ObjectView : ObjectPlacement {
     std::vector<std::vector<shade::Light>> slotLights;  // per material slot, camera space
     std::vector<uint8_t> slotTransparent;                // per material slot
     bool mayOcclude = false;  // some material slot is opaque
+    uint32_t firstUnit = 0, unitCount = 0;  // its units: one per piece of its shape
+};
+
+// One piece of an object's shape (the whole shape when it is one piece), the thing a tile lists,
+// orders by depth, tests for occlusion and rasterizes: where its piece's bounds fall on the
+// screen, and the screen boxes of its tessellation's clusters.
+struct UnitView {
+    uint32_t object = 0, piece = 0;
+    bool kept = false;
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    double nearKey = 0, farKey = 0;
     // Screen boxes of the tessellation's clusters, made by the first tile that needs them.
     std::once_flag clustersMade;
     std::vector<glm::dvec4> clusterBoxes;  // (x0, y0, x1, y1)
@@ -143,7 +154,21 @@ struct PendingBatch {
     std::array<uint32_t, shade::kBatchSize> target{};  // index into the tile's sample results
 };
 
-using TessellationCache = cache::LruCache<const geom::GeometryHandle*, geom::Tessellation>;
+// A piece of a geometry handle's tessellation (piece 0 of a shape in one piece: the whole).
+struct PieceKey {
+    const geom::GeometryHandle* handle = nullptr;
+    uint32_t piece = 0;
+    bool operator==(const PieceKey&) const = default;
+};
+struct PieceKeyHash {
+    size_t operator()(const PieceKey& k) const {
+        return std::hash<const void*>()(k.handle) ^ (size_t(k.piece) * 0x9e3779b97f4a7c15ull);
+    }
+};
+using TessellationCache = cache::LruCache<PieceKey, geom::Tessellation, PieceKeyHash>;
+// The meshes of shapes in pieces whose source does not keep them, by source: made once for the
+// pieces tiles need while the budget keeps them.
+using MeshCache = cache::LruCache<const void*, std::shared_ptr<const geom::Mesh>>;
 
 // A tile whose tessellations do not fit in the memory budget beside what other tiles hold.
 struct TileDoesNotFit {
@@ -154,14 +179,18 @@ struct TileDoesNotFit {
 
 // One thread's reusable state.
 struct Worker {
-    Worker(const SubsamplePattern& pattern, size_t objects)
-        : tessellation(objects, nullptr), topology(objects), rasterizer(pattern), resolver(pattern, topology) {}
-    // The tile's objects, front to back, with their tessellations pinned for the tile's life;
-    // `tessellation` and `topology` are indexed by object and set for the tile's objects only.
+    Worker(const SubsamplePattern& pattern, size_t units, size_t objects)
+        : tessellation(units, nullptr), topology(objects), pieceTopology(objects), rasterizer(pattern),
+          resolver(pattern, topology) {}
+    // The tile's units, front to back, with their tessellations pinned for the tile's life;
+    // `tessellation` is indexed by unit, `topology` by object, and both are set for the tile's
+    // units only. An object in pieces lists them in `pieceTopology` (one entry per piece, made on
+    // first use), which its `topology` entry points to.
     std::vector<uint32_t> tileObjects;
     std::vector<TessellationCache::Pin> pins;
     std::vector<const geom::Tessellation*> tessellation;
     std::vector<ObjectTopology> topology;
+    std::vector<std::vector<TopologyPiece>> pieceTopology;
     TileRasterizer rasterizer;
     PixelResolver resolver;
     shade::ShadingScratch scratch;
@@ -227,8 +256,9 @@ struct Worker {
         uint64_t b = rasterizer.bytes() + resolver.bytes() + cap(pixelGroupStart) + cap(groups) + cap(members) +
                      cap(nearestDepth) + cap(groupSampleStart) + cap(samples) + cap(groupExtraStart) + cap(extraSamples) +
                      cap(shades) + cap(contributions) + cap(contributionNorm) + cap(baseColor) + cap(adaptive) +
-                     cap(tileObjects) + cap(pins) + cap(tessellation) + cap(topology) + cap(waiting) +
-                     cap(occludingDepth) + cap(blockSeal);
+                     cap(tileObjects) + cap(pins) + cap(tessellation) + cap(topology) + cap(pieceTopology) +
+                     cap(waiting) + cap(occludingDepth) + cap(blockSeal);
+        for (const std::vector<TopologyPiece>& p : pieceTopology) b += cap(p);
         b += uint64_t(pending.size()) * (sizeof(shade::ShadingBatch) + sizeof(PendingBatch));
         return b;
     }
@@ -241,7 +271,8 @@ public:
         : m_scene(scene), m_camera(camera), m_settings(settings), m_stats(stats), m_options(options),
           m_budget(budget), m_pattern(SubsamplePattern::forEdgeAntiAliasing(settings.edgeAntiAliasing)),
           m_filter(makePixelFilter(settings)),
-          m_tessellations(&budget, cache::MemoryCategory::Tessellation) {}
+          m_tessellations(&budget, cache::MemoryCategory::Tessellation),
+          m_meshes(&budget, cache::MemoryCategory::Geometry) {}
 
     Framebuffer run();
     // Fills the memory figures of the stats from the budget and the process.
@@ -253,8 +284,11 @@ private:
     void renderTile(const PixelRect& tile, Worker& w);
     void planFrameTiles();
     void rasterizeTile(const PixelRect& base, Worker& w);
-    void addObjectTriangles(uint32_t object, const PixelRect& base, Worker& w);
-    const std::vector<glm::dvec4>& clusterBoxes(uint32_t object, const geom::Tessellation& g);
+    void addObjectTriangles(uint32_t unit, const PixelRect& base, Worker& w);
+    const std::vector<glm::dvec4>& clusterBoxes(uint32_t unit, const geom::Tessellation& g);
+    // The tessellation (pinned by the tile) holding triangle id `triangle` of `object`, and the
+    // triangle's index in it.
+    std::pair<const geom::Tessellation*, uint32_t> triangleAt(const Worker& w, uint32_t object, uint32_t triangle) const;
     void requestSamples(Worker& w, uint32_t groupIndex, int px, int py, int first, int last, bool extra,
                         uint32_t firstTarget);
     void addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target);
@@ -275,8 +309,10 @@ private:
     PixelFilter m_filter;
     PixelRect m_region;                     // pixels rendered (the render region or the whole image)
     std::deque<ObjectView> m_views;         // per object (a deque: views do not move)
+    std::deque<UnitView> m_units;           // per piece of each object's shape, object by object
     std::vector<PixelRect> m_tiles;
-    TessellationCache m_tessellations;      // one per geometry handle, shared by instances
+    TessellationCache m_tessellations;      // one per piece of a geometry handle, shared by instances
+    MeshCache m_meshes;                     // meshes shared by the pieces of a shape
     uint64_t m_perThreadBytes = 0;          // the share of each worker's buffers charged up front
     std::atomic<uint64_t> m_trianglesMade{0};
     int m_marginLeft = 0, m_marginRight = 0, m_marginTop = 0, m_marginBottom = 0;
@@ -321,6 +357,33 @@ void FrameRenderer::prepare() {
     const size_t n = m_scene.objects.size();
     for (size_t i = 0; i < n; ++i) m_views.emplace_back();
     tbb::parallel_for(size_t(0), n, [&](size_t i) { prepareObject(uint32_t(i)); });
+    // The units: a kept object's pieces each placed by their own bounds (a shape in one piece
+    // takes the object's placement).
+    for (size_t i = 0; i < n; ++i) {
+        ObjectView& v = m_views[i];
+        v.firstUnit = uint32_t(m_units.size());
+        v.unitCount = uint32_t(m_scene.objects[i].geometry->pieceCount());
+        for (uint32_t k = 0; k < v.unitCount; ++k) {
+            UnitView& u = m_units.emplace_back();
+            u.object = uint32_t(i);
+            u.piece = k;
+        }
+    }
+    const PixelRect reach{m_region.x0 - m_marginRight, m_region.y0 - m_marginBottom, m_region.x1 + m_marginLeft,
+                          m_region.y1 + m_marginTop};
+    tbb::parallel_for(size_t(0), m_units.size(), [&](size_t i) {
+        UnitView& u = m_units[i];
+        const ObjectView& v = m_views[u.object];
+        if (!v.kept) return;
+        ObjectPlacement place = v;
+        if (v.unitCount > 1) {
+            const RenderObject& obj = m_scene.objects[u.object];
+            place = placeObject(obj.geometry->pieceBounds(u.piece), obj.worldFromObject, m_camera, reach);
+        }
+        u.kept = place.kept;
+        u.x0 = place.x0, u.y0 = place.y0, u.x1 = place.x1, u.y1 = place.y1;
+        u.nearKey = place.nearKey, u.farKey = place.farKey;
+    });
     m_stats.objects = n;
     std::unordered_set<const geom::GeometryHandle*> shapes;
     for (size_t i = 0; i < n; ++i) {
@@ -381,10 +444,11 @@ void FrameRenderer::planFrameTiles() {
     if (m_options.tilePlan) *m_options.tilePlan = std::move(plan);
 }
 
-const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t object, const geom::Tessellation& g) {
-    ObjectView& v = m_views[object];
-    std::call_once(v.clustersMade, [&] {
-        v.clusterBoxes.resize(g.clusterBounds.size());
+const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t unit, const geom::Tessellation& g) {
+    UnitView& u = m_units[unit];
+    const ObjectView& v = m_views[u.object];
+    std::call_once(u.clustersMade, [&] {
+        u.clusterBoxes.resize(g.clusterBounds.size());
         const double inf = std::numeric_limits<double>::infinity();
         for (size_t c = 0; c < g.clusterBounds.size(); ++c) {
             const geom::Bounds3 cb = g.clusterBounds[c].transformed(v.cameraFromObject);
@@ -401,21 +465,32 @@ const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t object, cons
                     box = glm::dvec4(std::min(box.x, r.x), std::min(box.y, r.y), std::max(box.z, r.x), std::max(box.w, r.y));
                 }
             }
-            v.clusterBoxes[c] = box;
+            u.clusterBoxes[c] = box;
         }
     });
-    return v.clusterBoxes;
+    return u.clusterBoxes;
+}
+
+std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const Worker& w, uint32_t object,
+                                                                        uint32_t triangle) const {
+    const ObjectView& v = m_views[object];
+    if (v.unitCount == 1) return {w.tessellation[v.firstUnit], triangle};
+    const geom::GeometryHandle& h = *m_scene.objects[object].geometry;
+    const size_t piece = h.pieceOf(triangle);
+    return {w.tessellation[v.firstUnit + piece], triangle - h.pieceFirstTriangle(piece)};
 }
 
 // Projects the triangles of one object that may reach `base` (the tile and its apron) into the
 // tile's rasterizer: clusters whose screen box misses `base` are passed over, then each triangle
 // is culled (back faces of single-sided objects), clipped at the near plane and projected, the
 // same arithmetic whichever tile does it.
-void FrameRenderer::addObjectTriangles(uint32_t index, const PixelRect& base, Worker& w) {
+void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Worker& w) {
+    const uint32_t index = m_units[unit].object;
     const RenderObject& obj = m_scene.objects[index];
     const ObjectView& v = m_views[index];
-    const geom::Tessellation& g = *w.tessellation[index];
-    const std::vector<glm::dvec4>& boxes = clusterBoxes(index, g);
+    const geom::Tessellation& g = *w.tessellation[unit];
+    const uint32_t firstTriangle = obj.geometry->pieceFirstTriangle(m_units[unit].piece);
+    const std::vector<glm::dvec4>& boxes = clusterBoxes(unit, g);
     RenderStats& st = w.stats;
     const double nearZ = -m_camera.nearClipPlane;
     const size_t triangles = g.triangleCount();
@@ -444,7 +519,7 @@ void FrameRenderer::addObjectTriangles(uint32_t index, const PixelRect& base, Wo
             if (count != 3 || poly[0] != c[0] || poly[1] != c[1] || poly[2] != c[2]) ++st.trianglesNearClipped;
             ScreenTriangle s;
             s.object = index;
-            s.triangle = uint32_t(t);
+            s.triangle = firstTriangle + uint32_t(t);
             const uint16_t slot = t < g.material.size() ? g.material[t] : 0;
             s.transparent = slot < v.slotTransparent.size() && v.slotTransparent[slot];
             glm::dvec2 r[4];
@@ -470,8 +545,8 @@ void FrameRenderer::addObjectTriangles(uint32_t index, const PixelRect& base, Wo
     }
 }
 
-// The pixels of `base` an object's screen box reaches, for an object listed for the tile.
-PixelRect reachOf(const ObjectView& v, const PixelRect& base) {
+// The pixels of `base` a unit's screen box reaches, for a unit listed for the tile.
+PixelRect reachOf(const UnitView& v, const PixelRect& base) {
     PixelRect r;
     r.x0 = v.x0 <= base.x0 ? base.x0 : int(std::floor(v.x0));
     r.y0 = v.y0 <= base.y0 ? base.y0 : int(std::floor(v.y0));
@@ -497,42 +572,75 @@ uint64_t overlapArea(const PixelRect& a, const PixelRect& b) {
 // rasterized as usual: the skip changes no bit, only the work done.
 void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
     w.tileObjects.clear();
-    for (uint32_t i = 0; i < m_views.size(); ++i) {
-        const ObjectView& v = m_views[i];
+    for (uint32_t i = 0; i < m_units.size(); ++i) {
+        const UnitView& v = m_units[i];
         if (!v.kept) continue;
         if (v.x1 < base.x0 || v.x0 > base.x1 || v.y1 < base.y0 || v.y0 > base.y1) continue;
         w.tileObjects.push_back(i);
     }
     std::sort(w.tileObjects.begin(), w.tileObjects.end(), [&](uint32_t a, uint32_t b) {
-        return m_views[a].nearKey != m_views[b].nearKey ? m_views[a].nearKey < m_views[b].nearKey : a < b;
+        return m_units[a].nearKey != m_units[b].nearKey ? m_units[a].nearKey < m_units[b].nearKey : a < b;
     });
     w.rasterizer.reset(base);
 
-    auto rasterize = [&](uint32_t i) {
+    auto rasterize = [&](uint32_t unit) {
+        const uint32_t i = m_units[unit].object, piece = m_units[unit].piece;
         const geom::GeometryHandle* handle = m_scene.objects[i].geometry.get();
+        // Room for `bytes` while something is made, by dropping unpinned tessellations, then
+        // unpinned meshes, when needed.
+        auto takeRoom = [&](uint64_t bytes) {
+            std::optional<cache::MemoryCharge> room =
+                cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
+            if (!room && (m_tessellations.reclaim(bytes) || m_meshes.reclaim(bytes)))
+                room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
+            if (!room) throw TileDoesNotFit{m_scene.objects[i].name, bytes};
+            return std::move(*room);
+        };
         std::optional<TessellationCache::Pin> pin = m_tessellations.tryAcquire(
-            handle,
+            PieceKey{handle, piece},
             [&] {
+                // A shape in pieces that does not keep its mesh has it made once for the pieces
+                // made while it stays resident.
+                const bool shareMesh = handle->pieceCount() > 1 && !handle->keepsSource();
+                std::optional<MeshCache::Pin> mesh;
+                if (shareMesh) {
+                    mesh = m_meshes.tryAcquire(
+                        handle->sourceId(),
+                        [&] {
+                            const cache::MemoryCharge room = takeRoom(handle->meshMakingBytes());
+                            return handle->makeMesh();
+                        },
+                        [&](const std::shared_ptr<const geom::Mesh>&) { return handle->meshBytes(); });
+                    if (!mesh) throw TileDoesNotFit{m_scene.objects[i].name, handle->meshBytes()};
+                }
                 // While it is made, a tessellation needs its shape's mesh (evaluated again when
-                // not kept), its working memory and itself: room for them is taken first, by
-                // dropping unpinned tessellations when needed.
-                const uint64_t making = transientBytes(*handle) + handle->tessellationBytesEstimate();
-                std::optional<cache::MemoryCharge> room =
-                    cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, making);
-                if (!room && m_tessellations.reclaim(making))
-                    room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, making);
-                if (!room) throw TileDoesNotFit{m_scene.objects[i].name, making};
-                geom::Tessellation t = handle->tessellate();
+                // not kept or shared), its working memory and itself: room for them is taken first.
+                const uint64_t making = (shareMesh ? handle->pieceWorkBytesEstimate(piece) : transientBytes(*handle, piece)) +
+                                        handle->pieceBytesEstimate(piece);
+                const cache::MemoryCharge room = takeRoom(making);
+                geom::Tessellation t = shareMesh ? handle->tessellatePiece(piece, ***mesh) : handle->tessellatePiece(piece);
                 m_trianglesMade.fetch_add(t.triangleCount(), std::memory_order_relaxed);
                 return t;
             },
             [](const geom::Tessellation& t) { return t.bytes(); });
-        if (!pin) throw TileDoesNotFit{m_scene.objects[i].name, handle->tessellationBytesEstimate()};
-        w.tessellation[i] = pin->get();
-        w.topology[i] = {(*pin)->neighbors.data(), uint32_t((*pin)->triangleCount())};
+        if (!pin) throw TileDoesNotFit{m_scene.objects[i].name, handle->pieceBytesEstimate(piece)};
+        const geom::Tessellation& made = **pin;
+        w.tessellation[unit] = &made;
+        if (m_views[i].unitCount == 1) {
+            w.topology[i] = {made.neighbors.data(), uint32_t(made.triangleCount())};
+        } else {
+            std::vector<TopologyPiece>& pieces = w.pieceTopology[i];
+            if (pieces.empty()) {
+                pieces.resize(m_views[i].unitCount);
+                for (uint32_t k = 0; k < pieces.size(); ++k) pieces[k].firstTriangle = handle->pieceFirstTriangle(k);
+            }
+            pieces[piece].triangleCount = uint32_t(made.triangleCount());
+            pieces[piece].neighbors = made.neighbors.data();
+            w.topology[i] = ObjectTopology{nullptr, 0, pieces.data(), uint32_t(pieces.size())};
+        }
         w.pins.push_back(std::move(*pin));
         ++w.stats.objectTileVisits;
-        addObjectTriangles(i, base, w);
+        addObjectTriangles(unit, base, w);
     };
 
     // Nearer objects that may hide the ones behind them: the largest boxes met so far, a bounded
@@ -548,7 +656,7 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
     w.waiting.clear();
     PixelRect waitingReach{base.x1, base.y1, base.x0, base.y0};
     for (uint32_t i : w.tileObjects) {
-        const ObjectView& v = m_views[i];
+        const UnitView& v = m_units[i];
         const PixelRect reach = reachOf(v, base);
         if (m_options.skipOccluded && std::isfinite(v.nearKey) && !reach.empty()) {
             uint64_t covered = 0;
@@ -562,7 +670,7 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
             }
         }
         rasterize(i);
-        if (!v.mayOcclude || !std::isfinite(v.farKey) || reach.empty()) continue;
+        if (!m_views[v.object].mayOcclude || !std::isfinite(v.farKey) || reach.empty()) continue;
         const Occluder o{reach, uint64_t(reach.width()) * uint64_t(reach.height()), v.farKey};
         if (occluderCount < kOccluders) {
             occluders[occluderCount++] = o;
@@ -598,7 +706,7 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
                 seal = std::max(seal, w.occludingDepth[size_t(y) * bw + x]);
             }
         for (uint32_t i : w.waiting) {
-            const ObjectView& v = m_views[i];
+            const UnitView& v = m_units[i];
             const PixelRect reach = reachOf(v, base);
             float seal = -std::numeric_limits<float>::infinity();
             for (int by = (reach.y0 - base.y0) / kBlock; by <= (reach.y1 - 1 - base.y0) / kBlock; ++by)
@@ -627,9 +735,10 @@ void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, const Worker& w, u
                                double rx, double ry) const {
     const RenderObject& obj = m_scene.objects[object];
     const ObjectView& co = m_views[object];
-    const geom::Tessellation& g = *w.tessellation[object];
-    const uint32_t v0 = g.corners[3 * size_t(triangle)], v1 = g.corners[3 * size_t(triangle) + 1],
-                   v2 = g.corners[3 * size_t(triangle) + 2];
+    const auto [tessellation, local] = triangleAt(w, object, triangle);
+    const geom::Tessellation& g = *tessellation;
+    const uint32_t v0 = g.corners[3 * size_t(local)], v1 = g.corners[3 * size_t(local) + 1],
+                   v2 = g.corners[3 * size_t(local) + 2];
     const glm::dvec3 p0 = cameraPoint(co.cameraFromObject, g.positions[v0]);
     const glm::dvec3 p1 = cameraPoint(co.cameraFromObject, g.positions[v1]);
     const glm::dvec3 p2 = cameraPoint(co.cameraFromObject, g.positions[v2]);
@@ -728,8 +837,8 @@ void FrameRenderer::flushAll(Worker& w) {
 }
 
 void FrameRenderer::addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target) {
-    const geom::Tessellation& g = *w.tessellation[object];
-    uint32_t slot = triangle < g.material.size() ? g.material[triangle] : 0;
+    const auto [g, local] = triangleAt(w, object, triangle);
+    uint32_t slot = local < g->material.size() ? g->material[local] : 0;
     auto [it, inserted] = w.pendingIndex.try_emplace((uint64_t(object) << 32) | slot, uint32_t(w.pendingCount));
     if (inserted) {
         if (w.pendingCount == w.pending.size()) w.pending.emplace_back();
@@ -790,15 +899,18 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
     // The tile's pins and per-object entries are given back however the tile ends.
     struct TileScope {
         Worker& w;
+        const FrameRenderer& renderer;
         ~TileScope() {
             for (uint32_t i : w.tileObjects) {
                 w.tessellation[i] = nullptr;
-                w.topology[i] = ObjectTopology{};
+                w.topology[renderer.m_units[i].object] = ObjectTopology{};
+                std::vector<TopologyPiece>& pieces = w.pieceTopology[renderer.m_units[i].object];
+                if (!pieces.empty()) pieces[renderer.m_units[i].piece] = {pieces[renderer.m_units[i].piece].firstTriangle, 0, nullptr};
             }
             w.tileObjects.clear();
             w.pins.clear();
         }
-    } scope{w};
+    } scope{w, *this};
     TileRasterizer& rast = w.rasterizer;
     rasterizeTile(base, w);
     w.stats.rasterSeconds += secondsSince(tRaster);
@@ -1044,7 +1156,7 @@ Framebuffer FrameRenderer::run() {
     const size_t objects = m_scene.objects.size();
     m_perThreadBytes = frameMemory(m_scene, m_camera, m_settings, m_options, 1).perThreadBytes;
     tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers([&] {
-        auto w = std::make_unique<Worker>(m_pattern, objects);
+        auto w = std::make_unique<Worker>(m_pattern, m_units.size(), objects);
         w->bufferCharge = cache::MemoryCharge(&m_budget, cache::MemoryCategory::Fragments, 0);
         return w;
     });
@@ -1189,12 +1301,18 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
     std::unordered_set<const void*> sources;
     for (const RenderObject& o : scene.objects) {
         const geom::GeometryHandle& h = *o.geometry;
-        m.largestTransientBytes = std::max(m.largestTransientBytes, transientBytes(h));
+        const size_t pieces = h.pieceCount();
+        for (size_t k = 0; k < pieces; ++k) {
+            m.largestTransientBytes = std::max(m.largestTransientBytes, transientBytes(h, k));
+            m.largestTessellationBytes = std::max(m.largestTessellationBytes, h.pieceBytesEstimate(k));
+        }
         if (h.keepsSource() && sources.insert(h.sourceId()).second) m.sourceBytes += h.sourceBytes();
-        // The object's view and its entries in every thread's tile tables.
+        // The object's view, its units, and their entries in every thread's tile tables.
         m.geometryBytes += sizeof(ObjectView) + o.materials.size() * sizeof(std::vector<shade::Light>) +
-                           uint64_t(std::max(1, threads)) * (sizeof(const geom::Tessellation*) + sizeof(ObjectTopology));
-        m.largestTessellationBytes = std::max(m.largestTessellationBytes, o.geometry->tessellationBytesEstimate());
+                           pieces * sizeof(UnitView) +
+                           uint64_t(std::max(1, threads)) *
+                               (pieces * sizeof(const geom::Tessellation*) + sizeof(ObjectTopology) +
+                                sizeof(std::vector<TopologyPiece>) + (pieces > 1 ? pieces * sizeof(TopologyPiece) : 0));
     }
     return m;
 }

@@ -402,8 +402,8 @@ void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
 
 // Whether triangle `a` of an object names triangle `b` as a neighbour across a soft edge.
 bool softNeighbour(const ObjectTopology& topo, uint32_t a, uint32_t b) {
-    if (!topo.neighbors || a >= topo.triangleCount) return false;
-    const uint32_t* nb = topo.neighbors + 3 * size_t(a);
+    const uint32_t* nb = topo.neighborsOf(a);
+    if (!nb) return false;
     return (!(nb[0] & kHardEdgeBit) && nb[0] == b) || (!(nb[1] & kHardEdgeBit) && nb[1] == b) ||
            (!(nb[2] & kHardEdgeBit) && nb[2] == b);
 }
@@ -446,9 +446,10 @@ void joinSoftNeighbours(std::span<const Fragment> F, bool sorted, std::span<cons
         auto byTriangle = [](const Fragment& f, uint32_t t) { return f.triangle < t; };
         for (size_t i = a; i < b; ++i) {
             if (i > a && F[i - 1].triangle == F[i].triangle) unite(parent, uint32_t(i - 1), uint32_t(i));
-            if (!topo.neighbors || F[i].triangle >= topo.triangleCount) continue;
+            const uint32_t* neighbors = topo.neighborsOf(F[i].triangle);
+            if (!neighbors) continue;
             for (int k = 0; k < 3; ++k) {
-                const uint32_t nb = topo.neighbors[3 * size_t(F[i].triangle) + k];
+                const uint32_t nb = neighbors[k];
                 if (nb & kHardEdgeBit) continue;  // hard edge, or kNoTriangle
                 for (size_t j = size_t(std::lower_bound(F.begin() + a, F.begin() + b, nb, byTriangle) - F.begin());
                      j < b && F[j].triangle == nb; ++j)
@@ -553,11 +554,12 @@ void PixelResolver::resolve(std::span<const Fragment> input) {
         const SurfaceGroup& g = m_groups[gid];
         if (f.object != g.object || f.object >= m_topology.size()) return false;
         const ObjectTopology& topo = m_topology[f.object];
-        if (!topo.neighbors) return false;
+        if (topo.empty()) return false;
         auto neighbours = [&](uint32_t t, uint32_t other) {
-            if (t >= topo.triangleCount) return false;
+            const uint32_t* nbs = topo.neighborsOf(t);
+            if (!nbs) return false;
             for (int k = 0; k < 3; ++k) {
-                const uint32_t nb = topo.neighbors[3 * size_t(t) + k];
+                const uint32_t nb = nbs[k];
                 if (nb != kNoTriangle && (nb & ~kHardEdgeBit) == other) return true;
             }
             return false;

@@ -1070,7 +1070,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     });
 
     // Edges.
-    std::vector<geom::MeshEdge> edges;
+    std::vector<geom::MeshEdge>& edges = mesh.edges;
     if (const AttrData* ed = attrOf(g, shape, "edge")) {
         if (ed->multi.endIndex() > kMaxElements) return fail(who + "edge index too large");
         edges.assign(ed->multi.endIndex(), geom::MeshEdge{});
@@ -1083,7 +1083,6 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         });
         if (bad) return fail(who + "an edge (.ed) uses a vertex that does not exist");
     }
-    mesh.edges = edges;
 
     // UV sets: uvSet[k].uvSetName / uvSetPoints, or the older uvpt.
     std::map<uint32_t, size_t> uvSetByIndex;  // multi index → position in mesh.uvSets
@@ -1164,14 +1163,29 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     const size_t missing = size_t(std::count(faceRun.begin(), faceRun.end(), kNoRun));
     if (missing) note(std::to_string(missing) + " face indices have no polyFaces record");
 
-    std::vector<std::vector<int32_t>> setIds(mesh.uvSets.size());
-    std::vector<int32_t> colorIds;
+    // The mesh's arrays are sized once from the records (no growth, no spare capacity): the
+    // corners, loops and faces, the uv ids of each set and the colour ids when there are colours.
+    size_t totalCorners = 0, totalLoops = 0, totalFaces = 0;
+    for (size_t f = 0; f < faceRun.size(); ++f) {
+        if (faceRun[f] == kNoRun) continue;
+        const PolyFaces& pf = *runs[faceRun[f]];
+        ++totalFaces;
+        for (size_t loop : pf.loops(size_t(f - runFirst[faceRun[f]]))) {
+            ++totalLoops;
+            totalCorners += pf.edges(loop).size();
+        }
+    }
+    mesh.faceVertices.reserve(totalCorners);
+    mesh.loopStarts.reserve(totalLoops + 1);
+    mesh.faceLoopStarts.reserve(totalFaces + 1);
+    std::vector<std::vector<int32_t>> setIds(mesh.uvSets.size(), std::vector<int32_t>(totalCorners, -1));
+    std::vector<int32_t> colorIds(mesh.colorSets.empty() ? 0 : totalCorners, -1);
     bool anyColor = false;
     size_t brokenLoops = 0, badUvIds = 0, unknownUvSets = 0;
+    std::vector<uint32_t> verts;
     auto appendLoop = [&](const PolyFaces& pf, size_t loop, bool hole) -> bool {
         const std::span<const int32_t> loopEdges = pf.edges(loop);
-        std::vector<uint32_t> verts;
-        verts.reserve(loopEdges.size());
+        verts.clear();
         uint32_t previousEnd = 0;
         bool meets = true;
         for (size_t i = 0; i < loopEdges.size(); ++i) {
@@ -1189,7 +1203,6 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         const size_t base = mesh.faceVertices.size();
         if (hole) mesh.addHole(verts);
         else mesh.addFace(verts);
-        for (std::vector<int32_t>& ids : setIds) ids.resize(mesh.faceVertices.size(), -1);
         for (size_t k = 0; k < pf.uvCount(loop); ++k) {
             const PolyFaces::Uv uv = pf.uv(loop, k);
             const auto it = uvSetByIndex.find(uint32_t(uv.set));
@@ -1207,8 +1220,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
                 setIds[s][base + i] = id;
             }
         }
-        colorIds.resize(mesh.faceVertices.size(), -1);
-        const std::span<const int32_t> colors = pf.colors(loop);
+        const std::span<const int32_t> colors = mesh.colorSets.empty() ? std::span<const int32_t>() : pf.colors(loop);
         for (size_t i = 0; i < colors.size() && i < verts.size(); ++i) {
             const int32_t id = colors[i];
             if (!mesh.colorSets.empty() && id >= 0 && size_t(id) < mesh.colorSets[0].colors.size()) {

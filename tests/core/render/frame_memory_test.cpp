@@ -109,8 +109,9 @@ TEST(FrameMemory, CountsTheFramebufferAndTheWritersCopyPerPixel) {
     const geom::GeometryHandle& h = *f.frameScene.objects[0].geometry;
     EXPECT_EQ(one.sourceBytes, 0u);
     EXPECT_EQ(four.sourceBytes, 0u);
-    EXPECT_EQ(one.largestTransientBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
-    EXPECT_EQ(four.largestTransientBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
+    EXPECT_EQ(one.largestTransientBytes, h.meshMakingBytes() + h.tessellationWorkBytesEstimate());
+    EXPECT_EQ(four.largestTransientBytes, h.meshMakingBytes() + h.tessellationWorkBytesEstimate());
+    EXPECT_GT(h.meshMakingBytes(), h.sourceBytes());
     EXPECT_EQ(one.totalBytes(), one.framebufferBytes + one.tileBytes + one.geometryBytes + one.sourceBytes);
 }
 
@@ -125,7 +126,7 @@ TEST(FrameMemory, UnderACapMeshesAreEvaluatedOnDemandAndChargedWhileTessellated)
     const RenderCamera cam = f.camera();
     const FrameMemory need = frameMemory(f.frameScene, cam, f.settings, {}, 3);
     EXPECT_EQ(need.sourceBytes, 0u);
-    EXPECT_EQ(need.largestTransientBytes, h.sourceBytes() + h.tessellationWorkBytesEstimate());
+    EXPECT_EQ(need.largestTransientBytes, h.meshMakingBytes() + h.tessellationWorkBytesEstimate());
     // Evaluated again, the mesh tessellates exactly as the kept one does.
     RenderSettings free = f.settings;
     free.maximumMemoryBytes = 0;
@@ -167,7 +168,7 @@ TEST(FrameMemory, TheLargestNeedWhileTessellatingMustFitBesideTheFrame) {
     for (size_t i = 0; i < 3; ++i) {
         const geom::GeometryHandle& h = *fs.objects[i].geometry;
         EXPECT_FALSE(h.keepsSource());
-        transient.push_back(h.sourceBytes() + h.tessellationWorkBytesEstimate());
+        transient.push_back(h.meshMakingBytes() + h.tessellationWorkBytesEstimate());
     }
     EXPECT_EQ(fs.objects[3].geometry, fs.objects[2].geometry);
     ASSERT_LT(transient[0], transient[1]);

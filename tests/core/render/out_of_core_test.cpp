@@ -206,6 +206,105 @@ TEST(OutOfCore, SameImageWithAnyThreadCountTileSizeAndCap) {
         }
 }
 
+// A bumpy plane of 9,600 triangles (a point tweak keeps it from being made from its creator's
+// counts), shown twice, tilted towards the camera with a sphere in front of it.
+std::string bumpyPlaneScene() {
+    std::string text = test::maPreamble(7) + R"(createNode transform -n "sun";
+	setAttr ".r" -type "double3" -40 30 0;
+createNode directionalLight -n "sunShape" -p "sun";
+)" + test::greyShadingGroup() + R"(createNode transform -n "ground";
+	setAttr ".r" -type "double3" 60 0 15;
+createNode mesh -n "groundShape" -p "ground";
+	setAttr ".pt[5]" -type "float3" 0 0.4 0;
+	setAttr ".pt[700]" -type "float3" 0 -0.3 0;
+createNode polyPlane -n "groundCreator";
+	setAttr ".w" 9;
+	setAttr ".h" 7;
+	setAttr ".sw" 80;
+	setAttr ".sh" 60;
+connectAttr "groundCreator.out" "groundShape.i";
+connectAttr "groundShape.iog" "greySG.dsm" -na;
+createNode transform -n "again";
+	setAttr ".t" -type "double3" 1.5 -0.5 -2;
+	setAttr ".r" -type "double3" 70 0 -10;
+parent -s -nc -r -add "|ground|groundShape" "again";
+connectAttr "groundShape.iog[1]" "greySG.dsm" -na;
+createNode transform -n "ball";
+	setAttr ".t" -type "double3" -0.8 0.3 1.5;
+createNode mesh -n "ballShape" -p "ball";
+createNode polySphere -n "ballCreator";
+	setAttr ".r" 1.1;
+connectAttr "ballCreator.out" "ballShape.i";
+connectAttr "ballShape.iog" "greySG.dsm" -na;
+)";
+    return text;
+}
+
+TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
+    for (const bool onDemand : {false, true}) {
+        SCOPED_TRACE(onDemand ? "meshes evaluated on demand" : "meshes kept");
+        const scene::Graph graph = scene::MaReader::readString(bumpyPlaneScene(), "plane.ma");
+        const scene::RenderSetup setup = scene::extractRenderSetup(graph);
+        scene::Evaluator ev(graph, 1.0);
+        RenderSettings settings;
+        settings.width = 120;
+        settings.height = 90;
+        settings.deviceAspectRatio = 120.0 / 90.0;
+        settings.tileWidth = settings.tileHeight = 16;
+        settings.forceTileSize = true;
+        if (onDemand) settings.maximumMemoryBytes = uint64_t(1) << 40;
+        FrameScene whole = buildFrameScene(ev, setup, settings);
+        settings.maximumMemoryBytes = 0;
+        ASSERT_EQ(whole.objects.size(), 3u);
+        const RenderCamera camera = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), 120, 90, 120.0 / 90.0);
+        // The plane's two instances share one handle; split it into pieces of at most 700 triangles.
+        const std::shared_ptr<const geom::GeometryHandle> plane = whole.objects[0].geometry;
+        ASSERT_EQ(whole.objects[1].geometry, plane);
+        ASSERT_EQ(plane->triangleCount(), 9600u);
+        EXPECT_EQ(plane->keepsSource(), !onDemand);
+        ASSERT_EQ(plane->pieceCount(), 1u);
+        FrameScene pieced = whole;
+        const std::shared_ptr<const geom::GeometryHandle> pieces = plane->withPieces(700);
+        ASSERT_GE(pieces->pieceCount(), 14u);
+        pieced.objects[0].geometry = pieced.objects[1].geometry = pieces;
+
+        RenderStats wholeStats;
+        const Framebuffer reference = renderFrame(whole, camera, settings, wholeStats);
+        const FrameMemory need = frameMemory(pieced, camera, settings, {}, 2);
+        EXPECT_LT(need.largestTessellationBytes, plane->tessellationBytesEstimate() / 8);
+        struct Case {
+            int threads, tile;
+            uint64_t extra;  // bytes beyond the buffers; 0: unlimited
+        };
+        const Case cases[] = {{1, 16, 0},
+                              {2, 16, 0},
+                              {2, 37, 0},
+                              {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes},
+                              {2, 23, need.largestTransientBytes + 6 * need.largestTessellationBytes + plane->meshMakingBytes()}};
+        for (const Case& c : cases) {
+            RenderSettings s = settings;
+            s.numCpusToUse = c.threads;
+            s.tileWidth = s.tileHeight = c.tile;
+            const FrameMemory n = frameMemory(pieced, camera, s, {}, c.threads);
+            MemoryBudget budget(c.extra ? n.totalBytes() + kFragmentRoom + c.extra : 0);
+            RenderStats st;
+            RenderOptions options;
+            options.memoryBudget = &budget;
+            const Framebuffer image = renderFrame(pieced, camera, s, st, options);
+            EXPECT_TRUE(sameImage(image, reference))
+                << c.threads << " threads, tiles of " << c.tile << ", " << c.extra << " bytes over the buffers";
+            EXPECT_EQ(budget.usedBytes(), 0u);
+            // Each piece is made once for both instances (when nothing is dropped), and the
+            // pieces hold the whole shape's triangles.
+            if (c.extra == 0) {
+                EXPECT_LE(st.tessellationsMade, pieces->pieceCount() + 1);
+                EXPECT_EQ(st.tessellationsRecomputed, 0u);
+            }
+            EXPECT_EQ(st.triangles, wholeStats.triangles);
+        }
+    }
+}
+
 TEST(OutOfCore, TileWhoseTrianglesCannotFitStopsTheRenderWithMemoryCapError) {
     // Two large spheres overlapping everywhere on screen: every tile needs both tessellations.
     const Grid g(2, 1, 40, 4.0, 48, 32, 0.3);
