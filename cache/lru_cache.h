@@ -29,6 +29,7 @@ struct LruCacheStats {
     uint64_t made = 0;        // values made (first time and again)
     uint64_t recomputed = 0;  // values made again after being dropped
     uint64_t evicted = 0;     // values dropped to make room
+    uint64_t evictedBytes = 0;  // the bytes they held
     uint64_t hits = 0;        // acquisitions that found the value resident
     uint64_t refused = 0;     // tryAcquire calls whose value could not be made room for
 };
@@ -191,6 +192,7 @@ private:
         e->value.reset();
         if (m_budget) m_budget->release(m_category, e->bytes);
         m_resident -= e->bytes;
+        m_stats.evictedBytes += e->bytes;
         e->bytes = 0;
         ++m_stats.evicted;
     }

@@ -25,7 +25,7 @@ enum class MemoryCategory : uint8_t {
     Framebuffer,   // the finished frame (colour, alpha, depth) and the image writer's copy of it
     Other,
     Geometry,      // what tessellations are made from: meshes and surfaces kept or being evaluated
-    Scene,         // the loaded scene's stored values: mesh, surface and curve payloads, arrays
+    Scene,         // the loaded scene: its stored values (mesh, surface and curve payloads, arrays) and tables
 };
 constexpr size_t kMemoryCategoryCount = 10;
 

@@ -22,6 +22,9 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <sys/resource.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <algorithm>
 #include <functional>
@@ -282,6 +285,7 @@ private:
     void prepare();
     void prepareObject(uint32_t index);
     void renderTile(const PixelRect& tile, Worker& w);
+    void returnDroppedMemory();
     void planFrameTiles();
     void rasterizeTile(const PixelRect& base, Worker& w);
     void addObjectTriangles(uint32_t unit, const PixelRect& base, Worker& w);
@@ -315,6 +319,7 @@ private:
     MeshCache m_meshes;                     // meshes shared by the pieces of a shape
     uint64_t m_perThreadBytes = 0;          // the share of each worker's buffers charged up front
     std::atomic<uint64_t> m_trianglesMade{0};
+    std::atomic<uint64_t> m_droppedReturned{0};  // bytes the caches had dropped at the last return
     int m_marginLeft = 0, m_marginRight = 0, m_marginTop = 0, m_marginBottom = 0;
     bool m_adaptive = false;
     Framebuffer m_frame;
@@ -885,6 +890,20 @@ void FrameRenderer::requestSamples(Worker& w, uint32_t groupIndex, int px, int p
     }
 }
 
+// Under a cap, what the caches drop goes back to the system every 32 MB or so: the allocator
+// keeps freed pages between live blocks otherwise, and the process's resident size would grow
+// past what is charged.
+void FrameRenderer::returnDroppedMemory() {
+#ifdef __GLIBC__
+    constexpr uint64_t kEvery = uint64_t(32) << 20;
+    if (m_budget.capBytes() == 0) return;
+    const uint64_t dropped = m_tessellations.stats().evictedBytes + m_meshes.stats().evictedBytes;
+    uint64_t last = m_droppedReturned.load(std::memory_order_relaxed);
+    if (dropped - last < kEvery || !m_droppedReturned.compare_exchange_strong(last, dropped)) return;
+    malloc_trim(0);
+#endif
+}
+
 void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
     auto tRaster = Clock::now();
     // The base region: the tile, the pixels whose surfaces the filter spreads into it, and the
@@ -1172,6 +1191,7 @@ Framebuffer FrameRenderer::run() {
             const ResolveStats resolveBefore = w.resolver.stats();
             try {
                 renderTile(m_tiles[i], w);
+                returnDroppedMemory();
             } catch (const TileDoesNotFit&) {
                 // What the tile counted is counted again when it is rendered alone.
                 w.stats = before;
@@ -1193,6 +1213,7 @@ Framebuffer FrameRenderer::run() {
         Worker& w = *workers.local();
         try {
             renderTile(m_tiles[i], w);
+            returnDroppedMemory();
         } catch (TileDoesNotFit& e) {
             e.tile = m_tiles[i];
             throw;
@@ -1226,6 +1247,9 @@ Framebuffer FrameRenderer::run() {
     m_stats.tessellationsMade = ts.made;
     m_stats.tessellationsEvicted = ts.evicted;
     m_stats.tessellationsRecomputed = ts.recomputed;
+    const cache::LruCacheStats ms = m_meshes.stats();
+    m_stats.meshesMade = ms.made;
+    m_stats.meshesEvicted = ms.evicted;
     m_stats.trianglesMade = m_trianglesMade.load();
     m_stats.tileMinSize = m_stats.tileMaxSize = 0;
     for (const PixelRect& t : m_tiles) {
@@ -1384,7 +1408,7 @@ cache::MemoryCharge chargeScene(cache::MemoryBudget& budget, uint64_t storedByte
     if (charge) return std::move(*charge);
     const MemoryCap cap = memoryCap(settings);
     const std::string source = budget.capBytes() == cap.bytes ? cap.source : std::string();
-    throw MemoryCapError("the scene's stored values need " + formatBytes(storedBytes) + ", over the memory cap of " +
+    throw MemoryCapError("the loaded scene holds " + formatBytes(storedBytes) + ", over the memory cap of " +
                              formatCap(budget.capBytes()) + (source.empty() ? "" : " (" + source + ")"),
                          storedBytes, budget.capBytes());
 }
@@ -1438,6 +1462,7 @@ void writeRenderStats(util::JsonWriter& j, const RenderStats& s) {
     j.field("skippedOccluded", s.skippedOccluded).field("skippedOffscreen", s.objectsCulledFrustum + s.objectsCulledFar);
     j.field("trianglesMade", s.trianglesMade).field("made", s.tessellationsMade);
     j.field("evicted", s.tessellationsEvicted).field("recomputed", s.tessellationsRecomputed);
+    j.field("meshesMade", s.meshesMade).field("meshesEvicted", s.meshesEvicted);
     j.field("tileVisits", s.objectTileVisits);
     j.endObject();
     j.key("memory").beginObject();

@@ -68,6 +68,10 @@ struct RenderStats {
     uint64_t trianglesMade = 0;            // their triangles
     uint64_t tessellationsEvicted = 0;     // dropped to make room
     uint64_t tessellationsRecomputed = 0;  // made again after being dropped
+    // Meshes of shapes in pieces made again for their pieces (they do not keep them), and how
+    // many of those were dropped to make room before the frame ended.
+    uint64_t meshesMade = 0;
+    uint64_t meshesEvicted = 0;
     // memory
     uint64_t memoryCapBytes = 0;           // 0: unlimited
     uint64_t memoryPeakCharged = 0;        // most the render's budget held at once

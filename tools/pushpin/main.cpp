@@ -27,6 +27,7 @@
 #include "core/scene/scene_info.h"
 #include "core/util/format.h"
 #include "core/util/json_writer.h"
+#include "core/util/process_memory.h"
 
 #include <algorithm>
 #include <chrono>
@@ -205,6 +206,8 @@ void checkImagePath(const fs::path& path, const fs::path& outputDir, const rende
 }
 
 int run(int argc, char** argv) {
+    // What the process holds before any scene: the loaded scene is charged for what it adds.
+    const uint64_t heapBeforeScene = util::heapBytesInUse();
     std::vector<std::string_view> args(argv + 1, argv + argc);
     render::CommandLine cl = render::parseCommandLine(args);
     if (cl.help) {
@@ -273,7 +276,7 @@ int run(int argc, char** argv) {
     }
     const fs::path outputDir = outputFolder(cl);
     const std::string sceneStem = fs::path(sceneName).stem().string();
-    std::optional<uint64_t> storedBytes;  // the scene's stored values, measured when a cap needs them
+    std::optional<uint64_t> storedBytes;  // what the loaded scene holds, measured when a cap needs it
     std::error_code ec;
     const fs::path scenePath = cl.demo ? fs::path() : fs::weakly_canonical(fs::path(cl.scene), ec);
 
@@ -352,7 +355,12 @@ int run(int argc, char** argv) {
             cache::MemoryCharge sceneCharge;
             if (const uint64_t capBytes = render::memoryCapBytes(cameraSettings); capBytes != 0) {
                 budget.emplace(capBytes);
-                if (!storedBytes) storedBytes = graph.storedBytes();
+                // The stored values, or all the heap the loaded scene and its frame scene added
+                // when the allocator says more (their tables and small blocks).
+                if (!storedBytes) {
+                    const uint64_t heap = util::heapBytesInUse();
+                    storedBytes = std::max(graph.storedBytes(), heap > heapBeforeScene ? heap - heapBeforeScene : 0);
+                }
                 sceneCharge = render::chargeScene(*budget, *storedBytes, cameraSettings);
                 renderOptions.memoryBudget = &*budget;
             }

@@ -200,7 +200,7 @@ TEST(FrameMemory, TheScenesStoredValuesCountAgainstTheCap) {
         (void)chargeScene(budget, uint64_t(3) << 20, settings);
         ADD_FAILURE() << "3 MB of stored values fit under a 1 MB cap";
     } catch (const MemoryCapError& e) {
-        EXPECT_EQ(std::string(e.what()), "the scene's stored values need 3.0 MB, over the memory cap of 1 MB (-mm)");
+        EXPECT_EQ(std::string(e.what()), "the loaded scene holds 3.0 MB, over the memory cap of 1 MB (-mm)");
     }
     EXPECT_EQ(budget.usedBytes(), 0u);
     {
