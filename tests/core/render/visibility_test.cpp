@@ -91,6 +91,35 @@ Fan makeFan(const std::vector<Pt>& poly, uint32_t object, double z0, double dzdx
     return fan;
 }
 
+// A grid of `cells` × `cells` square cells `cellSize` pixels wide, turned by `angle` about
+// `origin`, two triangles per cell, every edge soft (neighbours named on both sides, kNoTriangle
+// on the border), on the depth plane z0 + 0.01·x + 0.02·y.
+Fan softGrid(int cells, double cellSize, double angle, Pt origin, uint32_t object, double z0) {
+    auto vertex = [&](int i, int j) {
+        const double u = i * cellSize, v = j * cellSize;
+        return Pt{origin.x + std::cos(angle) * u - std::sin(angle) * v,
+                  origin.y + std::sin(angle) * u + std::cos(angle) * v};
+    };
+    auto cellTri = [&](int i, int j, int k) {
+        return (i < 0 || j < 0 || i >= cells || j >= cells) ? kNoTriangle : uint32_t(2 * (j * cells + i) + k);
+    };
+    Fan grid;
+    for (int j = 0; j < cells; ++j) {
+        for (int i = 0; i < cells; ++i) {
+            const Pt v00 = vertex(i, j), v10 = vertex(i + 1, j), v11 = vertex(i + 1, j + 1), v01 = vertex(i, j + 1);
+            ScreenTriangle t0 = makeTriangle(v00, v10, v11, object, cellTri(i, j, 0));
+            ScreenTriangle t1 = makeTriangle(v00, v11, v01, object, cellTri(i, j, 1));
+            setPlaneDepth(t0, z0, 0.01, 0.02);
+            setPlaneDepth(t1, z0, 0.01, 0.02);
+            grid.triangles.push_back(t0);
+            grid.triangles.push_back(t1);
+            grid.neighbors.insert(grid.neighbors.end(), {cellTri(i, j - 1, 1), cellTri(i + 1, j, 1), cellTri(i, j, 1)});
+            grid.neighbors.insert(grid.neighbors.end(), {cellTri(i, j, 0), cellTri(i, j + 1, 0), cellTri(i - 1, j, 0)});
+        }
+    }
+    return grid;
+}
+
 // A random convex polygon: a rotated ellipse sampled at sorted random angles, or a thin sliver.
 std::vector<Pt> randomPolygon(std::mt19937& rng, Pt centre, int kind) {
     std::uniform_real_distribution<double> uni(0.0, 1.0);
@@ -660,33 +689,11 @@ TEST(PixelResolver, SoftEdgeMergesAndHardEdgeSeparates) {
 }
 
 TEST(PixelResolver, DenseSoftMeshMergesIntoOneSurfacePerPixel) {
-    // A rotated grid of 0.37-pixel cells, two triangles per cell, every edge soft.
-    constexpr int kCells = 60;
-    const double cellSize = 0.37, angle = 0.3;
-    const Pt origin{-4.0, -8.0};  // the grid (22 px wide) covers the whole 8×8 region
-    auto vertex = [&](int i, int j) {
-        const double u = i * cellSize, v = j * cellSize;
-        return Pt{origin.x + std::cos(angle) * u - std::sin(angle) * v,
-                  origin.y + std::sin(angle) * u + std::cos(angle) * v};
-    };
-    auto cellTri = [&](int i, int j, int k) {
-        return (i < 0 || j < 0 || i >= kCells || j >= kCells) ? kNoTriangle : uint32_t(2 * (j * kCells + i) + k);
-    };
-    std::vector<uint32_t> neighbors;
-    std::vector<ScreenTriangle> tris;
-    for (int j = 0; j < kCells; ++j) {
-        for (int i = 0; i < kCells; ++i) {
-            const Pt v00 = vertex(i, j), v10 = vertex(i + 1, j), v11 = vertex(i + 1, j + 1), v01 = vertex(i, j + 1);
-            ScreenTriangle t0 = makeTriangle(v00, v10, v11, 0, cellTri(i, j, 0));
-            ScreenTriangle t1 = makeTriangle(v00, v11, v01, 0, cellTri(i, j, 1));
-            setPlaneDepth(t0, 2.0, 0.01, 0.02);
-            setPlaneDepth(t1, 2.0, 0.01, 0.02);
-            tris.push_back(t0);
-            tris.push_back(t1);
-            neighbors.insert(neighbors.end(), {cellTri(i, j - 1, 1), cellTri(i + 1, j, 1), cellTri(i, j, 1)});
-            neighbors.insert(neighbors.end(), {cellTri(i, j, 0), cellTri(i, j + 1, 0), cellTri(i - 1, j, 0)});
-        }
-    }
+    // A rotated grid of 0.37-pixel cells, two triangles per cell, every edge soft; 22 px wide, it
+    // covers the whole 8×8 region.
+    const Fan grid = softGrid(60, 0.37, 0.3, {-4.0, -8.0}, 0, 2.0);
+    const std::vector<ScreenTriangle>& tris = grid.triangles;
+    const std::vector<uint32_t>& neighbors = grid.neighbors;
     const ObjectTopology topo{neighbors.data(), uint32_t(tris.size())};
     for (int eaa = 0; eaa <= 3; ++eaa) {
         const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(eaa);
@@ -720,30 +727,11 @@ TEST(PixelResolver, SurfaceGroupsAreTheSoftNeighbourComponentsOfEachObject) {
     std::vector<std::vector<uint32_t>> neighborStore(2);
     std::vector<ScreenTriangle> tris;
     for (uint32_t object = 0; object < 2; ++object) {
-        const double cellSize = object == 0 ? 0.29 : 0.61, angle = object == 0 ? 0.3 : -0.7;
-        const Pt origin{object == 0 ? -3.0 : -6.0, object == 0 ? -6.0 : -9.0};
-        auto vertex = [&](int i, int j) {
-            const double u = i * cellSize, v = j * cellSize;
-            return Pt{origin.x + std::cos(angle) * u - std::sin(angle) * v,
-                      origin.y + std::sin(angle) * u + std::cos(angle) * v};
-        };
-        auto cellTri = [&](int i, int j, int k) {
-            return (i < 0 || j < 0 || i >= kCells || j >= kCells) ? kNoTriangle : uint32_t(2 * (j * kCells + i) + k);
-        };
+        Fan grid = object == 0 ? softGrid(kCells, 0.29, 0.3, {-3.0, -6.0}, 0, 2.0)
+                               : softGrid(kCells, 0.61, -0.7, {-6.0, -9.0}, 1, 3.0);
+        tris.insert(tris.end(), grid.triangles.begin(), grid.triangles.end());
         std::vector<uint32_t>& nb = neighborStore[object];
-        for (int j = 0; j < kCells; ++j) {
-            for (int i = 0; i < kCells; ++i) {
-                const Pt v00 = vertex(i, j), v10 = vertex(i + 1, j), v11 = vertex(i + 1, j + 1), v01 = vertex(i, j + 1);
-                ScreenTriangle t0 = makeTriangle(v00, v10, v11, object, cellTri(i, j, 0));
-                ScreenTriangle t1 = makeTriangle(v00, v11, v01, object, cellTri(i, j, 1));
-                setPlaneDepth(t0, 2.0 + object, 0.01, 0.02);
-                setPlaneDepth(t1, 2.0 + object, 0.01, 0.02);
-                tris.push_back(t0);
-                tris.push_back(t1);
-                nb.insert(nb.end(), {cellTri(i, j - 1, 1), cellTri(i + 1, j, 1), cellTri(i, j, 1)});
-                nb.insert(nb.end(), {cellTri(i, j, 0), cellTri(i, j + 1, 0), cellTri(i - 1, j, 0)});
-            }
-        }
+        nb = std::move(grid.neighbors);
         // Hard edges on both sides of about a third of the shared edges.
         for (uint32_t t = 0; t < nb.size() / 3; ++t) {
             for (int k = 0; k < 3; ++k) {
