@@ -1,5 +1,8 @@
 #include "core/geom/geometry_handle.h"
 
+#include <oneapi/tbb/parallel_invoke.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -49,26 +52,38 @@ void GeometryHandle::measureMesh(const Mesh& mesh) {
     const std::vector<bool>& drop = m_degenerate ? *m_degenerate : kNone;
     m_triangles = meshTriangleCount(mesh, m_faceMaterial, drop);
     uint32_t materials = 0;
-    std::vector<uint8_t> used(mesh.points.size(), 0);
     uint64_t usedPoints = 0;
-    for (size_t f = 0; f < mesh.faceCount(); ++f) {
-        const uint16_t material = f < m_faceMaterial.size() ? m_faceMaterial[f] : uint16_t(0);
-        if (material == kNoFaceMaterial || (f < drop.size() && drop[f])) continue;
-        materials = std::max<uint32_t>(materials, uint32_t(material) + 1);
-        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) {
-            const uint32_t p = mesh.faceVertices[c];
-            if (used[p]) continue;
-            used[p] = 1;
-            ++usedPoints;
-            m_bounds.extend(glm::dvec3(mesh.points[p]));
+    auto measurePoints = [&] {
+        std::vector<uint8_t> used(mesh.points.size(), 0);
+        for (size_t f = 0; f < mesh.faceCount(); ++f) {
+            const uint16_t material = f < m_faceMaterial.size() ? m_faceMaterial[f] : uint16_t(0);
+            if (material == kNoFaceMaterial || (f < drop.size() && drop[f])) continue;
+            materials = std::max<uint32_t>(materials, uint32_t(material) + 1);
+            for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) {
+                const uint32_t p = mesh.faceVertices[c];
+                if (used[p]) continue;
+                used[p] = 1;
+                ++usedPoints;
+                m_bounds.extend(glm::dvec3(mesh.points[p]));
+            }
         }
-    }
-    m_materials = std::max<uint32_t>(materials, 1);
+    };
     m_meshPoints = mesh.points.size();
     m_meshFaces = mesh.faceCount();
     m_meshFaceVertices = mesh.faceVertexCount();
-    if (m_pieceTriangles > 0 && m_triangles > m_pieceTriangles && m_triangles < uint64_t(kHardNeighborBit) - 1)
-        m_pieces = std::make_shared<const MeshPieces>(MeshPieces::split(mesh, m_faceMaterial, drop, m_pieceTriangles));
+    if (m_pieceTriangles > 0 && m_triangles > m_pieceTriangles && m_triangles < uint64_t(kHardNeighborBit) - 1) {
+        // The piece table and the points used read the mesh side by side (isolated: a thread
+        // waiting here takes no other work of its caller's).
+        tbb::this_task_arena::isolate([&] {
+            tbb::parallel_invoke(measurePoints, [&] {
+                m_pieces = std::make_shared<const MeshPieces>(
+                    MeshPieces::split(mesh, m_faceMaterial, drop, m_pieceTriangles));
+            });
+        });
+    } else {
+        measurePoints();
+    }
+    m_materials = std::max<uint32_t>(materials, 1);
     m_sourceBytes = meshArraysBytes(mesh) + m_faceMaterial.capacity() * sizeof(uint16_t) + (m_pieces ? m_pieces->bytes() : 0);
     estimateMeshBytes(mesh.faceVertexCount(), mesh.faceCount(), mesh.points.size(), mesh.edges.size(), usedPoints);
 }

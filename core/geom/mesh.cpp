@@ -4,6 +4,9 @@
 #include "core/geom/union_find.h"
 #include "core/util/counting_sort.h"
 
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include <array>
 
 #include <glm/geometric.hpp>
@@ -181,9 +184,9 @@ MeshValidation Mesh::validate() const {
     if (!v.errors.empty()) return v;
 
     // Degenerate faces: a loop with fewer than three distinct points, or (nearly) zero area
-    // relative to the face's longest edge.
-    std::vector<uint32_t> distinct;
-    for (size_t f = 0; f < faceCount(); ++f) {
+    // relative to the face's longest edge. Large meshes are checked in fixed runs of faces on
+    // all threads, each run listing its own, joined in face order.
+    auto isDegenerate = [&](size_t f, std::vector<uint32_t>& distinct) {
         bool degenerate = false;
         for (uint32_t l = faceLoopStarts[f]; l < faceLoopStarts[f + 1] && !degenerate; ++l) {
             const std::span<const uint32_t> lp = loop(l);
@@ -212,8 +215,27 @@ MeshValidation Mesh::validate() const {
             const double area = glm::length(faceAreaVector(f));
             if (!(area > 1e-10 * longest2)) degenerate = true;
         }
-        if (degenerate) v.degenerateFaces.push_back(static_cast<uint32_t>(f));
+        return degenerate;
+    };
+    constexpr size_t kRun = 16384;
+    const size_t faces = faceCount();
+    if (faces <= 4 * kRun) {
+        std::vector<uint32_t> distinct;
+        for (size_t f = 0; f < faces; ++f)
+            if (isDegenerate(f, distinct)) v.degenerateFaces.push_back(static_cast<uint32_t>(f));
+        return v;
     }
+    // Isolated: a thread waiting for the runs takes no other work of its caller's (a tile).
+    std::vector<std::vector<uint32_t>> found((faces + kRun - 1) / kRun);
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(size_t(0), found.size(), [&](size_t r) {
+            std::vector<uint32_t> distinct;
+            for (size_t f = r * kRun; f < std::min(faces, (r + 1) * kRun); ++f)
+                if (isDegenerate(f, distinct)) found[r].push_back(static_cast<uint32_t>(f));
+        });
+    });
+    for (const std::vector<uint32_t>& run : found)
+        v.degenerateFaces.insert(v.degenerateFaces.end(), run.begin(), run.end());
     return v;
 }
 

@@ -384,7 +384,24 @@ void dropUnplaceableObjects(FrameScene& scene, std::vector<std::vector<NodeId>>&
 
 }  // namespace
 
+namespace {
+
+FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& setup, const RenderSettings& settings);
+
+}  // namespace
+
 FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup, const RenderSettings& settings) {
+    // Everything the build runs in parallel (shape evaluation, a large mesh's checks and piece
+    // table) uses the threads -n allows.
+    tbb::task_arena arena(settings.numCpusToUse > 0 ? settings.numCpusToUse : tbb::task_arena::automatic);
+    FrameScene out;
+    arena.execute([&] { out = buildFrameSceneHere(ev, setup, settings); });
+    return out;
+}
+
+namespace {
+
+FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& setup, const RenderSettings& settings) {
     const Graph& g = ev.graph();
     FrameScene scene;
     scene.frame = ev.frame();
@@ -468,11 +485,8 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
         }
         early.resize(wanted.size());
         earlyNotes.resize(wanted.size());
-        tbb::task_arena arena(settings.numCpusToUse > 0 ? settings.numCpusToUse : tbb::task_arena::automatic);
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), wanted.size(), [&](size_t i) {
-                evaluateShape(evaluators->local(), wanted[i].first, wanted[i].second, early[i], earlyNotes[i]);
-            });
+        tbb::parallel_for(size_t(0), wanted.size(), [&](size_t i) {
+            evaluateShape(evaluators->local(), wanted[i].first, wanted[i].second, early[i], earlyNotes[i]);
         });
     }
 
@@ -690,5 +704,7 @@ FrameScene buildFrameScene(scene::Evaluator& ev, const scene::RenderSetup& setup
     }
     return scene;
 }
+
+}  // namespace
 
 }  // namespace pushpin::render

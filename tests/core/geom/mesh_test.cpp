@@ -177,6 +177,33 @@ TEST(Mesh, DegenerateFacesAreListedNotFatal) {
     for (const glm::vec3& n : m.shadingNormals()) EXPECT_TRUE(std::isfinite(n.x) && std::isfinite(n.y));
 }
 
+TEST(Mesh, DegenerateFacesOfALargeMeshAreListedInFaceOrder) {
+    // 300 × 300 quads, checked in runs on all threads: every kind of degenerate face, spread over
+    // the runs, comes back once, in face order.
+    constexpr uint32_t kSide = 300;
+    Mesh m;
+    for (uint32_t j = 0; j <= kSide; ++j)
+        for (uint32_t i = 0; i <= kSide; ++i) m.points.push_back(glm::vec3(float(i), float((i * j) % 7) * 0.1f, float(j)));
+    std::mt19937 rng(11);
+    std::vector<uint32_t> want;
+    for (uint32_t j = 0; j < kSide; ++j)
+        for (uint32_t i = 0; i < kSide; ++i) {
+            const uint32_t a = j * (kSide + 1) + i, b = a + kSide + 1, c = b + 1, d = a + 1;
+            const uint32_t f = uint32_t(m.faceCount());
+            switch (rng() % 97) {
+            case 0: m.addFace({a, b, b, a}); want.push_back(f); break;     // two distinct points
+            case 1: m.addFace({a, d, a}); want.push_back(f); break;        // a triangle folded flat
+            case 2: m.addFace({a, b, a, b, a}); want.push_back(f); break;  // n-gon of two distinct points
+            default: m.addFace({a, b, c, d}); break;
+            }
+        }
+    ASSERT_GT(m.faceCount(), 4u * 16384u);
+    ASSERT_GT(want.size(), 1000u);
+    const MeshValidation v = m.validate();
+    EXPECT_TRUE(v.ok());
+    EXPECT_EQ(v.degenerateFaces, want);
+}
+
 TEST(Mesh, DeriveEdgesFindsTwelveCubeEdges) {
     Mesh m = unitCube();
     const std::vector<MeshEdge> edges = deriveEdges(m, false);
