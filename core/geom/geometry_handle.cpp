@@ -177,26 +177,10 @@ uint64_t GeometryHandle::tessellationBytesEstimate() const {
 }
 
 std::shared_ptr<GeometryHandle> GeometryHandle::withPieces(uint32_t pieceTriangles) const {
-    std::shared_ptr<GeometryHandle> h(new GeometryHandle());
-    h->m_source = m_source;
-    h->m_faceMaterial = m_faceMaterial;
-    h->m_degenerate = m_degenerate;
-    h->m_smooth = m_smooth;
-    h->m_validate = m_validate;
-    h->m_surface = m_surface;
-    h->m_divU = m_divU;
-    h->m_divV = m_divV;
-    h->m_bounds = m_bounds;
-    h->m_triangles = m_triangles;
-    h->m_vertices = m_vertices;
-    h->m_materials = m_materials;
-    h->m_sourceBytes = m_sourceBytes;
-    h->m_workBytes = m_workBytes;
-    h->m_meshPoints = m_meshPoints;
-    h->m_meshFaces = m_meshFaces;
-    h->m_meshFaceVertices = m_meshFaceVertices;
+    std::shared_ptr<GeometryHandle> h(new GeometryHandle(*this));
     h->m_pieceTriangles = pieceTriangles;
     if (m_source && !m_validate) {
+        h->m_pieces.reset();
         h->m_bounds = Bounds3();
         h->measureMesh(*m_source->mesh());
     }

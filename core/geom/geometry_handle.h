@@ -60,7 +60,6 @@ public:
     // A NURBS surface tessellated on a uniform grid of divU × divV steps per span (material 0).
     static std::shared_ptr<GeometryHandle> fromNurbs(std::shared_ptr<const NurbsSurface> surface, int divU, int divV);
 
-    GeometryHandle(const GeometryHandle&) = delete;
     GeometryHandle& operator=(const GeometryHandle&) = delete;
 
     bool isMesh() const { return m_source != nullptr; }
@@ -130,6 +129,7 @@ public:
 
 private:
     GeometryHandle() = default;
+    GeometryHandle(const GeometryHandle&) = default;  // withPieces() only
 
     void measureMesh(const Mesh& mesh);
     // The byte estimates from a mesh's counts (face-vertices, faces, points, edges) and the

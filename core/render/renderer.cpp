@@ -284,6 +284,12 @@ public:
 private:
     void prepare();
     void prepareObject(uint32_t index);
+    // The pixels an object's screen box must reach to be kept: the region widened by what the
+    // tiles at its edges read around them.
+    PixelRect objectReach() const {
+        return {m_region.x0 - m_marginRight, m_region.y0 - m_marginBottom, m_region.x1 + m_marginLeft,
+                m_region.y1 + m_marginTop};
+    }
     void renderTile(const PixelRect& tile, Worker& w);
     void returnDroppedMemory();
     void planFrameTiles();
@@ -338,9 +344,7 @@ int FrameRenderer::maxSamples(const RenderObject& o) const {
 void FrameRenderer::prepareObject(uint32_t index) {
     const RenderObject& obj = m_scene.objects[index];
     ObjectView& v = m_views[index];
-    const PixelRect reach{m_region.x0 - m_marginRight, m_region.y0 - m_marginBottom, m_region.x1 + m_marginLeft,
-                          m_region.y1 + m_marginTop};
-    static_cast<ObjectPlacement&>(v) = placeObject(obj.geometry->bounds(), obj.worldFromObject, m_camera, reach);
+    static_cast<ObjectPlacement&>(v) = placeObject(obj.geometry->bounds(), obj.worldFromObject, m_camera, objectReach());
     if (!v.kept) return;
 
     v.slotLights.resize(obj.materials.size());
@@ -374,8 +378,7 @@ void FrameRenderer::prepare() {
             u.piece = k;
         }
     }
-    const PixelRect reach{m_region.x0 - m_marginRight, m_region.y0 - m_marginBottom, m_region.x1 + m_marginLeft,
-                          m_region.y1 + m_marginTop};
+    const PixelRect reach = objectReach();
     tbb::parallel_for(size_t(0), m_units.size(), [&](size_t i) {
         UnitView& u = m_units[i];
         const ObjectView& v = m_views[u.object];
@@ -921,10 +924,13 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
         const FrameRenderer& renderer;
         ~TileScope() {
             for (uint32_t i : w.tileObjects) {
+                const UnitView& u = renderer.m_units[i];
                 w.tessellation[i] = nullptr;
-                w.topology[renderer.m_units[i].object] = ObjectTopology{};
-                std::vector<TopologyPiece>& pieces = w.pieceTopology[renderer.m_units[i].object];
-                if (!pieces.empty()) pieces[renderer.m_units[i].piece] = {pieces[renderer.m_units[i].piece].firstTriangle, 0, nullptr};
+                w.topology[u.object] = ObjectTopology{};
+                if (std::vector<TopologyPiece>& pieces = w.pieceTopology[u.object]; !pieces.empty()) {
+                    pieces[u.piece].triangleCount = 0;
+                    pieces[u.piece].neighbors = nullptr;
+                }
             }
             w.tileObjects.clear();
             w.pins.clear();

@@ -12,6 +12,7 @@
 #include "core/scene/render_setup.h"
 #include "core/scene/scene_info.h"
 #include "tests/support/ma_corpus.h"
+#include "tests/support/ma_preamble.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -354,18 +355,10 @@ TEST(Renderer, PrimitivesMakeTheirMeshWhenATileNeedsItAndRenderTheSameImage) {
 // A dense wall over the left of the view with a transparent card and a ball in front of it, and
 // a row of balls behind it: some wholly hidden, one half behind its edge, two in the open.
 std::string wallScene() {
-    std::string text = header() + R"(createNode transform -n "persp";
-	setAttr ".t" -type "double3" 0 0 10;
-createNode camera -n "perspShape" -p "persp";
-	setAttr ".rnd" yes;
-createNode transform -n "sun";
+    std::string text = test::maPreamble(10) + R"(createNode transform -n "sun";
 	setAttr ".r" -type "double3" -40 30 0;
 createNode directionalLight -n "sunShape" -p "sun";
-createNode lambert -n "grey";
-createNode shadingEngine -n "greySG";
-connectAttr "greySG.pa" ":renderPartition.st" -na;
-connectAttr "grey.oc" "greySG.ss";
-createNode lambert -n "glass";
+)" + test::greyShadingGroup() + R"(createNode lambert -n "glass";
 	setAttr ".it" -type "float3" 0.5 0.5 0.5;
 createNode shadingEngine -n "glassSG";
 connectAttr "glassSG.pa" ":renderPartition.st" -na;
