@@ -353,11 +353,10 @@ double Evaluator::evaluateAnimCurve(NodeId curve) {
         const AttrData* a = m_graph.findAttr(curve, m_graph.canonicalPath(curve, {PlugSegment{name}}));
         return a ? &a->multi : nullptr;
     };
-    auto element = [](const MultiStore* m, uint32_t i, double& v) {
-        if (!m) return false;
-        const double* p = m->numbers(i);
-        if (!p || !std::isfinite(*p)) return false;
-        v = *p;
+    std::vector<double> el;
+    auto element = [&el](const MultiStore* m, uint32_t i, double& v) {
+        if (!m || !m->numbers(i, el) || el.empty() || !std::isfinite(el[0])) return false;
+        v = el[0];
         return true;
     };
     const MultiStore* ktv = multiOf("keyTimeValue");
@@ -369,10 +368,9 @@ double Evaluator::evaluateAnimCurve(NodeId curve) {
     const MultiStore* kox = multiOf("keyTanOutX");
     const MultiStore* koy = multiOf("keyTanOutY");
     const MultiStore* kbd = multiOf("keyBreakdown");
+    std::vector<double> tv;
     for (uint32_t i : ktv->indices()) {
-        int width = 0;
-        const double* tv = ktv->numbers(i, &width);
-        if (!tv || width < 2 || !std::isfinite(tv[0]) || !std::isfinite(tv[1])) continue;
+        if (!ktv->numbers(i, tv) || tv.size() < 2 || !std::isfinite(tv[0]) || !std::isfinite(tv[1])) continue;
         AnimKey k;
         k.time = tv[0];
         k.value = tv[1] * valueScale;

@@ -145,15 +145,12 @@ void MultiStore::erase(uint32_t first, uint32_t count) {
         if (nums) {
             size_t w = size_t(run.width);
             if (runFirst < first) {
-                Run head{uint32_t(first - runFirst), run.width, Numbers{nums->kind, nums->tupleSize, {}}};
-                auto& hv = std::get<Numbers>(head.value).values;
-                hv.assign(nums->values.begin(), nums->values.begin() + (first - runFirst) * w);
+                Run head{uint32_t(first - runFirst), run.width, nums->slice(0, (first - runFirst) * w)};
                 m_runs.emplace(uint32_t(runFirst), std::move(head));
             }
             if (runEnd > end) {
-                Run tail{uint32_t(runEnd - end), run.width, Numbers{nums->kind, nums->tupleSize, {}}};
-                auto& tv = std::get<Numbers>(tail.value).values;
-                tv.assign(nums->values.begin() + (end - runFirst) * w, nums->values.end());
+                const size_t from = (end - runFirst) * w;
+                Run tail{uint32_t(runEnd - end), run.width, nums->slice(from, nums->size() - std::min(from, nums->size()))};
                 it = m_runs.emplace(uint32_t(end), std::move(tail)).first;
                 ++it;
             }
@@ -166,7 +163,7 @@ void MultiStore::assign(uint32_t first, uint32_t count, Value value) {
     if (count == 0) return;
     erase(first, count);
     int width = 1;
-    if (auto* nums = std::get_if<Numbers>(&value)) width = std::max<int>(1, int(nums->values.size() / count));
+    if (auto* nums = std::get_if<Numbers>(&value)) width = std::max<int>(1, int(nums->size() / count));
     // Appending single elements one after another (`.pt[5]`, `.pt[6]` …) grows the previous run
     // instead of creating one map entry per element. Long chunks (`.vt[0:499]`) keep runs of their
     // own: growing one run by them would copy everything before at each growth.
@@ -176,8 +173,7 @@ void MultiStore::assign(uint32_t first, uint32_t count, Value value) {
             --prev;
             auto* pn = std::get_if<Numbers>(&prev->second.value);
             if (pn && prev->first + prev->second.count == first && prev->second.width == width &&
-                pn->kind == nums->kind) {
-                pn->values.insert(pn->values.end(), nums->values.begin(), nums->values.end());
+                pn->kind == nums->kind && pn->append(*nums)) {
                 prev->second.count += count;
                 return;
             }
@@ -195,14 +191,16 @@ const MultiStore::Run* MultiStore::find(uint32_t index, uint32_t* offsetInRun) c
     return &it->second;
 }
 
-const double* MultiStore::numbers(uint32_t index, int* width) const {
+bool MultiStore::numbers(uint32_t index, std::vector<double>& out) const {
     uint32_t off = 0;
     const Run* run = find(index, &off);
-    if (!run) return nullptr;
+    if (!run) return false;
     auto* nums = std::get_if<Numbers>(&run->value);
-    if (!nums || size_t(off + 1) * size_t(run->width) > nums->values.size()) return nullptr;
-    if (width) *width = run->width;
-    return nums->values.data() + size_t(off) * size_t(run->width);
+    const size_t width = size_t(run->width);
+    if (!nums || size_t(off + 1) * width > nums->size()) return false;
+    out.resize(width);
+    nums->copyTo(size_t(off) * width, width, out.data());
+    return true;
 }
 
 std::vector<uint32_t> MultiStore::indices() const {
@@ -542,7 +540,14 @@ void Graph::setValue(NodeId nodeId, const std::vector<PlugSegment>& segs, Value 
         std::vector<PlugSegment> keySegs = segs;
         keySegs.back().first = keySegs.back().last = -1;
         AttrData& a = n.attrs[canonicalPath(nodeId, keySegs)];
-        a.multi.assign(uint32_t(last.first), uint32_t(last.last - last.first + 1), std::move(value));
+        const uint32_t count = uint32_t(last.last - last.first + 1);
+        if (auto* nums = std::get_if<Numbers>(&value); nums && spec) {
+            const AttrType t = spec->type;
+            compactNumbers(*nums, count, t == AttrType::Float || t == AttrType::Float2 || t == AttrType::Float3,
+                           t == AttrType::Int || t == AttrType::Enum || t == AttrType::Bool || t == AttrType::Long2 ||
+                               t == AttrType::Long3 || t == AttrType::Short2 || t == AttrType::Short3);
+        }
+        a.multi.assign(uint32_t(last.first), count, std::move(value));
         return;
     }
 
@@ -558,9 +563,8 @@ void Graph::setValue(NodeId nodeId, const std::vector<PlugSegment>& segs, Value 
             uint32_t index = uint32_t(keySegs.back().first);
             keySegs.back().first = keySegs.back().last = -1;
             AttrData& a = n.attrs[canonicalPath(nodeId, keySegs)];
-            int w = 0;
-            const double* cur = a.multi.numbers(index, &w);
-            std::vector<double> el = cur && w == width ? std::vector<double>(cur, cur + w) : defaultNumbers(*parentSpec);
+            std::vector<double> el;
+            if (!a.multi.numbers(index, el) || el.size() != size_t(width)) el = defaultNumbers(*parentSpec);
             el.resize(size_t(width), 0.0);
             el[size_t(spec->component)] = v;
             a.multi.assign(index, 1, Numbers{Numbers::Kind::Tuple, width, std::move(el)});
@@ -862,11 +866,7 @@ bool Graph::numbers(NodeId nodeId, std::string_view plugPath, std::vector<double
         std::vector<PlugSegment> keySegs = *segs;
         keySegs.back().first = keySegs.back().last = -1;
         if (const AttrData* a = findAttr(nodeId, canonicalPath(nodeId, keySegs))) {
-            int w = 0;
-            if (const double* p = a->multi.numbers(uint32_t(last.first), &w)) {
-                out.assign(p, p + w);
-                return true;
-            }
+            if (a->multi.numbers(uint32_t(last.first), out)) return true;
         }
         return storedOrDefault(nullptr, spec, out);  // the element's default
     }
@@ -968,7 +968,7 @@ uint64_t Graph::storedBytes() const {
             [&](const auto& x) -> uint64_t {
                 using T = std::decay_t<decltype(x)>;
                 if constexpr (std::is_same_v<T, Numbers>) {
-                    return uint64_t(x.values.capacity()) * sizeof(double);
+                    return uint64_t(x.heapBytes());
                 } else if constexpr (std::is_same_v<T, StringValue>) {
                     return x.text.capacity() > 15 ? x.text.capacity() + 1 : 0;
                 } else if constexpr (std::is_same_v<T, StringArray> || std::is_same_v<T, ComponentList>) {

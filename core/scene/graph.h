@@ -55,8 +55,9 @@ public:
     void assign(uint32_t first, uint32_t count, Value value);
     // The run holding element `index` and the element's position within it; nullptr if unset.
     const Run* find(uint32_t index, uint32_t* offsetInRun) const;
-    // Numbers of element `index` (width numbers) or nullptr when unset or not numeric.
-    const double* numbers(uint32_t index, int* width = nullptr) const;
+    // The numbers of element `index` (its run's width of them) into `out`; false when it is unset
+    // or not numeric.
+    bool numbers(uint32_t index, std::vector<double>& out) const;
     std::vector<uint32_t> indices() const;  // every set element index, ascending
     uint32_t endIndex() const;              // one past the highest set index (0 when empty)
     const std::map<uint32_t, Run>& runs() const { return m_runs; }

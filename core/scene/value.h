@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -28,7 +29,84 @@ struct Numbers {
     Kind kind = Kind::Plain;
     int tupleSize = 1;  // components per element for Tuple (2..4), 4 for PointArray, 3 for VectorArray
     std::vector<double> values;
+    // A long run of a multi attribute's elements may be kept smaller instead (Graph::setValue,
+    // compactNumbers): `floats` for an attribute Maya itself stores in single precision (float,
+    // float2, float3: mesh points, uvs, normals), `ints` for an integer attribute whose values are
+    // all 32-bit integers (mesh edges). At most one of the three is in use.
+    std::vector<float> floats;
+    std::vector<int32_t> ints;
+
+    size_t size() const { return values.size() + floats.size() + ints.size(); }
+    bool empty() const { return size() == 0; }
+    double at(size_t i) const {
+        if (!floats.empty()) return double(floats[i]);
+        if (!ints.empty()) return double(ints[i]);
+        return values[i];
+    }
+    // Numbers [first, first + n) as doubles into out.
+    void copyTo(size_t first, size_t n, double* out) const {
+        if (!floats.empty())
+            for (size_t i = 0; i < n; ++i) out[i] = double(floats[first + i]);
+        else if (!ints.empty())
+            for (size_t i = 0; i < n; ++i) out[i] = double(ints[first + i]);
+        else
+            std::copy(values.begin() + std::ptrdiff_t(first), values.begin() + std::ptrdiff_t(first + n), out);
+    }
+    // Numbers [first, first + n) in the same storage.
+    Numbers slice(size_t first, size_t n) const {
+        Numbers out{kind, tupleSize, {}, {}, {}};
+        auto part = [&](const auto& from, auto& to) {
+            if (!from.empty()) to.assign(from.begin() + std::ptrdiff_t(first), from.begin() + std::ptrdiff_t(first + n));
+        };
+        part(values, out.values);
+        part(floats, out.floats);
+        part(ints, out.ints);
+        return out;
+    }
+    // Appends `more`'s numbers; false (nothing appended) when the two are kept in different storage.
+    bool append(const Numbers& more) {
+        const bool sameStorage = (!floats.empty() || !more.floats.empty())
+                                     ? (values.empty() && ints.empty() && more.values.empty() && more.ints.empty())
+                                 : (!ints.empty() || !more.ints.empty()) ? (values.empty() && more.values.empty())
+                                                                        : true;
+        if (!sameStorage) return false;
+        values.insert(values.end(), more.values.begin(), more.values.end());
+        floats.insert(floats.end(), more.floats.begin(), more.floats.end());
+        ints.insert(ints.end(), more.ints.begin(), more.ints.end());
+        return true;
+    }
+    size_t heapBytes() const {
+        return values.capacity() * sizeof(double) + floats.capacity() * sizeof(float) + ints.capacity() * sizeof(int32_t);
+    }
 };
+
+// The widest element a compact run holds (Numbers::floats, Numbers::ints).
+constexpr size_t kMaxCompactWidth = 16;
+// Runs shorter than this many numbers stay doubles.
+constexpr size_t kMinCompactNumbers = 64;
+
+// Keeps a run of `count` elements of a multi attribute smaller when it may be: as floats when
+// `singlePrecision` and every number is finite within float range (the attribute's own storage in
+// Maya), as 32-bit integers when `integral` and every number is one. Runs of fewer than
+// kMinCompactNumbers numbers, of elements wider than kMaxCompactWidth, or not in doubles are left.
+inline void compactNumbers(Numbers& n, size_t count, bool singlePrecision, bool integral) {
+    const size_t size = n.values.size();
+    if (size < kMinCompactNumbers || count == 0 || size % count != 0 || size / count > kMaxCompactWidth) return;
+    if (singlePrecision) {
+        constexpr double kFloatMax = 3.4028234663852886e38;
+        for (double v : n.values)
+            if (!(std::abs(v) <= kFloatMax)) return;
+        n.floats.assign(n.values.begin(), n.values.end());
+    } else if (integral) {
+        for (double v : n.values)
+            if (!(v >= -2147483648.0 && v <= 2147483647.0 && v == std::trunc(v))) return;
+        n.ints.resize(size);
+        for (size_t i = 0; i < size; ++i) n.ints[i] = int32_t(n.values[i]);
+    } else {
+        return;
+    }
+    std::vector<double>().swap(n.values);
+}
 
 struct StringValue { std::string text; };
 struct StringArray { std::vector<std::string> items; };

@@ -31,10 +31,17 @@ void forEachNumeric(const AttrData& a, F&& fn) {
         const Numbers* nums = std::get_if<Numbers>(&run.value);
         if (!nums || run.width <= 0) continue;
         const size_t width = size_t(run.width);
+        if (nums->values.empty() && width > kMaxCompactWidth) continue;  // never stored so
+        double element[kMaxCompactWidth];
         for (uint32_t k = 0; k < run.count; ++k) {
-            if ((size_t(k) + 1) * width > nums->values.size()) break;
+            if ((size_t(k) + 1) * width > nums->size()) break;
             if (uint64_t(first) + k >= kMaxElements) return;
-            fn(uint64_t(first) + k, nums->values.data() + size_t(k) * width, run.width);
+            if (!nums->values.empty()) {
+                fn(uint64_t(first) + k, nums->values.data() + size_t(k) * width, run.width);
+            } else {
+                nums->copyTo(size_t(k) * width, width, element);
+                fn(uint64_t(first) + k, static_cast<const double*>(element), run.width);
+            }
         }
     }
 }

@@ -115,7 +115,8 @@ TEST(Graph, StoredBytesCountTheValuesPayloads) {
     Numbers big = nums(points);
     big.values.shrink_to_fit();
     g.setValue(m, path("vt[0:9999]"), big);
-    EXPECT_EQ(g.storedBytes(), base + 10000 * 3 * sizeof(double));
+    // Mesh points are kept in single precision (Numbers::floats).
+    EXPECT_EQ(g.storedBytes(), base + 10000 * 3 * sizeof(float));
     auto surface = std::make_shared<NurbsSurfaceData>();
     surface->knotsU.assign(10, 0.0);
     surface->knotsV.assign(10, 0.0);
@@ -127,7 +128,65 @@ TEST(Graph, StoredBytesCountTheValuesPayloads) {
     g.setValue(s, path("cc"), Value(std::shared_ptr<const NurbsSurfaceData>(surface)));
     NodeId t = g.createNode("nurbsSurface", "again");
     g.setValue(t, path("cc"), Value(std::shared_ptr<const NurbsSurfaceData>(surface)));
-    EXPECT_EQ(g.storedBytes(), base + 10000 * 3 * sizeof(double) + 320 * sizeof(double));
+    EXPECT_EQ(g.storedBytes(), base + 10000 * 3 * sizeof(float) + 320 * sizeof(double));
+}
+
+TEST(Graph, LongRunsKeepMayasOwnPrecision) {
+    Graph g;
+    NodeId m = g.createNode("mesh", "shape");
+    // 100 points (float3): kept as floats, read back as the float nearest each value.
+    std::vector<double> points;
+    for (int i = 0; i < 300; ++i) points.push_back(0.1 * i - 7.3);
+    g.setValue(m, path("vt[0:99]"), nums(points));
+    // 100 edges (long3): kept as 32-bit integers.
+    std::vector<double> edges;
+    for (int i = 0; i < 100; ++i) edges.insert(edges.end(), {double(i), double(i + 1), double(i % 2)});
+    g.setValue(m, path("ed[0:99]"), nums(edges));
+    const uint64_t bytes = g.storedBytes();
+    std::vector<double> v;
+    ASSERT_TRUE(g.numbers(m, "vt[42]", v));
+    ASSERT_EQ(v.size(), 3u);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(v[size_t(k)], double(float(points[size_t(126 + k)]))) << k;
+    ASSERT_TRUE(g.numbers(m, "ed[99]", v));
+    EXPECT_EQ(v, (std::vector<double>{99, 100, 1}));
+
+    // One element written again splits its run; both parts keep their storage and values.
+    g.setValue(m, path("vt[50]"), nums({1.0, 2.0, 3.0}));
+    ASSERT_TRUE(g.numbers(m, "vt[50]", v));
+    EXPECT_EQ(v, (std::vector<double>{1, 2, 3}));
+    ASSERT_TRUE(g.numbers(m, "vt[51]", v));
+    EXPECT_EQ(v[0], double(float(points[153])));
+    ASSERT_TRUE(g.numbers(m, "vt[49]", v));
+    EXPECT_EQ(v[2], double(float(points[149])));
+    // A short run appended after a long one joins it only in the same storage; values stay right.
+    g.setValue(m, path("vt[100]"), nums({4.0, 5.0, 6.0}));
+    ASSERT_TRUE(g.numbers(m, "vt[100]", v));
+    EXPECT_EQ(v, (std::vector<double>{4, 5, 6}));
+    EXPECT_LT(g.storedBytes(), bytes + 200);  // the split runs are still floats
+
+    // Edges that are not all integers, points beyond float range and NaN stay doubles, exactly.
+    std::vector<double> halves(edges);
+    halves[7] = 2.5;
+    g.setValue(m, path("ed[200:299]"), nums(halves));
+    ASSERT_TRUE(g.numbers(m, "ed[202]", v));
+    EXPECT_EQ(v[1], 2.5);
+    std::vector<double> huge(points);
+    huge[5] = 1e300;
+    huge[6] = std::nan("");
+    g.setValue(m, path("vt[300:399]"), nums(huge));
+    ASSERT_TRUE(g.numbers(m, "vt[301]", v));
+    EXPECT_EQ(v[1], points[4]);
+    EXPECT_EQ(v[2], 1e300);
+    // A double attribute is never rounded; short runs are not either.
+    NodeId c = g.createNode("animCurveTL", "curve");
+    std::vector<double> keys;
+    for (int i = 0; i < 100; ++i) keys.insert(keys.end(), {double(i), 0.1 * i});
+    g.setValue(c, path("ktv[0:99]"), nums(keys));
+    ASSERT_TRUE(g.numbers(c, "ktv[33]", v));
+    EXPECT_EQ(v[1], keys[67]);
+    g.setValue(m, path("vt[500:501]"), nums({0.1, 0.2, 0.3, 0.4, 0.5, 0.6}));
+    ASSERT_TRUE(g.numbers(m, "vt[501]", v));
+    EXPECT_EQ(v[0], 0.4);
 }
 
 TEST(Graph, DagPathsAndInstancing) {

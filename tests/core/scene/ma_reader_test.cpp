@@ -178,9 +178,10 @@ TEST(MaReader, LongNumberListsKeepTheirValuesAndTheirErrorPlaces) {
     std::vector<double> p;
     ASSERT_TRUE(g.numbers(findNode(g, "m"), "vt[29999]", p));
     ASSERT_EQ(p.size(), 3u);
-    EXPECT_DOUBLE_EQ(p[0], 29999.25);
-    EXPECT_DOUBLE_EQ(p[1], -29999.0);
-    EXPECT_DOUBLE_EQ(p[2], 1e-3);
+    // Mesh points are single precision, as Maya keeps them.
+    EXPECT_EQ(p[0], 29999.25);
+    EXPECT_EQ(p[1], -29999.0);
+    EXPECT_EQ(p[2], double(1e-3f));
     const size_t at = text.find(" 21000.25 ");
     ASSERT_NE(at, std::string::npos);
     std::string bad = text;
@@ -1196,7 +1197,7 @@ TEST(MaReader, StreamsThroughBufferBoundaries) {
         ASSERT_NE(m, kNoNode);
         std::vector<double> p;
         ASSERT_TRUE(gr->numbers(m, "vrts[199999]", p));
-        EXPECT_EQ(p, (std::vector<double>{199999, 0.5, -1e-3}));
+        EXPECT_EQ(p, (std::vector<double>{199999, 0.5, double(-1e-3f)}));  // single precision, as in Maya
         EXPECT_EQ(gr->getString(gr->find("s"), "b").size(), 300u + 299700u * 3);
     }
 }
