@@ -205,11 +205,28 @@ uint64_t GeometryHandle::pieceBytesEstimate(size_t k) const {
 
 uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
     if (!m_pieces) return m_workBytes;
-    return meshPieceWorkBytes(m_pieces->pieces()[k], m_meshPoints, m_smooth);
+    const MeshPiece& p = m_pieces->pieces()[k];
+    if (!makesPiecesAlone()) return meshPieceWorkBytes(p, m_meshPoints, m_smooth);
+    // The window (its points, face-vertices with normals and uv ids, loop and face starts, edges
+    // and uvs) and the piece made from it, whose point map covers the window's points.
+    const uint64_t faces = p.aroundEnd - p.windowFirst;
+    const uint64_t faceVertices = p.windowFaceVertices;
+    const uint64_t window = meshArrayBytes(p.windowPointEnd - p.windowPointFirst, faceVertices, 2 * (faces + 1),
+                                           p.windowEdges, p.windowUvEnd - p.windowUvFirst,
+                                           m_pieces->mapsUvs() ? faceVertices : 0) +
+                            faceVertices * sizeof(glm::vec3);
+    return window + meshPieceWorkBytes(p, p.windowPointEnd - p.windowPointFirst, m_smooth);
 }
 
 Tessellation GeometryHandle::tessellatePiece(size_t k, std::string* problem) const {
     if (!m_pieces) return tessellate(problem);
+    if (makesPiecesAlone()) {
+        static const std::vector<bool> kNone;
+        std::optional<MeshWindow> window = m_source->window(m_pieces->pieces()[k], m_pieces->mapsUvs(), m_meshFaceVertices);
+        if (window)
+            return triangulateMeshPiece(*window, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone,
+                                        *m_pieces, k);
+    }
     return tessellatePiece(k, *m_source->mesh());
 }
 

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,15 @@ public:
     virtual std::shared_ptr<const Mesh> mesh() const = 0;
     // Whether the source holds its mesh in memory all along.
     virtual bool keepsMesh() const = 0;
+    // Whether window() makes the part of the mesh one piece needs without making the rest.
+    virtual bool makesWindows() const { return false; }
+    // The window of `piece` (MeshPieces::split of this source's mesh, which has `faceVertexCount`
+    // face-vertices; `mapsUvs` as MeshPieces::mapsUvs): cutMeshWindow of the mesh, bit for bit.
+    // nullopt when it cannot be made.
+    virtual std::optional<MeshWindow> window(const MeshPiece& piece, bool mapsUvs, uint64_t faceVertexCount) const {
+        (void)piece, (void)mapsUvs, (void)faceVertexCount;
+        return std::nullopt;
+    }
 };
 
 class GeometryHandle {
@@ -126,6 +136,9 @@ public:
     // What making that mesh again holds at its peak: the mesh and the decoder's tables (a few
     // words a face and a face-vertex).
     uint64_t meshMakingBytes() const { return meshBytes() + 8 * m_meshFaces + 4 * m_meshFaceVertices; }
+    // Whether each piece is made from its own window of the mesh (MeshSource::makesWindows), so
+    // that the whole mesh is never made for it.
+    bool makesPiecesAlone() const { return m_pieces && m_source && m_source->makesWindows(); }
 
 private:
     GeometryHandle() = default;

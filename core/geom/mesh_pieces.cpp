@@ -11,6 +11,14 @@ constexpr uint32_t kNotLocal = 0xffffffffu;
 
 }  // namespace
 
+bool inWindow(const MeshPiece& piece, uint32_t point) {
+    return point >= piece.windowPointFirst && point < piece.windowPointEnd;
+}
+
+namespace {
+
+}  // namespace
+
 MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
                              const std::vector<bool>& degenerate, uint32_t maxSlots) {
     MeshPieces out;
@@ -88,6 +96,32 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
             }
         }
     }
+    // Each piece's window: its faces from a stride start, their first face-vertex, and the range
+    // of the points and current-set uv ids they use.
+    const UvSet* uvSet = nullptr;
+    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
+        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount())
+        uvSet = &mesh.uvSets[size_t(mesh.currentUvSet)];
+    out.m_mapsUvs = uvSet != nullptr;
+    for (MeshPiece& p : out.m_pieces) {
+        p.windowFirst = p.aroundFirst - p.aroundFirst % kSlotStride;
+        p.windowFirstFaceVertex = mesh.faceVertexBegin(p.windowFirst);
+        p.windowFaceVertices = mesh.faceVertexBegin(p.aroundEnd) - p.windowFirstFaceVertex;
+        uint32_t lo = kNotLocal, hi = 0, uvLo = kNotLocal, uvHi = 0;
+        for (uint32_t c = mesh.faceVertexBegin(p.windowFirst); c < mesh.faceVertexBegin(p.aroundEnd); ++c) {
+            lo = std::min(lo, mesh.faceVertices[c]);
+            hi = std::max(hi, mesh.faceVertices[c] + 1);
+            if (uvSet && uvSet->faceVertexUvs[c] >= 0) {
+                uvLo = std::min(uvLo, uint32_t(uvSet->faceVertexUvs[c]));
+                uvHi = std::max(uvHi, uint32_t(uvSet->faceVertexUvs[c]) + 1);
+            }
+        }
+        p.windowPointFirst = lo < hi ? lo : 0;
+        p.windowPointEnd = hi;
+        p.windowUvFirst = uvLo < uvHi ? uvLo : 0;
+        p.windowUvEnd = uvHi;
+    }
+
     std::fill(first.begin(), first.end(), kNotLocal);
     std::fill(last.begin(), last.end(), 0u);
     const size_t points = mesh.points.size();
@@ -106,6 +140,8 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
             p.edgeEnd = std::max(p.edgeEnd, last[q]);
         });
         if (p.edgeEnd < p.edgeFirst) p.edgeFirst = p.edgeEnd = 0;
+        for (uint32_t e = p.edgeFirst; e < p.edgeEnd; ++e)
+            p.windowEdges += inWindow(p, mesh.edges[e].v0) && inWindow(p, mesh.edges[e].v1);
     }
     return out;
 }
@@ -139,10 +175,68 @@ uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool sm
     return pointMap + mesh + tessellation + std::max({normalsPhase, cornerPhase, adjacencyPhase}) + maps;
 }
 
-Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
-                                  const std::vector<bool>& degenerate, const MeshPieces& pieces, size_t pieceIndex) {
+MeshWindow cutMeshWindow(const Mesh& mesh, const MeshPiece& piece) {
+    MeshWindow w;
+    w.window = true;
+    w.faceBase = piece.windowFirst;
+    w.pointBase = piece.windowPointFirst;
+    w.uvBase = piece.windowUvFirst;
+    Mesh& m = w.mesh;
+    m.points.assign(mesh.points.begin() + piece.windowPointFirst, mesh.points.begin() + piece.windowPointEnd);
+    const uint32_t loop0 = mesh.faceLoopStarts[piece.windowFirst], loopEnd = mesh.faceLoopStarts[piece.aroundEnd];
+    const uint32_t fv0 = mesh.loopStarts[loop0], fvEnd = mesh.loopStarts[loopEnd];
+    m.faceLoopStarts.clear();
+    for (uint32_t f = piece.windowFirst; f <= piece.aroundEnd; ++f) m.faceLoopStarts.push_back(mesh.faceLoopStarts[f] - loop0);
+    m.loopStarts.clear();
+    for (uint32_t l = loop0; l <= loopEnd; ++l) m.loopStarts.push_back(mesh.loopStarts[l] - fv0);
+    m.faceVertices.reserve(fvEnd - fv0);
+    for (uint32_t c = fv0; c < fvEnd; ++c) m.faceVertices.push_back(mesh.faceVertices[c] - piece.windowPointFirst);
+    if (mesh.normals.size() == mesh.faceVertexCount())
+        m.normals.assign(mesh.normals.begin() + fv0, mesh.normals.begin() + fvEnd);
+    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
+        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount()) {
+        const UvSet& from = mesh.uvSets[size_t(mesh.currentUvSet)];
+        UvSet set;
+        set.name = from.name;
+        set.uvs.assign(from.uvs.begin() + piece.windowUvFirst, from.uvs.begin() + piece.windowUvEnd);
+        set.faceVertexUvs.reserve(fvEnd - fv0);
+        for (uint32_t c = fv0; c < fvEnd; ++c) {
+            const int32_t id = from.faceVertexUvs[c];
+            set.faceVertexUvs.push_back(id >= 0 ? id - int32_t(piece.windowUvFirst) : -1);
+        }
+        m.uvSets.push_back(std::move(set));
+        m.currentUvSet = 0;
+    }
+    m.edges.reserve(piece.windowEdges);
+    for (uint32_t e = piece.edgeFirst; e < piece.edgeEnd; ++e) {
+        const MeshEdge& edge = mesh.edges[e];
+        if (inWindow(piece, edge.v0) && inWindow(piece, edge.v1))
+            m.edges.push_back({edge.v0 - piece.windowPointFirst, edge.v1 - piece.windowPointFirst, edge.smooth});
+    }
+    return w;
+}
+
+namespace {
+
+// triangulateMeshPiece on `mesh`: a whole mesh, or the window `base` describes (base.window).
+// Faces are named by their whole-mesh index below.
+Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const std::vector<uint16_t>& faceMaterial,
+                                bool smoothShading, const std::vector<bool>& degenerate, const MeshPieces& pieces,
+                                size_t pieceIndex) {
     const MeshPiece& piece = pieces.pieces()[pieceIndex];
-    auto keptFace = [&](size_t f) { return faceTriangleBound(mesh, faceMaterial, degenerate, f) > 0; };
+    const uint32_t faceBase = base.faceBase;
+    // The triangle ids face f promises (faceTriangleBound on the whole mesh).
+    auto bound = [&](size_t f) -> uint32_t {
+        const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
+        if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) return 0;
+        const size_t lf = f - faceBase;
+        const uint64_t corners = mesh.faceVertexEnd(lf) - mesh.faceVertexBegin(lf);
+        const uint64_t holes = mesh.holeCount(lf);
+        return corners + 2 * holes >= 3 ? uint32_t(corners + 2 * holes - 2) : 0u;
+    };
+    auto keptFace = [&](size_t f) { return bound(f) > 0; };
+    auto fvBegin = [&](size_t f) { return mesh.faceVertexBegin(f - faceBase); };
+    auto fvEnd = [&](size_t f) { return mesh.faceVertexEnd(f - faceBase); };
 
     // The points of the piece's kept faces, marked; then every face with a corner at a marked point
     // (the piece's faces among them), in face order: the piece's own mesh. Every face around a
@@ -152,17 +246,17 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
     constexpr uint32_t kMarked = kNotLocal - 1;
     for (size_t f = piece.firstFace; f < piece.endFace; ++f)
         if (keptFace(f))
-            for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) local[mesh.faceVertices[c]] = kMarked;
+            for (uint32_t c = fvBegin(f); c < fvEnd(f); ++c) local[mesh.faceVertices[c]] = kMarked;
     std::vector<uint32_t> subFaces;
     for (size_t f = piece.aroundFirst; f < piece.aroundEnd; ++f) {
         bool touches = f >= piece.firstFace && f < piece.endFace;
-        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f) && !touches; ++c)
+        for (uint32_t c = fvBegin(f); c < fvEnd(f) && !touches; ++c)
             touches = local[mesh.faceVertices[c]] == kMarked;
         if (touches) subFaces.push_back(uint32_t(f));
     }
     // Local point ids in ascending global order.
     for (uint32_t f : subFaces)
-        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c)
+        for (uint32_t c = fvBegin(f); c < fvEnd(f); ++c)
             if (local[mesh.faceVertices[c]] == kNotLocal) local[mesh.faceVertices[c]] = kMarked;
     Mesh sub;
     std::vector<uint32_t> globalPoint;
@@ -193,7 +287,7 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
     sub.faceLoopStarts.clear();
     for (uint32_t f : subFaces) {
         sub.faceLoopStarts.push_back(uint32_t(sub.loopStarts.size()));
-        for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
+        for (uint32_t l = mesh.faceLoopStarts[f - faceBase]; l < mesh.faceLoopStarts[f - faceBase + 1]; ++l) {
             sub.loopStarts.push_back(uint32_t(sub.faceVertices.size()));
             for (uint32_t c = mesh.loopStarts[l]; c < mesh.loopStarts[l + 1]; ++c) {
                 sub.faceVertices.push_back(local[mesh.faceVertices[c]]);
@@ -217,7 +311,9 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
     // The mesh's edges between points of the piece's mesh, in their order (the last listing of an
     // edge decides its smoothness, as in the whole mesh). Those that matter have an end at a point
     // of the piece's kept faces, so they lie in the piece's edge range.
-    for (uint32_t k = piece.edgeFirst; k < piece.edgeEnd; ++k) {
+    const uint32_t edgeFirst = base.window ? 0 : piece.edgeFirst;
+    const uint32_t edgeEnd = base.window ? uint32_t(mesh.edges.size()) : piece.edgeEnd;
+    for (uint32_t k = edgeFirst; k < edgeEnd; ++k) {
         const MeshEdge& e = mesh.edges[k];
         if (e.v0 < local.size() && e.v1 < local.size() && local[e.v0] != kNotLocal && local[e.v1] != kNotLocal)
             sub.edges.push_back({local[e.v0], local[e.v1], e.smooth});
@@ -241,9 +337,11 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
                 ownBegin = std::min(ownBegin, lf);
                 ownEnd = lf + 1;
                 faceSlot[lf] = slot;
-                slot += faceTriangleBound(mesh, faceMaterial, degenerate, f);
+                slot += bound(f);
             } else {
-                faceSlot[lf] = pieces.faceSlot(mesh, faceMaterial, degenerate, f);
+                uint32_t s = pieces.strideSlot(f / MeshPieces::kSlotStride);
+                for (size_t g = f - f % MeshPieces::kSlotStride; g < f; ++g) s += bound(g);
+                faceSlot[lf] = s;
             }
         }
     }
@@ -271,7 +369,7 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
     };
     for (size_t lf = ownBegin; lf < ownEnd; ++lf) {
         const uint32_t f = subFaces[lf];
-        const uint32_t promised = faceTriangleBound(mesh, faceMaterial, degenerate, f);
+        const uint32_t promised = bound(f);
         const uint32_t made = firstTriangle[lf + 1] - firstTriangle[lf];
         for (uint32_t t = firstTriangle[lf]; t < firstTriangle[lf + 1]; ++t) {
             for (int k = 0; k < 3; ++k) {
@@ -288,7 +386,7 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
             // A slot the face left unused: a point-sized triangle at one of the face's corners.
             if (spare == kNotLocal) {
                 spare = uint32_t(out.positions.size());
-                out.positions.push_back(mesh.points[mesh.faceOuterLoop(f)[0]]);
+                out.positions.push_back(mesh.points[mesh.faceOuterLoop(f - faceBase)[0]]);
                 out.normals.push_back(glm::vec3(0.0f, 0.0f, 1.0f));
                 if (!whole.uvs.empty()) out.uvs.push_back(glm::vec2(0.0f));
             }
@@ -303,6 +401,19 @@ Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>&
     out.uvs.shrink_to_fit();
     computeTessellationBounds(out);
     return out;
+}
+
+}  // namespace
+
+Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
+                                  const std::vector<bool>& degenerate, const MeshPieces& pieces, size_t piece) {
+    return triangulatePieceIn(mesh, MeshWindow{}, faceMaterial, smoothShading, degenerate, pieces, piece);
+}
+
+Tessellation triangulateMeshPiece(const MeshWindow& window, const std::vector<uint16_t>& faceMaterial,
+                                  bool smoothShading, const std::vector<bool>& degenerate, const MeshPieces& pieces,
+                                  size_t piece) {
+    return triangulatePieceIn(window.mesh, window, faceMaterial, smoothShading, degenerate, pieces, piece);
 }
 
 }  // namespace pushpin::geom

@@ -34,7 +34,29 @@ struct MeshPiece {
     uint64_t aroundFaceVertices = 0;  // face-vertices of the faces [aroundFirst, aroundEnd)
     uint64_t aroundTriangles = 0;     // the triangle ids those faces promise (kept or not)
     uint64_t aroundPoints = 0;        // the points those faces use
+    // What a MeshWindow for the piece holds: the faces [windowFirst, aroundEnd) (windowFirst is
+    // aroundFirst rounded down to a multiple of kSlotStride, so that the slots of every face in it
+    // can be counted), whose face-vertices start at windowFirstFaceVertex and whose points and
+    // current-uv-set uv ids lie in [windowPointFirst, windowPointEnd) and [windowUvFirst,
+    // windowUvEnd), and the edges [edgeFirst, edgeEnd).
+    uint32_t windowFirst = 0;
+    uint64_t windowFirstFaceVertex = 0, windowFaceVertices = 0;
+    uint32_t windowPointFirst = 0, windowPointEnd = 0;
+    uint32_t windowUvFirst = 0, windowUvEnd = 0;
+    uint32_t windowEdges = 0;  // edges of [edgeFirst, edgeEnd) with both ends in the window's points
     Bounds3 bounds;  // of the points of its kept faces
+};
+
+// Part of a mesh, enough to make one of its pieces without the rest: `mesh` holds the whole
+// mesh's faces from faceBase, its points from pointBase and the uvs of its current uv set (as its
+// only set, current) from uvBase, each numbered from its base, and of the piece's edges
+// [edgeFirst, edgeEnd) those with both ends among its points, in their order. Stored normals and
+// the current set's uv ids are kept per face-vertex as the whole mesh has them (no uv set when the
+// whole mesh's current set maps no face).
+struct MeshWindow {
+    Mesh mesh;
+    uint32_t faceBase = 0, pointBase = 0, uvBase = 0;
+    bool window = false;  // false: `mesh` is a whole mesh (every base 0, every edge listed)
 };
 
 class MeshPieces {
@@ -50,7 +72,11 @@ public:
                             const std::vector<bool>& degenerate, uint32_t maxSlots);
 
     const std::vector<MeshPiece>& pieces() const { return m_pieces; }
+    // The first triangle id of face k · kSlotStride.
+    uint32_t strideSlot(size_t k) const { return m_strideSlots[k]; }
     uint64_t slotCount() const { return m_slots; }
+    // Whether the split mesh's current uv set maps faces (its windows then carry uv ids).
+    bool mapsUvs() const { return m_mapsUvs; }
     // The first triangle id of face `f`.
     uint32_t faceSlot(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, const std::vector<bool>& degenerate,
                       size_t f) const;
@@ -62,6 +88,7 @@ private:
     std::vector<MeshPiece> m_pieces;
     std::vector<uint32_t> m_strideSlots;  // faceSlot(k · kSlotStride)
     uint64_t m_slots = 0;
+    bool m_mapsUvs = false;
 };
 
 // The tessellation of piece `piece`: triangle i is the one of slot pieces[piece].firstSlot + i
@@ -70,6 +97,18 @@ private:
 // Arguments as MeshPieces::split took them, and `smoothShading` as triangulateValidMesh takes it.
 Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
                                   const std::vector<bool>& degenerate, const MeshPieces& pieces, size_t piece);
+
+// Whether `point` of the whole mesh is among the points of the piece's window.
+bool inWindow(const MeshPiece& piece, uint32_t point);
+
+// The window of `piece` cut from the whole mesh (what a source that makes windows alone must give).
+MeshWindow cutMeshWindow(const Mesh& mesh, const MeshPiece& piece);
+
+// The same from a window holding the piece's MeshPiece window (faces, edges, points and uvs); the
+// tessellation is the same bit for bit.
+Tessellation triangulateMeshPiece(const MeshWindow& window, const std::vector<uint16_t>& faceMaterial,
+                                  bool smoothShading, const std::vector<bool>& degenerate, const MeshPieces& pieces,
+                                  size_t piece);
 
 // Bytes triangulateMeshPiece holds while it runs besides the mesh and its result, for `piece` of
 // a mesh of `meshPoints` points: the point map over the whole mesh, and the piece's own mesh (its

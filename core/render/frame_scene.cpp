@@ -262,18 +262,28 @@ private:
 };
 
 // A mesh shape evaluated again, on the calling thread's Evaluator, each time it is asked for.
+// A shape that is its stored mesh (scene::storedMeshMakesWindows) makes each piece's window from
+// the stored data alone.
 class EvaluatedMesh final : public geom::MeshSource {
 public:
-    EvaluatedMesh(std::shared_ptr<EvaluatorPool> pool, NodeId shape) : m_pool(std::move(pool)), m_shape(shape) {}
+    EvaluatedMesh(std::shared_ptr<EvaluatorPool> pool, NodeId shape)
+        : m_pool(std::move(pool)), m_shape(shape), m_windows(scene::storedMeshMakesWindows(m_pool->local(), shape)) {}
     std::shared_ptr<const geom::Mesh> mesh() const override {
         scene::MeshEvaluation e = scene::evaluateMeshShape(m_pool->local(), m_shape);
         return std::make_shared<const geom::Mesh>(e.mesh ? std::move(*e.mesh) : geom::Mesh{});
     }
     bool keepsMesh() const override { return false; }
+    bool makesWindows() const override { return m_windows; }
+    std::optional<geom::MeshWindow> window(const geom::MeshPiece& piece, bool mapsUvs,
+                                           uint64_t faceVertexCount) const override {
+        if (!m_windows) return std::nullopt;
+        return scene::decodeStoredMeshWindow(m_pool->local().graph(), m_shape, piece, mapsUvs, faceVertexCount);
+    }
 
 private:
     std::shared_ptr<EvaluatorPool> m_pool;
     NodeId m_shape;
+    bool m_windows;
 };
 
 // Geometry of one shape, evaluated once whatever its number of instances.

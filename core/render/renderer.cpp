@@ -90,7 +90,7 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
 // What making a piece of a shape's tessellation needs beyond the piece itself: the mesh evaluated
 // again (when the shape does not keep it) and the working memory.
 uint64_t transientBytes(const geom::GeometryHandle& h, size_t piece) {
-    return (h.keepsSource() ? 0 : h.meshMakingBytes()) + h.pieceWorkBytesEstimate(piece);
+    return (h.keepsSource() || h.makesPiecesAlone() ? 0 : h.meshMakingBytes()) + h.pieceWorkBytesEstimate(piece);
 }
 
 // ---------------------------------------------------------------- per-object view data
@@ -609,7 +609,7 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
             [&] {
                 // A shape in pieces that does not keep its mesh has it made once for the pieces
                 // made while it stays resident.
-                const bool shareMesh = handle->pieceCount() > 1 && !handle->keepsSource();
+                const bool shareMesh = handle->pieceCount() > 1 && !handle->keepsSource() && !handle->makesPiecesAlone();
                 std::optional<MeshCache::Pin> mesh;
                 if (shareMesh) {
                     mesh = m_meshes.tryAcquire(

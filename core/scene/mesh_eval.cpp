@@ -1039,6 +1039,66 @@ void guardedEvaluation(MeshEvaluation& out, const std::string& label, Evaluate&&
 
 }  // namespace
 
+namespace {
+
+// The stored uv sets of a shape in the order a decoded mesh has them: the multi indices k of its
+// uvSet[k] attributes, ascending.
+std::vector<uint32_t> storedUvSetIndices(const Node& node) {
+    std::vector<uint32_t> out;
+    for (const auto& [key, data] : node.attrs)
+        if (std::optional<uint32_t> k = leadingIndex(key, "uvSet[")) out.push_back(*k);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+// The name of stored uv set `k` at position `position`: its uvSetName, else map1 / uvSetN.
+std::string storedUvSetName(const Graph& g, NodeId shape, uint32_t k, size_t position) {
+    if (const AttrData* name = g.findAttr(shape, "uvSet[" + std::to_string(k) + "].uvSetName"); name && name->hasValue)
+        if (const StringValue* s = std::get_if<StringValue>(&name->value); s && !s->text.empty()) return s->text;
+    return position == 0 ? "map1" : "uvSet" + std::to_string(position);
+}
+
+// A stored normal made unit length; zero ("not set, compute") for Maya's 1e20 and for one that
+// cannot be.
+glm::vec3 storedNormal(const double* v) {
+    const glm::dvec3 d(v[0], v[1], v[2]);
+    const double len = glm::length(d);
+    if (std::abs(d.x) >= kUnsetNormal || std::abs(d.y) >= kUnsetNormal || std::abs(d.z) >= kUnsetNormal ||
+        !(len > 0.0) || !std::isfinite(len))
+        return glm::vec3(0.0f);
+    return glm::vec3(d / len);
+}
+
+// Calls fn(index, values, width) for the stored numeric elements of `a` in [first, end).
+template <class F>
+void forEachNumericIn(const AttrData& a, uint64_t first, uint64_t end, F&& fn) {
+    const auto& runs = a.multi.runs();
+    auto it = runs.upper_bound(uint32_t(std::min<uint64_t>(first, UINT32_MAX)));
+    if (it != runs.begin()) --it;
+    double element[kMaxCompactWidth];
+    for (; it != runs.end() && it->first < end; ++it) {
+        const Numbers* nums = std::get_if<Numbers>(&it->second.value);
+        if (!nums || it->second.width <= 0 || (nums->values.empty() && size_t(it->second.width) > kMaxCompactWidth))
+            continue;
+        const size_t width = size_t(it->second.width);
+        const uint64_t from = std::max<uint64_t>(first, it->first);
+        const uint64_t to = std::min<uint64_t>(end, uint64_t(it->first) + it->second.count);
+        for (uint64_t i = from; i < to; ++i) {
+            const size_t k = size_t(i - it->first);
+            if ((k + 1) * width > nums->size()) break;
+            if (!nums->values.empty()) {
+                fn(i, nums->values.data() + k * width, int(width));
+            } else {
+                nums->copyTo(k * width, width, element);
+                fn(i, static_cast<const double*>(element), int(width));
+            }
+        }
+    }
+}
+
+}  // namespace
+
 bool hasStoredMesh(const Graph& graph, NodeId meshShape) {
     if (meshShape >= graph.size()) return false;
     const AttrData* vt = attrOf(graph, meshShape, "vrts");
@@ -1086,18 +1146,12 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
 
     // UV sets: uvSet[k].uvSetName / uvSetPoints, or the older uvpt.
     std::map<uint32_t, size_t> uvSetByIndex;  // multi index → position in mesh.uvSets
-    for (const auto& [key, data] : node.attrs) {
-        std::optional<uint32_t> k = leadingIndex(key, "uvSet[");
-        if (!k || uvSetByIndex.count(*k)) continue;
-        uvSetByIndex[*k] = 0;
-    }
-    size_t position = 0;
-    for (auto& [k, pos] : uvSetByIndex) {
-        pos = position++;
+    for (uint32_t k : storedUvSetIndices(node)) {
+        const size_t position = uvSetByIndex.size();
+        uvSetByIndex[k] = position;
         geom::UvSet set;
+        set.name = storedUvSetName(g, shape, k, position);
         const std::string base = "uvSet[" + std::to_string(k) + "].";
-        if (const AttrData* name = g.findAttr(shape, base + "uvSetName"); name && name->hasValue)
-            if (const StringValue* s = std::get_if<StringValue>(&name->value)) set.name = s->text;
         if (const AttrData* pts = g.findAttr(shape, base + "uvSetPoints")) {
             if (pts->multi.endIndex() > kMaxElements) return fail(who + "uv index too large");
             set.uvs.assign(pts->multi.endIndex(), glm::vec2(0.0f));
@@ -1120,8 +1174,6 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
             });
         }
     }
-    for (size_t s = 0; s < mesh.uvSets.size(); ++s)
-        if (mesh.uvSets[s].name.empty()) mesh.uvSets[s].name = s == 0 ? "map1" : "uvSet" + std::to_string(s);
     const std::string current = g.getString(shape, "currentUVSet");
     for (size_t s = 0; s < mesh.uvSets.size(); ++s)
         if (mesh.uvSets[s].name == current) mesh.currentUvSet = int(s);
@@ -1255,13 +1307,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         if (n->multi.endIndex() == mesh.faceVertices.size()) {
             mesh.normals.assign(mesh.faceVertices.size(), glm::vec3(0.0f));
             forEachNumeric(*n, [&](uint64_t i, const double* v, int w) {
-                if (w < 3) return;
-                const glm::dvec3 d(v[0], v[1], v[2]);
-                const double len = glm::length(d);
-                if (std::abs(d.x) >= kUnsetNormal || std::abs(d.y) >= kUnsetNormal || std::abs(d.z) >= kUnsetNormal ||
-                    !(len > 0.0) || !std::isfinite(len))
-                    return;  // "not set, compute"
-                mesh.normals[i] = glm::vec3(d / len);
+                if (w >= 3) mesh.normals[i] = storedNormal(v);
             });
         } else {
             note(std::to_string(n->multi.endIndex()) + " normals for " + std::to_string(mesh.faceVertices.size()) +
@@ -1272,6 +1318,152 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     const geom::MeshValidation v = mesh.validate();
     if (!v.ok()) return fail(who + v.errors.front());
     return mesh;
+}
+
+bool storedMeshMakesWindows(Evaluator& ev, NodeId shape) {
+    const Graph& g = ev.graph();
+    if (shape >= g.size() || g.node(shape).type != "mesh" || !hasStoredMesh(g, shape)) return false;
+    if (inputPlug(g, shape, {"inMesh", "i"}) || ev.getInt(shape, "dsm", 0) != 0) return false;
+    if (!vectorElements(ev, shape, keyOf(g, shape, "pnts"), 3).empty()) return false;
+    if (const AttrData* old = attrOf(g, shape, "uvpt"); old && !old->multi.empty()) return false;
+    // Faces from one plain record, or from records that follow one another from face 0.
+    const AttrData* fc = attrOf(g, shape, "face");
+    if (fc->hasValue) {
+        const auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(&fc->value);
+        return fc->multi.empty() && pf && *pf;
+    }
+    uint64_t next = 0;
+    for (const auto& [first, run] : fc->multi.runs()) {
+        const auto* pf = std::get_if<std::shared_ptr<const PolyFaces>>(&run.value);
+        if (!pf || !*pf || first != next) return false;
+        next = uint64_t(first) + (*pf)->faceCount();
+    }
+    return next > 0 && next <= kMaxElements;
+}
+
+std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId shape, const geom::MeshPiece& piece,
+                                                       bool mapsUvs, uint64_t faceVertexCount) {
+    if (shape >= g.size()) return std::nullopt;
+    const Node& node = g.node(shape);
+    const AttrData* vt = attrOf(g, shape, "vrts");
+    const AttrData* fc = attrOf(g, shape, "face");
+    if (!vt || !fc) return std::nullopt;
+    geom::MeshWindow w;
+    w.window = true;
+    w.faceBase = piece.windowFirst;
+    w.pointBase = piece.windowPointFirst;
+    w.uvBase = piece.windowUvFirst;
+    geom::Mesh& mesh = w.mesh;
+
+    // Points, as decodeStoredMesh reads them.
+    mesh.points.assign(piece.windowPointEnd - piece.windowPointFirst, glm::vec3(0.0f));
+    forEachNumericIn(*vt, piece.windowPointFirst, piece.windowPointEnd, [&](uint64_t i, const double* v, int width) {
+        if (width >= 3) mesh.points[i - piece.windowPointFirst] = glm::vec3(float(v[0]), float(v[1]), float(v[2]));
+    });
+    // Edge `index` as decodeStoredMesh makes it: unset elements are {0, 0, smooth}.
+    const AttrData* ed = attrOf(g, shape, "edge");
+    std::vector<double> element;
+    auto edgeAt = [&](uint32_t index) {
+        geom::MeshEdge e;
+        if (ed && ed->multi.numbers(index, element) && element.size() >= 2)
+            e = {uint32_t(element[0]), uint32_t(element[1]), element.size() >= 3 ? element[2] != 0.0 : true};
+        return e;
+    };
+    // The piece's edges between window points, in order (read run by run; an unset edge joins
+    // point 0 to itself).
+    mesh.edges.reserve(piece.windowEdges);
+    if (ed) {
+        uint64_t next = piece.edgeFirst;
+        auto unsetUpTo = [&](uint64_t end) {
+            for (; next < end; ++next)
+                if (geom::inWindow(piece, 0)) mesh.edges.push_back({0, 0, true});
+        };
+        forEachNumericIn(*ed, piece.edgeFirst, piece.edgeEnd, [&](uint64_t i, const double* v, int width) {
+            unsetUpTo(i);
+            next = i + 1;
+            if (width < 2) return;
+            const uint32_t a = uint32_t(v[0]), b = uint32_t(v[1]);
+            if (geom::inWindow(piece, a) && geom::inWindow(piece, b))
+                mesh.edges.push_back({a - piece.windowPointFirst, b - piece.windowPointFirst, width >= 3 ? v[2] != 0.0 : true});
+        });
+        unsetUpTo(piece.edgeEnd);
+    }
+
+    // The current uv set: its multi index, its uv count and its values in the window's range.
+    int32_t currentSet = -1;
+    size_t uvCount = 0;
+    if (mapsUvs) {
+        const std::vector<uint32_t> sets = storedUvSetIndices(node);
+        if (sets.empty()) return std::nullopt;
+        const std::string current = g.getString(shape, "currentUVSet");
+        size_t position = 0;
+        for (size_t s = 0; s < sets.size(); ++s)
+            if (storedUvSetName(g, shape, sets[s], s) == current) position = s;
+        currentSet = int32_t(sets[position]);
+        geom::UvSet set;
+        set.name = storedUvSetName(g, shape, sets[position], position);
+        if (const AttrData* pts = g.findAttr(shape, "uvSet[" + std::to_string(currentSet) + "].uvSetPoints")) {
+            if (pts->multi.endIndex() > kMaxElements) return std::nullopt;
+            uvCount = pts->multi.endIndex();
+            set.uvs.assign(piece.windowUvEnd - piece.windowUvFirst, glm::vec2(0.0f));
+            forEachNumericIn(*pts, piece.windowUvFirst, piece.windowUvEnd, [&](uint64_t i, const double* v, int width) {
+                if (width >= 2) set.uvs[i - piece.windowUvFirst] = glm::vec2(float(v[0]), float(v[1]));
+            });
+        }
+        mesh.uvSets.push_back(std::move(set));
+        mesh.currentUvSet = 0;
+    }
+
+    // Faces [windowFirst, aroundEnd): their loops' start points, and the current set's uv ids.
+    mesh.loopStarts.clear();
+    mesh.faceLoopStarts.clear();
+    std::vector<int32_t>* uvIds = mapsUvs ? &mesh.uvSets[0].faceVertexUvs : nullptr;
+    for (uint32_t f = piece.windowFirst; f < piece.aroundEnd; ++f) {
+        const PolyFaces* pf = nullptr;
+        size_t at = f;
+        if (fc->hasValue) {
+            pf = std::get<std::shared_ptr<const PolyFaces>>(fc->value).get();
+        } else if (uint32_t off = 0; const MultiStore::Run* run = fc->multi.find(f, &off)) {
+            pf = std::get<std::shared_ptr<const PolyFaces>>(run->value).get();
+            at = off;
+        }
+        if (!pf || at >= pf->faceCount()) return std::nullopt;
+        mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size()));
+        for (size_t loop : pf->loops(at)) {
+            mesh.loopStarts.push_back(uint32_t(mesh.faceVertices.size()));
+            const size_t base = mesh.faceVertices.size();
+            const std::span<const int32_t> loopEdges = pf->edges(loop);
+            for (const int32_t e : loopEdges) {
+                const geom::MeshEdge edge = edgeAt(e >= 0 ? uint32_t(e) : uint32_t(~e));
+                const uint32_t p = e >= 0 ? edge.v0 : edge.v1;
+                if (!geom::inWindow(piece, p)) return std::nullopt;
+                mesh.faceVertices.push_back(p - piece.windowPointFirst);
+            }
+            if (!uvIds) continue;
+            uvIds->resize(mesh.faceVertices.size(), -1);
+            for (size_t k = 0; k < pf->uvCount(loop); ++k) {
+                const PolyFaces::Uv uv = pf->uv(loop, k);
+                if (uv.set != currentSet) continue;
+                for (size_t i = 0; i < uv.ids.size() && i < loopEdges.size(); ++i) {
+                    const int32_t id = uv.ids[i];
+                    if (id < 0 || size_t(id) >= uvCount) continue;
+                    (*uvIds)[base + i] = id - int32_t(piece.windowUvFirst);
+                }
+            }
+        }
+    }
+    mesh.loopStarts.push_back(uint32_t(mesh.faceVertices.size()));
+    mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size() - 1));
+
+    // Stored normals of the window's face-vertices, when the shape has one for each face-vertex.
+    if (const AttrData* n = attrOf(g, shape, "normals"); n && !n->multi.empty() && n->multi.endIndex() == faceVertexCount) {
+        const uint64_t first = piece.windowFirstFaceVertex, end = first + mesh.faceVertices.size();
+        mesh.normals.assign(mesh.faceVertices.size(), glm::vec3(0.0f));
+        forEachNumericIn(*n, first, end, [&](uint64_t i, const double* v, int width) {
+            if (width >= 3) mesh.normals[i - first] = storedNormal(v);
+        });
+    }
+    return w;
 }
 
 MeshEvaluation evaluateMeshShape(Evaluator& ev, NodeId meshShape) {

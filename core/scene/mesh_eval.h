@@ -17,6 +17,7 @@
 #pragma once
 
 #include "core/geom/mesh.h"
+#include "core/geom/mesh_pieces.h"
 #include "core/geom/poly_primitives.h"
 #include "core/scene/evaluator.h"
 #include "core/scene/graph.h"
@@ -82,5 +83,18 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& graph, NodeId meshShape,
 
 // True when the shape stores its own geometry (.vt and .fc).
 bool hasStoredMesh(const Graph& graph, NodeId meshShape);
+
+// Whether evaluateMeshShape gives the shape's stored mesh as decodeStoredMesh decodes it (no
+// history, no point tweaks, no smooth mesh preview), from face records that follow one another
+// from face 0 and uvs in uvSet[k].uvSetPoints: then decodeStoredMeshWindow can make any part of it.
+bool storedMeshMakesWindows(Evaluator& ev, NodeId meshShape);
+
+// The window of `piece` (split from the whole decoded mesh, which has `faceVertexCount`
+// face-vertices; `mapsUvs` when its current uv set maps faces) decoded from the stored data
+// alone: geom::cutMeshWindow of the whole mesh, without making the rest. nullopt when the stored
+// data does not hold it.
+std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& graph, NodeId meshShape,
+                                                       const geom::MeshPiece& piece, bool mapsUvs,
+                                                       uint64_t faceVertexCount);
 
 }  // namespace pushpin::scene

@@ -136,6 +136,26 @@ void expectPiecesMatchWhole(const Case& c, bool smooth, uint32_t maxSlots) {
     for (size_t k = 0; k < pieces.pieces().size(); ++k) {
         made.push_back(triangulateMeshPiece(m, c.material, smooth, c.degenerate, pieces, k));
         const MeshPiece& p = pieces.pieces()[k];
+        // Made from its window alone, the piece is the same bit for bit.
+        const MeshWindow window = cutMeshWindow(m, p);
+        EXPECT_LE(window.faceBase, p.aroundFirst);
+        EXPECT_EQ(window.faceBase % MeshPieces::kSlotStride, 0u);
+        EXPECT_EQ(window.mesh.faceCount(), p.aroundEnd - window.faceBase);
+        const Tessellation alone = triangulateMeshPiece(window, c.material, smooth, c.degenerate, pieces, k);
+        const Tessellation& t = made.back();
+        EXPECT_EQ(alone.corners, t.corners) << "piece " << k;
+        EXPECT_EQ(alone.neighbors, t.neighbors) << "piece " << k;
+        EXPECT_EQ(alone.face, t.face) << "piece " << k;
+        EXPECT_EQ(alone.material, t.material) << "piece " << k;
+        ASSERT_EQ(alone.positions.size(), t.positions.size());
+        ASSERT_EQ(alone.uvs.size(), t.uvs.size());
+        for (size_t v = 0; v < t.positions.size(); ++v) {
+            EXPECT_TRUE(sameBits(alone.positions[v], t.positions[v])) << "piece " << k << " vertex " << v;
+            EXPECT_TRUE(sameBits(alone.normals[v], t.normals[v])) << "piece " << k << " vertex " << v;
+            if (!t.uvs.empty()) {
+                EXPECT_TRUE(sameBits(alone.uvs[v], t.uvs[v])) << "piece " << k << " vertex " << v;
+            }
+        }
         ASSERT_EQ(made.back().triangleCount(), p.slotCount);
         for (int a = 0; a < 3; ++a) {
             EXPECT_GE(made.back().bounds.lo[a], p.bounds.lo[a]);
@@ -241,6 +261,18 @@ TEST(MeshPieces, APieceNeedsOnlyTheFacesAroundIt) {
         EXPECT_LE(t.vertexCount(), 3 * t.triangleCount());
         vertices += t.vertexCount();
     }
+    // A piece's window holds the rows of faces around it, not the grid: over all pieces a few times
+    // the grid (the odd faces at the end, which touch points of every row, widen some windows).
+    size_t windowFaces = 0, windowPoints = 0, windowEdges = 0;
+    for (const MeshPiece& p : pieces.pieces()) {
+        const MeshWindow window = cutMeshWindow(c.mesh, p);
+        windowFaces += window.mesh.faceCount();
+        windowPoints += window.mesh.points.size();
+        windowEdges += window.mesh.edges.size();
+    }
+    EXPECT_LT(windowFaces, 4 * c.mesh.faceCount());
+    EXPECT_LT(windowPoints, 4 * c.mesh.points.size());
+    EXPECT_LT(windowEdges, 4 * c.mesh.edges.size());
     // Vertices on the nine piece borders are made on both sides: under a tenth more than the whole.
     EXPECT_GE(vertices, whole.vertexCount());
     EXPECT_LT(double(vertices), 1.1 * double(whole.vertexCount()));

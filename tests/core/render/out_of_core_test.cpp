@@ -12,6 +12,7 @@
 #include "core/scene/ma_reader.h"
 #include "core/scene/render_setup.h"
 #include "tests/support/ma_preamble.h"
+#include "tests/support/stored_grid.h"
 
 #include <gtest/gtest.h>
 
@@ -300,6 +301,77 @@ TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
                 EXPECT_LE(st.tessellationsMade, pieces->pieceCount() + 1);
                 EXPECT_EQ(st.tessellationsRecomputed, 0u);
             }
+            EXPECT_EQ(st.triangles, wholeStats.triangles);
+        }
+    }
+}
+
+TEST(OutOfCore, AStoredMeshInPiecesIsNeverMadeWhole) {
+    // A stored 80 × 60 grid (9,601 faces) tilted towards the camera, shown twice, a sphere in front.
+    const std::string text = test::maPreamble(7) + R"(createNode transform -n "sun";
+	setAttr ".r" -type "double3" -40 30 0;
+createNode directionalLight -n "sunShape" -p "sun";
+)" + test::greyShadingGroup() +
+                             test::storedGridMesh("ground", 80, 60, "\".dsm\" 0;", false,
+                                                  "\tsetAttr \".t\" -type \"double3\" -4 -2 0;\n"
+                                                  "\tsetAttr \".r\" -type \"double3\" 60 0 15;\n") +
+                             R"(connectAttr "groundShape.iog" "greySG.dsm" -na;
+createNode transform -n "again";
+	setAttr ".t" -type "double3" -2 -2.5 -2;
+	setAttr ".r" -type "double3" 70 0 -10;
+parent -s -nc -r -add "|ground|groundShape" "again";
+connectAttr "groundShape.iog[1]" "greySG.dsm" -na;
+createNode transform -n "ball";
+	setAttr ".t" -type "double3" -0.8 0.3 1.5;
+createNode mesh -n "ballShape" -p "ball";
+createNode polySphere -n "ballCreator";
+	setAttr ".r" 1.1;
+connectAttr "ballCreator.out" "ballShape.i";
+connectAttr "ballShape.iog" "greySG.dsm" -na;
+)";
+    const scene::Graph graph = scene::MaReader::readString(text, "stored.ma");
+    const scene::RenderSetup setup = scene::extractRenderSetup(graph);
+    scene::Evaluator ev(graph, 1.0);
+    RenderSettings settings;
+    settings.width = 120;
+    settings.height = 90;
+    settings.deviceAspectRatio = 120.0 / 90.0;
+    settings.tileWidth = settings.tileHeight = 16;
+    settings.forceTileSize = true;
+    settings.maximumMemoryBytes = uint64_t(1) << 40;  // meshes are made on demand, not kept
+    FrameScene whole = buildFrameScene(ev, setup, settings);
+    settings.maximumMemoryBytes = 0;
+    ASSERT_EQ(whole.objects.size(), 3u);
+    const RenderCamera camera = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), 120, 90, 120.0 / 90.0);
+    const std::shared_ptr<const geom::GeometryHandle> grid = whole.objects[0].geometry;
+    ASSERT_EQ(whole.objects[1].geometry, grid);
+    ASSERT_FALSE(grid->keepsSource());
+    const std::shared_ptr<const geom::GeometryHandle> pieces = grid->withPieces(700);
+    ASSERT_GE(pieces->pieceCount(), 14u);
+    ASSERT_TRUE(pieces->makesPiecesAlone());
+    // Making a piece needs its window, not the grid.
+    for (size_t k = 0; k < pieces->pieceCount(); ++k) EXPECT_LT(pieces->pieceWorkBytesEstimate(k), grid->meshMakingBytes());
+    FrameScene pieced = whole;
+    pieced.objects[0].geometry = pieced.objects[1].geometry = pieces;
+
+    RenderStats wholeStats;
+    const Framebuffer reference = renderFrame(whole, camera, settings, wholeStats);
+    EXPECT_GT(wholeStats.trianglesRasterized, 5000u);
+    const FrameMemory need = frameMemory(pieced, camera, settings, {}, 2);
+    for (const int threads : {1, 2}) {
+        for (const uint64_t extra :
+             {uint64_t(0), uint64_t(threads) * need.largestTransientBytes + 10 * need.largestTessellationBytes}) {
+            RenderSettings s = settings;
+            s.numCpusToUse = threads;
+            const FrameMemory n = frameMemory(pieced, camera, s, {}, threads);
+            MemoryBudget budget(extra ? n.totalBytes() + kFragmentRoom + extra : 0);
+            RenderStats st;
+            RenderOptions options;
+            options.memoryBudget = &budget;
+            const Framebuffer image = renderFrame(pieced, camera, s, st, options);
+            EXPECT_TRUE(sameImage(image, reference)) << threads << " threads, " << extra << " bytes over the buffers";
+            EXPECT_EQ(budget.usedBytes(), 0u);
+            EXPECT_EQ(st.meshesMade, 0u);  // no piece needed the whole grid
             EXPECT_EQ(st.triangles, wholeStats.triangles);
         }
     }

@@ -1,11 +1,13 @@
 // Tests for core/scene/mesh_eval.h: stored mesh data, construction history and skips.
 #include "core/scene/mesh_eval.h"
 
+#include "core/geom/mesh_pieces.h"
 #include "core/geom/poly_primitives.h"
 #include "core/scene/components.h"
 #include "core/scene/ma_reader.h"
 
 #include "tests/support/ma_corpus.h"
+#include "tests/support/stored_grid.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -1026,6 +1028,81 @@ connectAttr "polyDelEdge1.out" "pieceShape.i";
     e = evaluate(g, g.find("pieceShape"));
     EXPECT_FALSE(e.mesh);
     EXPECT_NE(e.skipReason.find("shell"), std::string::npos) << e.skipReason;
+}
+
+
+// ------------------------------------------------------------------ windows of a stored mesh
+
+TEST(MeshEval, AStoredMeshMakesEachPieceFromItsOwnWindow) {
+    const Graph g = MaReader::readString(test::storedGridMesh("grid", 30, 20, "\".dsm\" 0;"));
+    const NodeId shape = g.find("gridShape");
+    Evaluator ev(g, 1.0);
+    ASSERT_TRUE(storedMeshMakesWindows(ev, shape));
+    std::string error;
+    const std::optional<geom::Mesh> mesh = decodeStoredMesh(g, shape, &error);
+    ASSERT_TRUE(mesh) << error;
+    ASSERT_TRUE(mesh->validate().ok());
+    ASSERT_EQ(mesh->normals.size(), mesh->faceVertexCount());
+    ASSERT_EQ(mesh->currentUvSet, 1);
+    const std::vector<uint16_t> material;
+    const std::vector<bool> degenerate;
+    for (uint32_t maxSlots : {1u, 30u, 100u, 450u}) {
+        const geom::MeshPieces pieces = geom::MeshPieces::split(*mesh, material, degenerate, maxSlots);
+        ASSERT_TRUE(pieces.mapsUvs());
+        ASSERT_GE(pieces.pieces().size(), 3u);
+        for (size_t k = 0; k < pieces.pieces().size(); ++k) {
+            const geom::MeshPiece& piece = pieces.pieces()[k];
+            const geom::MeshWindow cut = geom::cutMeshWindow(*mesh, piece);
+            const std::optional<geom::MeshWindow> made =
+                decodeStoredMeshWindow(g, shape, piece, pieces.mapsUvs(), mesh->faceVertexCount());
+            ASSERT_TRUE(made) << "piece " << k;
+            const geom::Mesh& a = made->mesh;
+            const geom::Mesh& b = cut.mesh;
+            EXPECT_EQ(made->faceBase, cut.faceBase);
+            EXPECT_EQ(made->pointBase, cut.pointBase);
+            EXPECT_EQ(made->uvBase, cut.uvBase);
+            EXPECT_EQ(a.points, b.points) << "piece " << k;
+            EXPECT_EQ(a.faceVertices, b.faceVertices) << "piece " << k;
+            EXPECT_EQ(a.loopStarts, b.loopStarts) << "piece " << k;
+            EXPECT_EQ(a.faceLoopStarts, b.faceLoopStarts) << "piece " << k;
+            EXPECT_EQ(a.normals, b.normals) << "piece " << k;
+            ASSERT_EQ(a.edges.size(), b.edges.size()) << "piece " << k;
+            for (size_t e = 0; e < a.edges.size(); ++e) {
+                EXPECT_EQ(a.edges[e].v0, b.edges[e].v0);
+                EXPECT_EQ(a.edges[e].v1, b.edges[e].v1);
+                EXPECT_EQ(a.edges[e].smooth, b.edges[e].smooth);
+            }
+            ASSERT_EQ(a.uvSets.size(), 1u);
+            ASSERT_EQ(b.uvSets.size(), 1u);
+            EXPECT_EQ(a.uvSets[0].name, "cur");
+            EXPECT_EQ(a.uvSets[0].name, b.uvSets[0].name);
+            EXPECT_EQ(a.uvSets[0].uvs, b.uvSets[0].uvs) << "piece " << k;
+            EXPECT_EQ(a.uvSets[0].faceVertexUvs, b.uvSets[0].faceVertexUvs) << "piece " << k;
+            // And so the same triangles as the piece made from the whole mesh.
+            const geom::Tessellation whole = geom::triangulateMeshPiece(*mesh, material, true, degenerate, pieces, k);
+            const geom::Tessellation alone = geom::triangulateMeshPiece(*made, material, true, degenerate, pieces, k);
+            EXPECT_EQ(alone.corners, whole.corners);
+            EXPECT_EQ(alone.neighbors, whole.neighbors);
+            EXPECT_EQ(alone.positions, whole.positions);
+            EXPECT_EQ(alone.normals, whole.normals);
+            EXPECT_EQ(alone.uvs, whole.uvs);
+        }
+    }
+}
+
+TEST(MeshEval, OnlyAShapeThatIsItsStoredMeshMakesWindows) {
+    auto makesWindows = [](const std::string& text) {
+        const Graph g = MaReader::readString(text);
+        Evaluator ev(g, 1.0);
+        return storedMeshMakesWindows(ev, g.find("gridShape"));
+    };
+    EXPECT_TRUE(makesWindows(test::storedGridMesh("grid", 30, 20, "\".dsm\" 0;")));
+    EXPECT_FALSE(makesWindows(test::storedGridMesh("grid", 30, 20, "\".dsm\" 1;")));                       // smooth mesh preview
+    EXPECT_FALSE(makesWindows(test::storedGridMesh("grid", 30, 20, "\".pt[3]\" -type \"float3\" 0 0 0;")));  // a point tweak
+    EXPECT_FALSE(makesWindows(test::storedGridMesh("grid", 30, 20, "\".uvpt[0]\" -type \"float2\" 0 0;")));  // the old uv layout
+    EXPECT_FALSE(makesWindows(test::storedGridMesh("grid", 30, 20, "\".dsm\" 0;", true)));                  // faces without records
+    EXPECT_FALSE(makesWindows(test::storedGridMesh("grid", 30, 20, "\".dsm\" 0;") +
+                              "createNode polyCube -n \"cube\";\nconnectAttr \"cube.out\" \"gridShape.i\";\n"));
 }
 
 }  // namespace
