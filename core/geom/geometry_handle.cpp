@@ -71,6 +71,7 @@ void GeometryHandle::measureMesh(const Mesh& mesh) {
     m_meshPoints = mesh.points.size();
     m_meshFaces = mesh.faceCount();
     m_meshFaceVertices = mesh.faceVertexCount();
+    m_meshNormals = mesh.normals.size() == mesh.faceVertexCount();
     if (m_pieceTriangles > 0 && m_triangles > m_pieceTriangles && m_triangles < uint64_t(kHardNeighborBit) - 1) {
         // The piece table and the points used read the mesh side by side (isolated: a thread
         // waiting here takes no other work of its caller's).
@@ -206,7 +207,7 @@ uint64_t GeometryHandle::pieceBytesEstimate(size_t k) const {
 uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
     if (!m_pieces) return m_workBytes;
     const MeshPiece& p = m_pieces->pieces()[k];
-    if (!makesPiecesAlone()) return meshPieceWorkBytes(p, m_meshPoints, m_smooth);
+    if (!makesPiecesAlone()) return meshPieceWorkBytes(p, m_meshPoints, m_smooth, m_meshNormals, m_pieces->mapsUvs());
     // The window (its points, face-vertices with normals and uv ids, loop and face starts, edges
     // and uvs) and the piece made from it, whose point map covers the window's points.
     const uint64_t faces = p.aroundEnd - p.windowFirst;
@@ -214,8 +215,9 @@ uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
     const uint64_t window = meshArrayBytes(p.windowPointEnd - p.windowPointFirst, faceVertices, 2 * (faces + 1),
                                            p.windowEdges, p.windowUvEnd - p.windowUvFirst,
                                            m_pieces->mapsUvs() ? faceVertices : 0) +
-                            faceVertices * sizeof(glm::vec3);
-    return window + meshPieceWorkBytes(p, p.windowPointEnd - p.windowPointFirst, m_smooth);
+                            (m_meshNormals ? faceVertices * sizeof(glm::vec3) : 0);
+    return window + meshPieceWorkBytes(p, p.windowPointEnd - p.windowPointFirst, m_smooth, m_meshNormals,
+                                       m_pieces->mapsUvs());
 }
 
 Tessellation GeometryHandle::tessellatePiece(size_t k, std::string* problem) const {

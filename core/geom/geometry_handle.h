@@ -163,6 +163,7 @@ private:
     uint64_t m_sourceBytes = 0;
     uint64_t m_workBytes = 0;
     uint64_t m_meshPoints = 0, m_meshFaces = 0, m_meshFaceVertices = 0;
+    bool m_meshNormals = false;  // the mesh has stored normals (per face-vertex)
     uint32_t m_pieceTriangles = kPieceTriangles;
     std::shared_ptr<const MeshPieces> m_pieces;  // null: one piece
 };

@@ -153,7 +153,7 @@ uint32_t MeshPieces::faceSlot(const Mesh& mesh, const std::vector<uint16_t>& fac
     return slot;
 }
 
-uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool smoothShading) {
+uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool smoothShading, bool normals, bool uvs) {
     const uint64_t fv = piece.aroundFaceVertices, points = piece.aroundPoints, t = piece.aroundTriangles;
     const uint64_t faces = piece.aroundEnd - piece.aroundFirst;
     // The point map; the piece's mesh (points, face-vertices with their normals and uv ids, loop
@@ -161,10 +161,12 @@ uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool sm
     // of position, normal and uv; corners, face, material, neighbours, cluster bounds); the
     // slot and vertex maps.
     const uint64_t pointMap = meshPoints * sizeof(uint32_t);
-    const uint64_t mesh = points * (sizeof(glm::vec3) + 3 * sizeof(MeshEdge) + 2 * sizeof(glm::vec2) + sizeof(int32_t)) +
-                          fv * (3 * sizeof(uint32_t) + sizeof(glm::vec3)) + 2 * (faces + 1) * sizeof(uint32_t);
+    const uint64_t uvBytes = uvs ? 2 * sizeof(glm::vec2) + sizeof(int32_t) : 0;
+    const uint64_t mesh = points * (sizeof(glm::vec3) + 3 * sizeof(MeshEdge) + uvBytes) +
+                          fv * (sizeof(uint32_t) + (uvs ? sizeof(int32_t) : 0) + (normals ? sizeof(glm::vec3) : 0)) +
+                          2 * (faces + 1) * sizeof(uint32_t);
     const uint64_t vertices = points + points / 8;
-    const uint64_t tessellation = vertices * 32 + t * (7 * sizeof(uint32_t) + sizeof(uint16_t) + 1);
+    const uint64_t tessellation = vertices * (uvs ? 32 : 24) + t * (7 * sizeof(uint32_t) + sizeof(uint16_t) + 1);
     // triangulateValidMesh's working memory, phase by phase (GeometryHandle's estimate).
     const uint64_t edges = 3 * points;
     const uint64_t normalsPhase =

@@ -114,6 +114,8 @@ Tessellation triangulateMeshPiece(const MeshWindow& window, const std::vector<ui
 // a mesh of `meshPoints` points: the point map over the whole mesh, and the piece's own mesh (its
 // faces and those around its points: at most aroundFaceVertices face-vertices, aroundPoints points
 // and aroundTriangles triangles) with its whole tessellation and that tessellation's working memory.
-uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool smoothShading);
+// `normals` and `uvs`: whether the mesh has stored normals and a current uv set that maps faces.
+uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool smoothShading, bool normals = true,
+                            bool uvs = true);
 
 }  // namespace pushpin::geom

@@ -7,6 +7,7 @@
 #include "core/render/visibility.h"
 #include "core/render/visible_set.h"
 #include "core/util/json_writer.h"
+#include "core/util/process_memory.h"
 
 #include "cache/error.h"
 #include "cache/lru_cache.h"
@@ -326,6 +327,7 @@ private:
     uint64_t m_perThreadBytes = 0;          // the share of each worker's buffers charged up front
     std::atomic<uint64_t> m_trianglesMade{0};
     std::atomic<uint64_t> m_droppedReturned{0};  // bytes the caches had dropped at the last return
+    std::atomic<uint64_t> m_transientFreed{0};   // bytes charged while tessellations were made
     int m_marginLeft = 0, m_marginRight = 0, m_marginTop = 0, m_marginBottom = 0;
     bool m_adaptive = false;
     Framebuffer m_frame;
@@ -628,6 +630,7 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
                 const cache::MemoryCharge room = takeRoom(making);
                 geom::Tessellation t = shareMesh ? handle->tessellatePiece(piece, ***mesh) : handle->tessellatePiece(piece);
                 m_trianglesMade.fetch_add(t.triangleCount(), std::memory_order_relaxed);
+                m_transientFreed.fetch_add(making, std::memory_order_relaxed);
                 return t;
             },
             [](const geom::Tessellation& t) { return t.bytes(); });
@@ -893,14 +896,16 @@ void FrameRenderer::requestSamples(Worker& w, uint32_t groupIndex, int px, int p
     }
 }
 
-// Under a cap, what the caches drop goes back to the system every 32 MB or so: the allocator
+// Under a cap, what the caches drop and what making tessellations used goes back to the system
+// every 32 MB or so: the allocator
 // keeps freed pages between live blocks otherwise, and the process's resident size would grow
 // past what is charged.
 void FrameRenderer::returnDroppedMemory() {
 #ifdef __GLIBC__
     constexpr uint64_t kEvery = uint64_t(32) << 20;
     if (m_budget.capBytes() == 0) return;
-    const uint64_t dropped = m_tessellations.stats().evictedBytes + m_meshes.stats().evictedBytes;
+    const uint64_t dropped = m_tessellations.stats().evictedBytes + m_meshes.stats().evictedBytes +
+                             m_transientFreed.load(std::memory_order_relaxed);
     uint64_t last = m_droppedReturned.load(std::memory_order_relaxed);
     if (dropped - last < kEvery || !m_droppedReturned.compare_exchange_strong(last, dropped)) return;
     malloc_trim(0);
@@ -1426,6 +1431,7 @@ Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, con
     const MemoryCap cap = memoryCap(settings);
     std::optional<cache::MemoryBudget> ownBudget;
     cache::MemoryBudget& budget = options.memoryBudget ? *options.memoryBudget : ownBudget.emplace(cap.bytes);
+    if (budget.capBytes() != 0) util::returnLargeBlocksOnFree();
     // Charged before the arena and before any buffer is allocated; released when this returns.
     const std::vector<cache::MemoryCharge> charges =
         chargeFrame(budget, frameMemory(scene, camera, settings, options, threads), camera,
