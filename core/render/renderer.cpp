@@ -601,8 +601,10 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
         auto takeRoom = [&](uint64_t bytes) {
             std::optional<cache::MemoryCharge> room =
                 cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
-            if (!room && (m_tessellations.reclaim(bytes) || m_meshes.reclaim(bytes)))
+            if (!room && (m_tessellations.reclaim(bytes) || m_meshes.reclaim(bytes))) {
+                returnDroppedMemory();
                 room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
+            }
             if (!room) throw TileDoesNotFit{m_scene.objects[i].name, bytes};
             return std::move(*room);
         };
@@ -897,12 +899,12 @@ void FrameRenderer::requestSamples(Worker& w, uint32_t groupIndex, int px, int p
 }
 
 // Under a cap, what the caches drop and what making tessellations used goes back to the system
-// every 32 MB or so: the allocator
-// keeps freed pages between live blocks otherwise, and the process's resident size would grow
-// past what is charged.
+// every 64 MB or so (after a tile, and before making something the caches dropped room for): the
+// allocator keeps freed pages between live blocks otherwise, and the process's resident size
+// would grow past what is charged.
 void FrameRenderer::returnDroppedMemory() {
 #ifdef __GLIBC__
-    constexpr uint64_t kEvery = uint64_t(32) << 20;
+    constexpr uint64_t kEvery = uint64_t(64) << 20;
     if (m_budget.capBytes() == 0) return;
     const uint64_t dropped = m_tessellations.stats().evictedBytes + m_meshes.stats().evictedBytes +
                              m_transientFreed.load(std::memory_order_relaxed);

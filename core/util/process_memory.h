@@ -27,7 +27,7 @@ inline uint64_t heapBytesInUse() {
 // it is freed (glibc: a fixed M_MMAP_THRESHOLD instead of one that grows with the blocks freed).
 // Under a memory cap the blocks that making and dropping tessellations free then leave the
 // process at once instead of staying resident between live blocks. Process-wide; idempotent.
-inline void returnLargeBlocksOnFree(uint64_t bytes = uint64_t(1) << 20) {
+inline void returnLargeBlocksOnFree(uint64_t bytes = uint64_t(1) << 18) {
 #ifdef __GLIBC__
     mallopt(M_MMAP_THRESHOLD, int(bytes));
 #else
