@@ -207,13 +207,30 @@ TEST(OutOfCore, SameImageWithAnyThreadCountTileSizeAndCap) {
         }
 }
 
+// A sun, the grey shading group, `ground` (the transform "ground" with its mesh "groundShape"),
+// that shape shown again under "again" (placed by `againLines`), and a sphere in front.
+std::string groundScene(const std::string& ground, std::string_view againLines) {
+    return test::maPreamble(7) + R"(createNode transform -n "sun";
+	setAttr ".r" -type "double3" -40 30 0;
+createNode directionalLight -n "sunShape" -p "sun";
+)" + test::greyShadingGroup() +
+           ground + "connectAttr \"groundShape.iog\" \"greySG.dsm\" -na;\ncreateNode transform -n \"again\";\n" +
+           std::string(againLines) + R"(parent -s -nc -r -add "|ground|groundShape" "again";
+connectAttr "groundShape.iog[1]" "greySG.dsm" -na;
+createNode transform -n "ball";
+	setAttr ".t" -type "double3" -0.8 0.3 1.5;
+createNode mesh -n "ballShape" -p "ball";
+createNode polySphere -n "ballCreator";
+	setAttr ".r" 1.1;
+connectAttr "ballCreator.out" "ballShape.i";
+connectAttr "ballShape.iog" "greySG.dsm" -na;
+)";
+}
+
 // A bumpy plane of 9,600 triangles (a point tweak keeps it from being made from its creator's
 // counts), shown twice, tilted towards the camera with a sphere in front of it.
 std::string bumpyPlaneScene() {
-    std::string text = test::maPreamble(7) + R"(createNode transform -n "sun";
-	setAttr ".r" -type "double3" -40 30 0;
-createNode directionalLight -n "sunShape" -p "sun";
-)" + test::greyShadingGroup() + R"(createNode transform -n "ground";
+    return groundScene(R"(createNode transform -n "ground";
 	setAttr ".r" -type "double3" 60 0 15;
 createNode mesh -n "groundShape" -p "ground";
 	setAttr ".pt[5]" -type "float3" 0 0.4 0;
@@ -224,40 +241,41 @@ createNode polyPlane -n "groundCreator";
 	setAttr ".sw" 80;
 	setAttr ".sh" 60;
 connectAttr "groundCreator.out" "groundShape.i";
-connectAttr "groundShape.iog" "greySG.dsm" -na;
-createNode transform -n "again";
-	setAttr ".t" -type "double3" 1.5 -0.5 -2;
-	setAttr ".r" -type "double3" 70 0 -10;
-parent -s -nc -r -add "|ground|groundShape" "again";
-connectAttr "groundShape.iog[1]" "greySG.dsm" -na;
-createNode transform -n "ball";
-	setAttr ".t" -type "double3" -0.8 0.3 1.5;
-createNode mesh -n "ballShape" -p "ball";
-createNode polySphere -n "ballCreator";
-	setAttr ".r" 1.1;
-connectAttr "ballCreator.out" "ballShape.i";
-connectAttr "ballShape.iog" "greySG.dsm" -na;
-)";
-    return text;
+)",
+                       "\tsetAttr \".t\" -type \"double3\" 1.5 -0.5 -2;\n\tsetAttr \".r\" -type \"double3\" 70 0 -10;\n");
 }
 
-TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
-    for (const bool onDemand : {false, true}) {
-        SCOPED_TRACE(onDemand ? "meshes evaluated on demand" : "meshes kept");
-        const scene::Graph graph = scene::MaReader::readString(bumpyPlaneScene(), "plane.ma");
-        const scene::RenderSetup setup = scene::extractRenderSetup(graph);
-        scene::Evaluator ev(graph, 1.0);
-        RenderSettings settings;
+// 120 × 90 pixels in 16 × 16 tiles, for the ground scenes; `onDemand`: built as under a cap (no
+// mesh kept), rendered without one.
+struct GroundRender {
+    scene::Graph graph;
+    scene::RenderSetup setup;
+    scene::Evaluator ev;
+    RenderSettings settings;
+    FrameScene scene;
+    RenderCamera camera;
+    GroundRender(const std::string& text, bool onDemand)
+        : graph(scene::MaReader::readString(text, "ground.ma")), setup(scene::extractRenderSetup(graph)), ev(graph, 1.0) {
         settings.width = 120;
         settings.height = 90;
         settings.deviceAspectRatio = 120.0 / 90.0;
         settings.tileWidth = settings.tileHeight = 16;
         settings.forceTileSize = true;
         if (onDemand) settings.maximumMemoryBytes = uint64_t(1) << 40;
-        FrameScene whole = buildFrameScene(ev, setup, settings);
+        scene = buildFrameScene(ev, setup, settings);
         settings.maximumMemoryBytes = 0;
+        camera = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), 120, 90, 120.0 / 90.0);
+    }
+};
+
+TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
+    for (const bool onDemand : {false, true}) {
+        SCOPED_TRACE(onDemand ? "meshes evaluated on demand" : "meshes kept");
+        const GroundRender g(bumpyPlaneScene(), onDemand);
+        const RenderSettings& settings = g.settings;
+        const FrameScene& whole = g.scene;
+        const RenderCamera& camera = g.camera;
         ASSERT_EQ(whole.objects.size(), 3u);
-        const RenderCamera camera = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), 120, 90, 120.0 / 90.0);
         // The plane's two instances share one handle; split it into pieces of at most 700 triangles.
         const std::shared_ptr<const geom::GeometryHandle> plane = whole.objects[0].geometry;
         ASSERT_EQ(whole.objects[1].geometry, plane);
@@ -308,41 +326,16 @@ TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
 
 TEST(OutOfCore, AStoredMeshInPiecesIsNeverMadeWhole) {
     // A stored 80 × 60 grid (9,601 faces) tilted towards the camera, shown twice, a sphere in front.
-    const std::string text = test::maPreamble(7) + R"(createNode transform -n "sun";
-	setAttr ".r" -type "double3" -40 30 0;
-createNode directionalLight -n "sunShape" -p "sun";
-)" + test::greyShadingGroup() +
-                             test::storedGridMesh("ground", 80, 60, "\".dsm\" 0;", false,
-                                                  "\tsetAttr \".t\" -type \"double3\" -4 -2 0;\n"
-                                                  "\tsetAttr \".r\" -type \"double3\" 60 0 15;\n") +
-                             R"(connectAttr "groundShape.iog" "greySG.dsm" -na;
-createNode transform -n "again";
-	setAttr ".t" -type "double3" -2 -2.5 -2;
-	setAttr ".r" -type "double3" 70 0 -10;
-parent -s -nc -r -add "|ground|groundShape" "again";
-connectAttr "groundShape.iog[1]" "greySG.dsm" -na;
-createNode transform -n "ball";
-	setAttr ".t" -type "double3" -0.8 0.3 1.5;
-createNode mesh -n "ballShape" -p "ball";
-createNode polySphere -n "ballCreator";
-	setAttr ".r" 1.1;
-connectAttr "ballCreator.out" "ballShape.i";
-connectAttr "ballShape.iog" "greySG.dsm" -na;
-)";
-    const scene::Graph graph = scene::MaReader::readString(text, "stored.ma");
-    const scene::RenderSetup setup = scene::extractRenderSetup(graph);
-    scene::Evaluator ev(graph, 1.0);
-    RenderSettings settings;
-    settings.width = 120;
-    settings.height = 90;
-    settings.deviceAspectRatio = 120.0 / 90.0;
-    settings.tileWidth = settings.tileHeight = 16;
-    settings.forceTileSize = true;
-    settings.maximumMemoryBytes = uint64_t(1) << 40;  // meshes are made on demand, not kept
-    FrameScene whole = buildFrameScene(ev, setup, settings);
-    settings.maximumMemoryBytes = 0;
+    const GroundRender g(groundScene(test::storedGridMesh("ground", 80, 60, "\".dsm\" 0;", false,
+                                                          "\tsetAttr \".t\" -type \"double3\" -4 -2 0;\n"
+                                                          "\tsetAttr \".r\" -type \"double3\" 60 0 15;\n"),
+                                     "\tsetAttr \".t\" -type \"double3\" -2 -2.5 -2;\n"
+                                     "\tsetAttr \".r\" -type \"double3\" 70 0 -10;\n"),
+                         true);
+    const RenderSettings& settings = g.settings;
+    const FrameScene& whole = g.scene;
+    const RenderCamera& camera = g.camera;
     ASSERT_EQ(whole.objects.size(), 3u);
-    const RenderCamera camera = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), 120, 90, 120.0 / 90.0);
     const std::shared_ptr<const geom::GeometryHandle> grid = whole.objects[0].geometry;
     ASSERT_EQ(whole.objects[1].geometry, grid);
     ASSERT_FALSE(grid->keepsSource());
