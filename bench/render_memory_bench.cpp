@@ -23,7 +23,7 @@
 // rendered with Cycles on the CPU at 1 sample, for its time and peak RSS.
 //
 // usage: render_memory_bench [--scale F] [--runs N] [--dir DIR] [--pushpin PATH] [--baseline PATH]
-//                            [--threads 1,2] [--caps 256,1024] [--blender PATH | --no-blender]
+//                            [--threads 1,2] [--caps 256,512,1024] [--blender PATH | --no-blender]
 //                            [--scenes mixed,occluder]
 #include "bench/bench_support.h"
 
@@ -1031,11 +1031,11 @@ int main(int argc, char** argv) {
     std::optional<fs::path> baseline;
     std::optional<fs::path> blender;
     bool noBlender = false;
-    std::vector<int> threadCounts = {1, 2}, caps = {256, 1024};
+    std::vector<int> threadCounts = {1, 2}, caps = {256, 512, 1024};
     std::string scenes = "mixed,occluder";
     const char* usage =
         "usage: render_memory_bench [--scale F] [--runs N] [--dir DIR] [--pushpin PATH] [--baseline PATH]\n"
-        "                           [--threads 1,2] [--caps 256,1024] [--blender PATH | --no-blender]\n"
+        "                           [--threads 1,2] [--caps 256,512,1024] [--blender PATH | --no-blender]\n"
         "                           [--scenes mixed,occluder]\n";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
