@@ -1192,23 +1192,13 @@ Framebuffer FrameRenderer::run() {
         w->bufferCharge = cache::MemoryCharge(&m_budget, cache::MemoryCategory::Fragments, 0);
         return w;
     });
-    // Without a cap the threads start on distant parts of the plan (a range split in halves), so
-    // that they tessellate different shapes at once instead of one waiting for the other. Under a
-    // cap they take tiles in the plan's order, one at a time, so that they work on neighbouring
-    // tiles and share what those hold in the one cache instead of each keeping its own working set.
     // Tiles whose tessellations do not fit beside what the other threads' tiles hold are
     // rendered again afterwards, one at a time, with the whole budget to themselves.
     std::mutex deferredMutex;
     std::vector<size_t> deferred;
-    std::atomic<size_t> nextTile{0};
-    const bool inOrder = m_budget.capBytes() != 0;
-    const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-    const size_t slots = inOrder ? threads : m_tiles.size();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, slots, 1), [&](const tbb::blocked_range<size_t>& r) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, m_tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
         Worker& w = *workers.local();
-        size_t i = inOrder ? nextTile.fetch_add(1) : r.begin();
-        const size_t end = inOrder ? m_tiles.size() : r.end();
-        for (; i < end; i = inOrder ? nextTile.fetch_add(1) : i + 1) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
             const RenderStats before = w.stats;
             const RasterStats rasterBefore = w.rasterizer.stats();
             const ResolveStats resolveBefore = w.resolver.stats();
