@@ -72,6 +72,12 @@ void Mesh::addHole(std::span<const uint32_t> loopPoints) {
         if (!set.faceVertexColors.empty()) set.faceVertexColors.resize(fvCount, -1);
 }
 
+const UvSet* currentFaceUvSet(const Mesh& mesh) {
+    if (mesh.currentUvSet < 0 || size_t(mesh.currentUvSet) >= mesh.uvSets.size()) return nullptr;
+    const UvSet& set = mesh.uvSets[size_t(mesh.currentUvSet)];
+    return set.faceVertexUvs.size() == mesh.faceVertexCount() ? &set : nullptr;
+}
+
 Bounds3 Mesh::bounds() const {
     Bounds3 b;
     for (const glm::vec3& p : points) b.extend(toD(p));

@@ -118,6 +118,9 @@ struct Mesh {
     std::vector<glm::vec3> shadingNormals() const;
 };
 
+// The mesh's current uv set when it maps faces (a uv id, or -1, for every face-vertex), else null.
+const UvSet* currentFaceUvSet(const Mesh& mesh);
+
 // The key of the undirected edge between points a and b (either order): the lower index in the
 // high 32 bits. For hash maps of edges.
 inline uint64_t edgeKey(uint32_t a, uint32_t b) {

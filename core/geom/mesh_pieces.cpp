@@ -15,10 +15,6 @@ bool inWindow(const MeshPiece& piece, uint32_t point) {
     return point >= piece.windowPointFirst && point < piece.windowPointEnd;
 }
 
-namespace {
-
-}  // namespace
-
 MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
                              const std::vector<bool>& degenerate, uint32_t maxSlots) {
     MeshPieces out;
@@ -98,10 +94,7 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
     }
     // Each piece's window: its faces from a stride start, their first face-vertex, and the range
     // of the points and current-set uv ids they use.
-    const UvSet* uvSet = nullptr;
-    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
-        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount())
-        uvSet = &mesh.uvSets[size_t(mesh.currentUvSet)];
+    const UvSet* uvSet = currentFaceUvSet(mesh);
     out.m_mapsUvs = uvSet != nullptr;
     for (MeshPiece& p : out.m_pieces) {
         p.windowFirst = p.aroundFirst - p.aroundFirst % kSlotStride;
@@ -147,9 +140,9 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
 }
 
 uint32_t MeshPieces::faceSlot(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
-                              const std::vector<bool>& degenerate, size_t f) const {
+                              const std::vector<bool>& degenerate, size_t f, size_t faceBase) const {
     uint32_t slot = m_strideSlots[f / kSlotStride];
-    for (size_t g = f - f % kSlotStride; g < f; ++g) slot += faceTriangleBound(mesh, faceMaterial, degenerate, g);
+    for (size_t g = f - f % kSlotStride; g < f; ++g) slot += faceTriangleBound(mesh, faceMaterial, degenerate, g, faceBase);
     return slot;
 }
 
@@ -195,15 +188,13 @@ MeshWindow cutMeshWindow(const Mesh& mesh, const MeshPiece& piece) {
     for (uint32_t c = fv0; c < fvEnd; ++c) m.faceVertices.push_back(mesh.faceVertices[c] - piece.windowPointFirst);
     if (mesh.normals.size() == mesh.faceVertexCount())
         m.normals.assign(mesh.normals.begin() + fv0, mesh.normals.begin() + fvEnd);
-    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
-        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount()) {
-        const UvSet& from = mesh.uvSets[size_t(mesh.currentUvSet)];
+    if (const UvSet* from = currentFaceUvSet(mesh)) {
         UvSet set;
-        set.name = from.name;
-        set.uvs.assign(from.uvs.begin() + piece.windowUvFirst, from.uvs.begin() + piece.windowUvEnd);
+        set.name = from->name;
+        set.uvs.assign(from->uvs.begin() + piece.windowUvFirst, from->uvs.begin() + piece.windowUvEnd);
         set.faceVertexUvs.reserve(fvEnd - fv0);
         for (uint32_t c = fv0; c < fvEnd; ++c) {
-            const int32_t id = from.faceVertexUvs[c];
+            const int32_t id = from->faceVertexUvs[c];
             set.faceVertexUvs.push_back(id >= 0 ? id - int32_t(piece.windowUvFirst) : -1);
         }
         m.uvSets.push_back(std::move(set));
@@ -227,15 +218,7 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
                                 size_t pieceIndex) {
     const MeshPiece& piece = pieces.pieces()[pieceIndex];
     const uint32_t faceBase = base.faceBase;
-    // The triangle ids face f promises (faceTriangleBound on the whole mesh).
-    auto bound = [&](size_t f) -> uint32_t {
-        const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
-        if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) return 0;
-        const size_t lf = f - faceBase;
-        const uint64_t corners = mesh.faceVertexEnd(lf) - mesh.faceVertexBegin(lf);
-        const uint64_t holes = mesh.holeCount(lf);
-        return corners + 2 * holes >= 3 ? uint32_t(corners + 2 * holes - 2) : 0u;
-    };
+    auto bound = [&](size_t f) { return faceTriangleBound(mesh, faceMaterial, degenerate, f, faceBase); };
     auto keptFace = [&](size_t f) { return bound(f) > 0; };
     auto fvBegin = [&](size_t f) { return mesh.faceVertexBegin(f - faceBase); };
     auto fvEnd = [&](size_t f) { return mesh.faceVertexEnd(f - faceBase); };
@@ -270,10 +253,7 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
     sub.points.reserve(globalPoint.size());
     for (uint32_t p : globalPoint) sub.points.push_back(mesh.points[p]);
 
-    const UvSet* uvSet = nullptr;
-    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
-        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount())
-        uvSet = &mesh.uvSets[size_t(mesh.currentUvSet)];
+    const UvSet* uvSet = currentFaceUvSet(mesh);
     std::vector<int32_t> localUv;
     if (uvSet) {
         sub.uvSets.resize(1);
@@ -341,9 +321,7 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
                 faceSlot[lf] = slot;
                 slot += bound(f);
             } else {
-                uint32_t s = pieces.strideSlot(f / MeshPieces::kSlotStride);
-                for (size_t g = f - f % MeshPieces::kSlotStride; g < f; ++g) s += bound(g);
-                faceSlot[lf] = s;
+                faceSlot[lf] = pieces.faceSlot(mesh, faceMaterial, degenerate, f, faceBase);
             }
         }
     }

@@ -72,14 +72,13 @@ public:
                             const std::vector<bool>& degenerate, uint32_t maxSlots);
 
     const std::vector<MeshPiece>& pieces() const { return m_pieces; }
-    // The first triangle id of face k · kSlotStride.
-    uint32_t strideSlot(size_t k) const { return m_strideSlots[k]; }
     uint64_t slotCount() const { return m_slots; }
     // Whether the split mesh's current uv set maps faces (its windows then carry uv ids).
     bool mapsUvs() const { return m_mapsUvs; }
-    // The first triangle id of face `f`.
+    // The first triangle id of face `f` (`mesh` may hold the faces from `faceBase` on only, as
+    // faceTriangleBound takes them, when that is a multiple of kSlotStride at or before f).
     uint32_t faceSlot(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, const std::vector<bool>& degenerate,
-                      size_t f) const;
+                      size_t f, size_t faceBase = 0) const;
     uint64_t bytes() const {
         return uint64_t(m_pieces.capacity()) * sizeof(MeshPiece) + uint64_t(m_strideSlots.capacity()) * sizeof(uint32_t);
     }

@@ -136,11 +136,12 @@ Tessellation triangulateMesh(const Mesh& mesh, const std::vector<uint16_t>& face
 }
 
 uint32_t faceTriangleBound(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
-                           const std::vector<bool>& degenerate, size_t f) {
+                           const std::vector<bool>& degenerate, size_t f, size_t faceBase) {
     const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
     if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) return 0;
-    const uint64_t corners = mesh.faceVertexEnd(f) - mesh.faceVertexBegin(f);
-    const uint64_t holes = mesh.holeCount(f);
+    const size_t local = f - faceBase;
+    const uint64_t corners = mesh.faceVertexEnd(local) - mesh.faceVertexBegin(local);
+    const uint64_t holes = mesh.holeCount(local);
     return corners + 2 * holes >= 3 ? uint32_t(corners + 2 * holes - 2) : 0u;
 }
 
@@ -167,10 +168,7 @@ Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>&
     const size_t faces = mesh.faceCount();
     std::vector<glm::vec3> shading;
     if (smoothShading) shading = mesh.shadingNormals();
-    const UvSet* uvSet = nullptr;
-    if (mesh.currentUvSet >= 0 && size_t(mesh.currentUvSet) < mesh.uvSets.size() &&
-        mesh.uvSets[size_t(mesh.currentUvSet)].faceVertexUvs.size() == mesh.faceVertexCount())
-        uvSet = &mesh.uvSets[size_t(mesh.currentUvSet)];
+    const UvSet* uvSet = currentFaceUvSet(mesh);
 
     const uint64_t triangles = meshTriangleCount(mesh, faceMaterial, degenerate);
     std::vector<uint32_t> cornerPoint;

@@ -79,9 +79,10 @@ Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>&
 // an upper bound always.
 uint64_t meshTriangleCount(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
                            const std::vector<bool>& degenerate);
-// The same for face `f` alone: 0 for a face not kept.
+// The same for face `f` alone: 0 for a face not kept. `mesh` may hold the faces from `faceBase`
+// on only (a MeshWindow); `f`, `faceMaterial` and `degenerate` count from the whole mesh's first.
 uint32_t faceTriangleBound(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
-                           const std::vector<bool>& degenerate, size_t f);
+                           const std::vector<bool>& degenerate, size_t f, size_t faceBase = 0);
 
 // Fills t.bounds and t.clusterBounds from the vertices and corners.
 void computeTessellationBounds(Tessellation& t);
