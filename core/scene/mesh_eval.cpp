@@ -32,6 +32,7 @@ namespace pushpin::scene {
 namespace {
 
 using detail::forEachNumeric;
+using detail::forEachNumericIn;
 using detail::kMaxElements;
 using detail::nodeLabel;
 using detail::vectorElements;
@@ -1059,6 +1060,12 @@ std::string storedUvSetName(const Graph& g, NodeId shape, uint32_t k, size_t pos
     return position == 0 ? "map1" : "uvSet" + std::to_string(position);
 }
 
+// Edge element `v` (`width` ≥ 2 numbers) as a decoded mesh has it: its two points, smooth
+// unless a third number is 0.
+geom::MeshEdge storedEdge(const double* v, int width) {
+    return {uint32_t(v[0]), uint32_t(v[1]), width >= 3 ? v[2] != 0.0 : true};
+}
+
 // A stored normal made unit length; zero ("not set, compute") for Maya's 1e20 and for one that
 // cannot be.
 glm::vec3 storedNormal(const double* v) {
@@ -1068,33 +1075,6 @@ glm::vec3 storedNormal(const double* v) {
         !(len > 0.0) || !std::isfinite(len))
         return glm::vec3(0.0f);
     return glm::vec3(d / len);
-}
-
-// Calls fn(index, values, width) for the stored numeric elements of `a` in [first, end).
-template <class F>
-void forEachNumericIn(const AttrData& a, uint64_t first, uint64_t end, F&& fn) {
-    const auto& runs = a.multi.runs();
-    auto it = runs.upper_bound(uint32_t(std::min<uint64_t>(first, UINT32_MAX)));
-    if (it != runs.begin()) --it;
-    double element[kMaxCompactWidth];
-    for (; it != runs.end() && it->first < end; ++it) {
-        const Numbers* nums = std::get_if<Numbers>(&it->second.value);
-        if (!nums || it->second.width <= 0 || (nums->values.empty() && size_t(it->second.width) > kMaxCompactWidth))
-            continue;
-        const size_t width = size_t(it->second.width);
-        const uint64_t from = std::max<uint64_t>(first, it->first);
-        const uint64_t to = std::min<uint64_t>(end, uint64_t(it->first) + it->second.count);
-        for (uint64_t i = from; i < to; ++i) {
-            const size_t k = size_t(i - it->first);
-            if ((k + 1) * width > nums->size()) break;
-            if (!nums->values.empty()) {
-                fn(i, nums->values.data() + k * width, int(width));
-            } else {
-                nums->copyTo(k * width, width, element);
-                fn(i, static_cast<const double*>(element), int(width));
-            }
-        }
-    }
 }
 
 }  // namespace
@@ -1139,7 +1119,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
             if (w < 2 || !(v[0] >= 0) || !(v[1] >= 0) || v[0] >= double(mesh.points.size()) ||
                 v[1] >= double(mesh.points.size()))
                 bad = true;
-            else edges[i] = {uint32_t(v[0]), uint32_t(v[1]), w >= 3 ? v[2] != 0.0 : true};
+            else edges[i] = storedEdge(v, w);
         });
         if (bad) return fail(who + "an edge (.ed) uses a vertex that does not exist");
     }
@@ -1366,7 +1346,7 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
     auto edgeAt = [&](uint32_t index) {
         geom::MeshEdge e;
         if (ed && ed->multi.numbers(index, element) && element.size() >= 2)
-            e = {uint32_t(element[0]), uint32_t(element[1]), element.size() >= 3 ? element[2] != 0.0 : true};
+            e = storedEdge(element.data(), int(element.size()));
         return e;
     };
     // The piece's edges between window points, in order (read run by run; an unset edge joins
@@ -1382,9 +1362,9 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
             unsetUpTo(i);
             next = i + 1;
             if (width < 2) return;
-            const uint32_t a = uint32_t(v[0]), b = uint32_t(v[1]);
-            if (geom::inWindow(piece, a) && geom::inWindow(piece, b))
-                mesh.edges.push_back({a - piece.windowPointFirst, b - piece.windowPointFirst, width >= 3 ? v[2] != 0.0 : true});
+            const geom::MeshEdge e = storedEdge(v, width);
+            if (geom::inWindow(piece, e.v0) && geom::inWindow(piece, e.v1))
+                mesh.edges.push_back({e.v0 - piece.windowPointFirst, e.v1 - piece.windowPointFirst, e.smooth});
         });
         unsetUpTo(piece.edgeEnd);
     }

@@ -9,11 +9,13 @@
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace pushpin::scene::detail {
 
@@ -23,27 +25,38 @@ constexpr uint64_t kMaxElements = uint64_t(1) << 27;
 // "type (name)": how evaluation messages name a node.
 std::string nodeLabel(const Node& n);
 
-// Calls fn(index, values, width) for every stored numeric element of a multi attribute below
-// kMaxElements, in index order.
+// Calls fn(index, values, width) for the stored numeric elements of a multi attribute in
+// [first, end), in index order.
 template <class F>
-void forEachNumeric(const AttrData& a, F&& fn) {
-    for (const auto& [first, run] : a.multi.runs()) {
-        const Numbers* nums = std::get_if<Numbers>(&run.value);
-        if (!nums || run.width <= 0) continue;
-        const size_t width = size_t(run.width);
-        if (nums->values.empty() && width > kMaxCompactWidth) continue;  // never stored so
-        double element[kMaxCompactWidth];
-        for (uint32_t k = 0; k < run.count; ++k) {
-            if ((size_t(k) + 1) * width > nums->size()) break;
-            if (uint64_t(first) + k >= kMaxElements) return;
+void forEachNumericIn(const AttrData& a, uint64_t first, uint64_t end, F&& fn) {
+    const auto& runs = a.multi.runs();
+    auto it = runs.upper_bound(uint32_t(std::min<uint64_t>(first, UINT32_MAX)));
+    if (it != runs.begin()) --it;
+    double element[kMaxCompactWidth];
+    for (; it != runs.end() && it->first < end; ++it) {
+        const Numbers* nums = std::get_if<Numbers>(&it->second.value);
+        if (!nums || it->second.width <= 0 || (nums->values.empty() && size_t(it->second.width) > kMaxCompactWidth))
+            continue;
+        const size_t width = size_t(it->second.width);
+        const uint64_t from = std::max<uint64_t>(first, it->first);
+        const uint64_t to = std::min<uint64_t>(end, uint64_t(it->first) + it->second.count);
+        for (uint64_t i = from; i < to; ++i) {
+            const size_t k = size_t(i - it->first);
+            if ((k + 1) * width > nums->size()) break;
             if (!nums->values.empty()) {
-                fn(uint64_t(first) + k, nums->values.data() + size_t(k) * width, run.width);
+                fn(i, nums->values.data() + k * width, int(width));
             } else {
-                nums->copyTo(size_t(k) * width, width, element);
-                fn(uint64_t(first) + k, static_cast<const double*>(element), run.width);
+                nums->copyTo(k * width, width, element);
+                fn(i, static_cast<const double*>(element), int(width));
             }
         }
     }
+}
+
+// The same for every element below kMaxElements.
+template <class F>
+void forEachNumeric(const AttrData& a, F&& fn) {
+    forEachNumericIn(a, 0, kMaxElements, std::forward<F>(fn));
 }
 
 // The index right after `prefix` + "[" in a plug path ("weightList[3].weights" after
