@@ -36,6 +36,9 @@ struct Numbers {
     std::vector<float> floats;
     std::vector<int32_t> ints;
 
+    enum class Storage : unsigned char { Doubles, Floats, Ints };
+    // Which of the three holds the numbers (Doubles when there are none).
+    Storage storage() const { return !floats.empty() ? Storage::Floats : !ints.empty() ? Storage::Ints : Storage::Doubles; }
     size_t size() const { return values.size() + floats.size() + ints.size(); }
     bool empty() const { return size() == 0; }
     double at(size_t i) const {
@@ -65,11 +68,7 @@ struct Numbers {
     }
     // Appends `more`'s numbers; false (nothing appended) when the two are kept in different storage.
     bool append(const Numbers& more) {
-        const bool sameStorage = (!floats.empty() || !more.floats.empty())
-                                     ? (values.empty() && ints.empty() && more.values.empty() && more.ints.empty())
-                                 : (!ints.empty() || !more.ints.empty()) ? (values.empty() && more.values.empty())
-                                                                        : true;
-        if (!sameStorage) return false;
+        if (!empty() && !more.empty() && storage() != more.storage()) return false;
         values.insert(values.end(), more.values.begin(), more.values.end());
         floats.insert(floats.end(), more.floats.begin(), more.floats.end());
         ints.insert(ints.end(), more.ints.begin(), more.ints.end());
