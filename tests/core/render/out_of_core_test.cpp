@@ -266,6 +266,12 @@ struct GroundRender {
         settings.maximumMemoryBytes = 0;
         camera = makeRenderCamera(ev, graph.dagPaths(graph.find("perspShape")).at(0), 120, 90, 120.0 / 90.0);
     }
+    // The scene with the ground's two instances (objects 0 and 1) given `ground` instead.
+    FrameScene withGround(const std::shared_ptr<const geom::GeometryHandle>& ground) const {
+        FrameScene out = scene;
+        out.objects[0].geometry = out.objects[1].geometry = ground;
+        return out;
+    }
 };
 
 TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
@@ -282,10 +288,9 @@ TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
         ASSERT_EQ(plane->triangleCount(), 9600u);
         EXPECT_EQ(plane->keepsSource(), !onDemand);
         ASSERT_EQ(plane->pieceCount(), 1u);
-        FrameScene pieced = whole;
         const std::shared_ptr<const geom::GeometryHandle> pieces = plane->withPieces(700);
         ASSERT_GE(pieces->pieceCount(), 14u);
-        pieced.objects[0].geometry = pieced.objects[1].geometry = pieces;
+        const FrameScene pieced = g.withGround(pieces);
 
         RenderStats wholeStats;
         const Framebuffer reference = renderFrame(whole, camera, settings, wholeStats);
@@ -344,8 +349,7 @@ TEST(OutOfCore, AStoredMeshInPiecesIsNeverMadeWhole) {
     ASSERT_TRUE(pieces->makesPiecesAlone());
     // Making a piece needs its window, not the grid.
     for (size_t k = 0; k < pieces->pieceCount(); ++k) EXPECT_LT(pieces->pieceWorkBytesEstimate(k), grid->meshMakingBytes());
-    FrameScene pieced = whole;
-    pieced.objects[0].geometry = pieced.objects[1].geometry = pieces;
+    const FrameScene pieced = g.withGround(pieces);
 
     RenderStats wholeStats;
     const Framebuffer reference = renderFrame(whole, camera, settings, wholeStats);
