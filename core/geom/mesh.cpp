@@ -3,6 +3,7 @@
 
 #include "core/geom/union_find.h"
 #include "core/util/counting_sort.h"
+#include "core/util/release.h"
 
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
@@ -340,7 +341,7 @@ std::vector<glm::vec3> Mesh::shadingNormals() const {
         }
     }
 
-    halfEdges = {};  // what follows needs neither the half-edges nor the smoothness table
+    util::release(halfEdges);  // what follows needs neither the half-edges nor the smoothness table
     smoothness.reset();
     // A smoothing group's corners all sit on one point: point by point, each group's area-weighted
     // sum adds its corners' faces in corner order (a group is known by its root, its first corner).

@@ -1,5 +1,7 @@
 #include "core/geom/mesh_pieces.h"
 
+#include "core/util/release.h"
+
 #include <algorithm>
 #include <limits>
 
@@ -289,7 +291,7 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
     }
     sub.loopStarts.push_back(uint32_t(sub.faceVertices.size()));
     sub.faceLoopStarts.push_back(uint32_t(sub.loopStarts.size() - 1));
-    localUv = {};
+    util::release(localUv);
     // The mesh's edges between points of the piece's mesh, in their order (the last listing of an
     // edge decides its smoothness, as in the whole mesh). Those that matter have an end at a point
     // of the piece's kept faces, so they lie in the piece's edge range.
@@ -300,7 +302,7 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
         if (e.v0 < local.size() && e.v1 < local.size() && local[e.v0] != kNotLocal && local[e.v1] != kNotLocal)
             sub.edges.push_back({local[e.v0], local[e.v1], e.smooth});
     }
-    local = {};
+    util::release(local);
 
     Tessellation whole = triangulateValidMesh(sub, subMaterial, smoothShading, subDegenerate);
 

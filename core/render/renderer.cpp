@@ -8,6 +8,7 @@
 #include "core/render/visible_set.h"
 #include "core/util/json_writer.h"
 #include "core/util/process_memory.h"
+#include "core/util/release.h"
 
 #include "cache/error.h"
 #include "cache/lru_cache.h"
@@ -232,25 +233,25 @@ struct Worker {
     void releaseBuffers(uint64_t fixedShare) {
         rasterizer.releaseMemory();
         resolver.releaseMemory();
-        pixelGroupStart = {};
-        groups = {};
-        members = {};
-        nearestDepth = {};
-        groupSampleStart = {};
-        samples = {};
-        groupExtraStart = {};
-        extraSamples = {};
-        shades = {};
-        contributions = {};
-        contributionNorm = {};
-        baseColor = {};
-        adaptive = {};
-        waiting = {};
-        occludingDepth = {};
-        blockSeal = {};
-        std::vector<PendingBatch>().swap(pending);
+        util::release(pixelGroupStart);
+        util::release(groups);
+        util::release(members);
+        util::release(nearestDepth);
+        util::release(groupSampleStart);
+        util::release(samples);
+        util::release(groupExtraStart);
+        util::release(extraSamples);
+        util::release(shades);
+        util::release(contributions);
+        util::release(contributionNorm);
+        util::release(baseColor);
+        util::release(adaptive);
+        util::release(waiting);
+        util::release(occludingDepth);
+        util::release(blockSeal);
+        util::release(pending);
         pendingCount = 0;
-        pendingIndex = {};
+        util::release(pendingIndex);
         const uint64_t held = bytes();
         bufferCharge.resize(held > fixedShare ? held - fixedShare : 0);
     }

@@ -3,6 +3,7 @@
 #include "core/render/visibility.h"
 
 #include "core/util/counting_sort.h"
+#include "core/util/release.h"
 
 #include <algorithm>
 #include <bit>
@@ -25,23 +26,23 @@ uint64_t TileRasterizer::bytes() const {
 }
 
 void TileRasterizer::releaseMemory() {
-    m_fragments = {};
-    m_pixelOf = {};
-    m_sorted = {};
-    m_pixelStart = {};
+    util::release(m_fragments);
+    util::release(m_pixelOf);
+    util::release(m_sorted);
+    util::release(m_pixelStart);
     m_region = {};
 }
 
 void PixelResolver::releaseMemory() {
-    m_groups = {};
-    m_members = {};
-    m_parent = {};
-    m_visible = {};
-    m_sorted = {};
-    m_order = {};
-    m_far = {};
-    m_groupFar = {};
-    m_groupArea = {};
+    util::release(m_groups);
+    util::release(m_members);
+    util::release(m_parent);
+    util::release(m_visible);
+    util::release(m_sorted);
+    util::release(m_order);
+    util::release(m_far);
+    util::release(m_groupFar);
+    util::release(m_groupArea);
 }
 
 uint64_t PixelResolver::bytes() const {
