@@ -150,6 +150,16 @@ MemoryCharge& MemoryCharge::operator=(MemoryCharge&& other) noexcept {
     return *this;
 }
 
+bool MemoryCharge::tryResize(uint64_t bytes) {
+    if (!m_budget || bytes <= m_bytes) {
+        resize(bytes);
+        return true;
+    }
+    if (!m_budget->tryCharge(m_category, bytes - m_bytes)) return false;
+    m_bytes = bytes;
+    return true;
+}
+
 void MemoryCharge::resize(uint64_t bytes) {
     if (!m_budget) return;
     if (bytes > m_bytes)

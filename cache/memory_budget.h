@@ -111,6 +111,9 @@ public:
 
     // Changes the charge to `bytes`, charging growth unconditionally and releasing shrinkage.
     void resize(uint64_t bytes);
+    // The same, charging growth only within the cap: false (nothing changed) when the budget
+    // refuses it.
+    bool tryResize(uint64_t bytes);
     // Releases everything held; the charge becomes empty.
     void reset();
 

@@ -117,14 +117,22 @@ std::shared_ptr<GeometryHandle> GeometryHandle::fromMesh(std::shared_ptr<const M
 std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshSource(std::shared_ptr<const MeshSource> source,
                                                                const Mesh& mesh, std::vector<uint16_t> faceMaterial,
                                                                std::shared_ptr<const std::vector<bool>> degenerate,
-                                                               bool smoothShading) {
+                                                               bool smoothShading, uint32_t pieceTriangles) {
     std::shared_ptr<GeometryHandle> h(new GeometryHandle());
     h->m_faceMaterial = std::move(faceMaterial);
     h->m_degenerate = std::move(degenerate);
     h->m_smooth = smoothShading;
+    h->m_pieceTriangles = pieceTriangles;
     h->measureMesh(mesh);
     h->m_source = std::move(source);
     return h;
+}
+
+uint32_t GeometryHandle::pieceTrianglesFor(uint64_t capBytes) {
+    uint32_t n = kPieceTriangles;
+    if (capBytes == 0) return n;
+    while (n > (1u << 14) && uint64_t(n) * kPieceMakingBytes > capBytes / 16) n /= 2;
+    return n;
 }
 
 std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshCounts(std::shared_ptr<const MeshSource> source,

@@ -57,11 +57,12 @@ public:
                                                     std::shared_ptr<const std::vector<bool>> degenerate,
                                                     bool smoothShading);
     // The same for a mesh the handle asks `source` for each time it tessellates; `mesh` is that
-    // mesh, made once now for the bounds and counts and not kept.
+    // mesh, made once now for the bounds and counts and not kept. It is tessellated in pieces of
+    // at most `pieceTriangles` triangle ids when it has more (pieceTrianglesFor a cap).
     static std::shared_ptr<GeometryHandle> fromMeshSource(std::shared_ptr<const MeshSource> source, const Mesh& mesh,
                                                           std::vector<uint16_t> faceMaterial,
                                                           std::shared_ptr<const std::vector<bool>> degenerate,
-                                                          bool smoothShading);
+                                                          bool smoothShading, uint32_t pieceTriangles = kPieceTriangles);
     // A mesh not made yet: `source` makes it when the handle first tessellates, and `counts` (a
     // primitive's PrimitiveCounts) give the bounds, triangles and byte estimates until then. Every
     // face takes material 0; the mesh is validated when it is made and its degenerate faces dropped.
@@ -111,6 +112,13 @@ public:
     // made when a tile first needs it; every other shape is one piece, its whole tessellation.
     // Triangle ids are the whole shape's either way.
     static constexpr uint32_t kPieceTriangles = 1u << 18;
+    // The piece size for a render under a memory cap of `capBytes` (0: none): kPieceTriangles, or
+    // smaller, a power of two no smaller than 2^14, so that making one piece (its mesh window,
+    // working memory and tessellation: about kPieceMakingBytes a triangle id) takes at most a
+    // sixteenth of the cap. A tile can then make its pieces beside the scene and the frame's
+    // buffers under a small cap. The image does not depend on the piece size.
+    static constexpr uint64_t kPieceMakingBytes = 256;
+    static uint32_t pieceTrianglesFor(uint64_t capBytes);
     size_t pieceCount() const { return m_pieces ? m_pieces->pieces().size() : 1; }
     const Bounds3& pieceBounds(size_t k) const { return m_pieces ? m_pieces->pieces()[k].bounds : m_bounds; }
     uint32_t pieceFirstTriangle(size_t k) const { return m_pieces ? m_pieces->pieces()[k].firstSlot : 0u; }

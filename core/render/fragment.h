@@ -13,6 +13,7 @@
 //   along the view axis for orthographic ones. Only comparisons and interpolation use it.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <ostream>
@@ -80,11 +81,14 @@ static_assert(sizeof(Fragment) == 48, "Fragment is the unit of tile memory; keep
 
 // The adjacency of the triangles [firstTriangle, firstTriangle + triangleCount) of an object
 // made in pieces: neighbors[3·(t − firstTriangle) + k] for triangle t; null while the piece is
-// not at hand (its triangles then have no fragments).
+// not at hand (its triangles then have no fragments). A piece that keeps only some of its
+// triangles lists them in `ids` instead: triangleCount ascending offsets from firstTriangle,
+// neighbors[3·i + k] for the triangle firstTriangle + ids[i].
 struct TopologyPiece {
     uint32_t firstTriangle = 0;
     uint32_t triangleCount = 0;
     const uint32_t* neighbors = nullptr;
+    const uint32_t* ids = nullptr;
 };
 
 // Triangle adjacency of one render object, for merging and occlusion decisions:
@@ -108,8 +112,14 @@ struct ObjectTopology {
             (pieces[mid].firstTriangle <= t ? lo : hi) = mid;
         }
         const TopologyPiece& p = pieces[lo];
-        if (!p.neighbors || t < p.firstTriangle || t - p.firstTriangle >= p.triangleCount) return nullptr;
-        return p.neighbors + 3 * size_t(t - p.firstTriangle);
+        if (!p.neighbors || t < p.firstTriangle) return nullptr;
+        const uint32_t local = t - p.firstTriangle;
+        if (p.ids) {
+            const uint32_t* end = p.ids + p.triangleCount;
+            const uint32_t* at = std::lower_bound(p.ids, end, local);
+            return at != end && *at == local ? p.neighbors + 3 * size_t(at - p.ids) : nullptr;
+        }
+        return local < p.triangleCount ? p.neighbors + 3 * size_t(local) : nullptr;
     }
     bool empty() const { return !neighbors && !pieces; }
 };

@@ -442,6 +442,7 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
     // Under a memory cap no evaluated mesh stays resident: the handles evaluate their shape again
     // when a tile needs its triangles. Without one, each shape keeps the mesh evaluated here.
     const bool keepMeshes = memoryCapBytes(settings) == 0;
+    const uint32_t pieceTriangles = geom::GeometryHandle::pieceTrianglesFor(memoryCapBytes(settings));
     const auto evaluators = std::make_shared<EvaluatorPool>(g, ev.frame());
     std::vector<std::vector<NodeId>> objectPaths;
 
@@ -650,7 +651,8 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
                                                   : std::make_shared<EvaluatedMesh>(evaluators, node.id);
                     shape.lastHandle = shape.source ? geom::GeometryHandle::fromMeshSource(shape.source, mesh, faceMaterial,
                                                                                            shape.degenerate,
-                                                                                           object.smoothShading)
+                                                                                           object.smoothShading,
+                                                                                           pieceTriangles)
                                                     : geom::GeometryHandle::fromMesh(shape.mesh, faceMaterial,
                                                                                      shape.degenerate, object.smoothShading);
                     shape.lastMaterials = std::move(faceMaterial);

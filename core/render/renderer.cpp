@@ -182,18 +182,40 @@ struct TileDoesNotFit {
     PixelRect tile;
 };
 
+// A tile's own copy of the triangles one of its units gave the rasterizer, made under a cap when
+// the tessellations the tile pins leave no room for the next one it needs: the unit's pin is then
+// let go and the tile shades from the copy. Triangle i of `tessellation` (with its vertices,
+// face, material and neighbours as the unit's tessellation has them) is the unit's triangle
+// ids[i]; `ids` ascend.
+struct TileCopy {
+    geom::Tessellation tessellation;
+    std::vector<uint32_t> ids;
+    cache::MemoryCharge charge;
+};
+
 // One thread's reusable state.
 struct Worker {
     Worker(const SubsamplePattern& pattern, size_t units, size_t objects)
-        : tessellation(units, nullptr), topology(objects), pieceTopology(objects), rasterizer(pattern),
-          resolver(pattern, topology) {}
+        : tessellation(units, nullptr), copiedIds(units, nullptr), topology(objects), pieceTopology(objects),
+          rasterizer(pattern), resolver(pattern, topology) {}
     // The tile's units, front to back, with their tessellations pinned for the tile's life;
     // `tessellation` is indexed by unit, `topology` by object, and both are set for the tile's
     // units only. An object in pieces lists them in `pieceTopology` (one entry per piece, made on
     // first use), which its `topology` entry points to.
     std::vector<uint32_t> tileObjects;
     std::vector<TessellationCache::Pin> pins;
+    std::vector<uint32_t> pinnedUnits;  // the unit of each pin
     std::vector<const geom::Tessellation*> tessellation;
+    // Under a cap: the triangles each unit gave the rasterizer in this tile (ascending offsets in
+    // its tessellation, one run per unit), and the tile's copies of units whose pins were let go
+    // (copiedIds, by unit: the copy's ids, null for a unit read from its pinned tessellation).
+    struct SubmittedRun {
+        uint32_t unit = 0, begin = 0, end = 0;
+    };
+    std::vector<uint32_t> submitted;
+    std::vector<SubmittedRun> submittedRuns;
+    std::vector<const std::vector<uint32_t>*> copiedIds;
+    std::vector<std::unique_ptr<TileCopy>> copies;
     std::vector<ObjectTopology> topology;
     std::vector<std::vector<TopologyPiece>> pieceTopology;
     TileRasterizer rasterizer;
@@ -247,6 +269,8 @@ struct Worker {
         util::release(baseColor);
         util::release(adaptive);
         util::release(waiting);
+        util::release(submitted);
+        util::release(submittedRuns);
         util::release(occludingDepth);
         util::release(blockSeal);
         util::release(pending);
@@ -261,7 +285,8 @@ struct Worker {
         uint64_t b = rasterizer.bytes() + resolver.bytes() + cap(pixelGroupStart) + cap(groups) + cap(members) +
                      cap(nearestDepth) + cap(groupSampleStart) + cap(samples) + cap(groupExtraStart) + cap(extraSamples) +
                      cap(shades) + cap(contributions) + cap(contributionNorm) + cap(baseColor) + cap(adaptive) +
-                     cap(tileObjects) + cap(pins) + cap(tessellation) + cap(topology) + cap(pieceTopology) +
+                     cap(tileObjects) + cap(pins) + cap(pinnedUnits) + cap(tessellation) + cap(topology) +
+                     cap(pieceTopology) + cap(submitted) + cap(submittedRuns) + cap(copiedIds) + cap(copies) +
                      cap(waiting) + cap(occludingDepth) + cap(blockSeal);
         for (const std::vector<TopologyPiece>& p : pieceTopology) b += cap(p);
         b += uint64_t(pending.size()) * (sizeof(shade::ShadingBatch) + sizeof(PendingBatch));
@@ -298,6 +323,8 @@ private:
     void rasterizeTile(const PixelRect& base, Worker& w);
     void addObjectTriangles(uint32_t unit, const PixelRect& base, Worker& w);
     const std::vector<glm::dvec4>& clusterBoxes(uint32_t unit, const geom::Tessellation& g);
+    bool copyPinnedUnits(Worker& w);
+    void chargeBuffers(Worker& w);
     // The tessellation (pinned by the tile) holding triangle id `triangle` of `object`, and the
     // triangle's index in it.
     std::pair<const geom::Tessellation*, uint32_t> triangleAt(const Worker& w, uint32_t object, uint32_t triangle) const;
@@ -485,10 +512,122 @@ const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t unit, const 
 std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const Worker& w, uint32_t object,
                                                                         uint32_t triangle) const {
     const ObjectView& v = m_views[object];
-    if (v.unitCount == 1) return {w.tessellation[v.firstUnit], triangle};
-    const geom::GeometryHandle& h = *m_scene.objects[object].geometry;
-    const size_t piece = h.pieceOf(triangle);
-    return {w.tessellation[v.firstUnit + piece], triangle - h.pieceFirstTriangle(piece)};
+    size_t unit = v.firstUnit;
+    uint32_t local = triangle;
+    if (v.unitCount != 1) {
+        const geom::GeometryHandle& h = *m_scene.objects[object].geometry;
+        const size_t piece = h.pieceOf(triangle);
+        unit += piece;
+        local -= h.pieceFirstTriangle(piece);
+    }
+    if (const std::vector<uint32_t>* ids = w.copiedIds[unit])
+        local = uint32_t(std::lower_bound(ids->begin(), ids->end(), local) - ids->begin());
+    return {w.tessellation[unit], local};
+}
+
+// Charges what the worker's tile buffers have grown to beyond the share frameMemory() charged up
+// front, as the tile goes: room comes from dropping unpinned tessellations and meshes, then from
+// copying the tile's pinned units (copyPinnedUnits). Throws TileDoesNotFit (no object named)
+// when the budget cannot hold them.
+void FrameRenderer::chargeBuffers(Worker& w) {
+    const uint64_t held = w.bytes(), extra = held > m_perThreadBytes ? held - m_perThreadBytes : 0;
+    for (bool copied = false; !w.bufferCharge.tryResize(extra);) {
+        const uint64_t more = extra - w.bufferCharge.bytes();
+        if (m_tessellations.reclaim(more) || m_meshes.reclaim(more)) {
+            returnDroppedMemory();
+            if (w.bufferCharge.tryResize(extra)) return;
+        }
+        if (copied || !copyPinnedUnits(w)) throw TileDoesNotFit{std::string(), more};
+        copied = true;
+    }
+}
+
+// Gives back the pins of the tile's units that a copy of the triangles they gave the rasterizer
+// would hold in less memory, shading from the copies instead (TileCopy), so that a tile which
+// meets more pieces than the budget holds at once still renders: what the copies keep grows with
+// the triangles that reach the tile, not with the pieces they come from. Returns whether a pin
+// was given back. The image is the same: a copy holds the same numbers for every triangle that
+// can have a fragment.
+bool FrameRenderer::copyPinnedUnits(Worker& w) {
+    if (!m_options.copyPinnedTriangles) return false;
+    bool released = false;
+    for (size_t k = 0; k < w.pins.size();) {
+        const uint32_t unit = w.pinnedUnits[k];
+        const geom::Tessellation& g = *w.tessellation[unit];
+        std::span<const uint32_t> kept;
+        for (const Worker::SubmittedRun& r : w.submittedRuns)
+            if (r.unit == unit) kept = std::span<const uint32_t>(w.submitted.data() + r.begin, r.end - r.begin);
+        const size_t n = kept.size();
+        // The vertices the kept triangles use, sorted (charged while they are found), then the
+        // copy itself: those vertices, and the triangles' corners, neighbours, face, material and id.
+        std::optional<cache::MemoryCharge> scratch =
+            cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Tessellation, 3 * n * sizeof(uint32_t));
+        if (!scratch) break;
+        std::vector<uint32_t> vertices(3 * n);
+        for (size_t i = 0; i < n; ++i)
+            for (int j = 0; j < 3; ++j) vertices[3 * i + j] = g.corners[3 * size_t(kept[i]) + j];
+        std::sort(vertices.begin(), vertices.end());
+        vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+        const uint64_t vertexBytes = sizeof(glm::vec3) * (g.normals.empty() ? 1 : 2) + (g.uvs.empty() ? 0 : sizeof(glm::vec2));
+        const uint64_t bytes = sizeof(TileCopy) + vertices.size() * vertexBytes +
+                               n * (8 * sizeof(uint32_t) + (g.material.empty() ? 0 : sizeof(uint16_t)));
+        std::optional<cache::MemoryCharge> charge;
+        if (bytes < g.bytes()) charge = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Tessellation, bytes);
+        if (!charge) {
+            ++k;
+            continue;
+        }
+        auto copy = std::make_unique<TileCopy>();
+        geom::Tessellation& c = copy->tessellation;
+        copy->ids.assign(kept.begin(), kept.end());
+        c.positions.resize(vertices.size());
+        if (!g.normals.empty()) c.normals.resize(vertices.size());
+        if (!g.uvs.empty()) c.uvs.resize(vertices.size());
+        for (size_t i = 0; i < vertices.size(); ++i) {
+            c.positions[i] = g.positions[vertices[i]];
+            if (!g.normals.empty()) c.normals[i] = g.normals[vertices[i]];
+            if (!g.uvs.empty()) c.uvs[i] = g.uvs[vertices[i]];
+        }
+        c.corners.resize(3 * n);
+        c.neighbors.resize(3 * n);
+        c.face.resize(n);
+        if (!g.material.empty()) c.material.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            const size_t t = kept[i];
+            for (int j = 0; j < 3; ++j) {
+                const uint32_t vertex = g.corners[3 * t + j];
+                c.corners[3 * i + j] = uint32_t(std::lower_bound(vertices.begin(), vertices.end(), vertex) - vertices.begin());
+                c.neighbors[3 * i + j] = g.neighbors[3 * t + j];
+            }
+            c.face[i] = g.face[t];
+            if (!g.material.empty()) c.material[i] = t < g.material.size() ? g.material[t] : 0;
+        }
+        util::release(vertices);
+        scratch.reset();
+        copy->charge = std::move(*charge);
+        copy->charge.resize(sizeof(TileCopy) + c.bytes() + uint64_t(copy->ids.capacity()) * sizeof(uint32_t));
+
+        const UnitView& u = m_units[unit];
+        const ObjectView& v = m_views[u.object];
+        std::vector<TopologyPiece>& pieces = w.pieceTopology[u.object];
+        if (v.unitCount == 1) pieces.assign(1, TopologyPiece{});
+        TopologyPiece& piece = pieces[u.piece];
+        piece.firstTriangle = m_scene.objects[u.object].geometry->pieceFirstTriangle(u.piece);
+        piece.triangleCount = uint32_t(n);
+        piece.neighbors = c.neighbors.data();
+        piece.ids = copy->ids.data();
+        w.topology[u.object] = ObjectTopology{nullptr, 0, pieces.data(), uint32_t(pieces.size())};
+        w.tessellation[unit] = &c;
+        w.copiedIds[unit] = &copy->ids;
+        w.copies.push_back(std::move(copy));
+        w.pins[k] = std::move(w.pins.back());
+        w.pins.pop_back();
+        w.pinnedUnits[k] = w.pinnedUnits.back();
+        w.pinnedUnits.pop_back();
+        ++w.stats.tileCopies;
+        released = true;
+    }
+    return released;
 }
 
 // Projects the triangles of one object that may reach `base` (the tile and its apron) into the
@@ -505,6 +644,10 @@ void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Wor
     RenderStats& st = w.stats;
     const double nearZ = -m_camera.nearClipPlane;
     const size_t triangles = g.triangleCount();
+    // Under a cap the tile notes which triangles it rasterized, so that it can copy them and let
+    // the tessellation go (copyPinnedUnits).
+    const bool record = m_budget.capBytes() != 0 && m_options.copyPinnedTriangles;
+    const uint32_t runBegin = uint32_t(w.submitted.size());
     for (size_t cluster = 0; cluster < boxes.size(); ++cluster) {
         const glm::dvec4& box = boxes[cluster];
         if (box.z < base.x0 || box.x > base.x1 || box.w < base.y0 || box.y > base.y1) continue;
@@ -551,9 +694,12 @@ void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Wor
                 }
                 if (x1 < base.x0 || x0 > base.x1 || y1 < base.y0 || y0 > base.y1) continue;
                 w.rasterizer.add(s);
+                if (record && (w.submitted.size() == runBegin || w.submitted.back() != uint32_t(t)))
+                    w.submitted.push_back(uint32_t(t));
             }
         }
     }
+    if (w.submitted.size() > runBegin) w.submittedRuns.push_back({unit, runBegin, uint32_t(w.submitted.size())});
 }
 
 // The pixels of `base` a unit's screen box reaches, for a unit listed for the tile.
@@ -599,12 +745,18 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
         const geom::GeometryHandle* handle = m_scene.objects[i].geometry.get();
         // Room for `bytes` while something is made, by dropping unpinned tessellations, then
         // unpinned meshes, when needed.
+        // When that is not enough, the tile's pinned units are copied (copyPinnedUnits) and their
+        // tessellations dropped too.
         auto takeRoom = [&](uint64_t bytes) {
             std::optional<cache::MemoryCharge> room =
                 cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
-            if (!room && (m_tessellations.reclaim(bytes) || m_meshes.reclaim(bytes))) {
-                returnDroppedMemory();
-                room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
+            for (bool copied = false; !room;) {
+                if (m_tessellations.reclaim(bytes) || m_meshes.reclaim(bytes)) {
+                    returnDroppedMemory();
+                    room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
+                }
+                if (room || copied || !copyPinnedUnits(w)) break;
+                copied = true;
             }
             if (!room) throw TileDoesNotFit{m_scene.objects[i].name, bytes};
             return std::move(*room);
@@ -653,6 +805,7 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
             w.topology[i] = ObjectTopology{nullptr, 0, pieces.data(), uint32_t(pieces.size())};
         }
         w.pins.push_back(std::move(*pin));
+        w.pinnedUnits.push_back(unit);
         ++w.stats.objectTileVisits;
         addObjectTriangles(unit, base, w);
     };
@@ -930,22 +1083,30 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
     struct TileScope {
         Worker& w;
         const FrameRenderer& renderer;
-        ~TileScope() {
+        ~TileScope() { release(); }
+        void release() {
             for (uint32_t i : w.tileObjects) {
                 const UnitView& u = renderer.m_units[i];
                 w.tessellation[i] = nullptr;
+                w.copiedIds[i] = nullptr;
                 w.topology[u.object] = ObjectTopology{};
-                if (std::vector<TopologyPiece>& pieces = w.pieceTopology[u.object]; !pieces.empty()) {
+                if (std::vector<TopologyPiece>& pieces = w.pieceTopology[u.object]; u.piece < pieces.size()) {
                     pieces[u.piece].triangleCount = 0;
                     pieces[u.piece].neighbors = nullptr;
+                    pieces[u.piece].ids = nullptr;
                 }
             }
             w.tileObjects.clear();
             w.pins.clear();
+            w.pinnedUnits.clear();
+            w.copies.clear();
+            w.submitted.clear();
+            w.submittedRuns.clear();
         }
     } scope{w, *this};
     TileRasterizer& rast = w.rasterizer;
     rasterizeTile(base, w);
+    chargeBuffers(w);
     w.stats.rasterSeconds += secondsSince(tRaster);
 
     // Resolve every pixel of the base region and keep its surfaces.
@@ -971,6 +1132,7 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
             w.nearestDepth[pi] = w.resolver.nearestDepth();
         }
     w.pixelGroupStart[size_t(bw) * bh] = uint32_t(w.groups.size());
+    chargeBuffers(w);
     w.stats.resolveSeconds += secondsSince(tResolve);
 
     // Base shading of every visible surface.
@@ -1112,6 +1274,7 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
                     w.stats.shadingSamplesAdaptive += w.groupExtraStart[gi + 1] - w.groupExtraStart[gi];
             }
     }
+    chargeBuffers(w);
     w.stats.shadeSeconds += secondsSince(tShade);
 
     // Filter: gather into each tile pixel the surfaces of the pixels within reach.
@@ -1165,11 +1328,9 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
     w.stats.filterSeconds += secondsSince(tFilter);
     w.stats.apronPixels += uint64_t(base.width()) * base.height() - uint64_t(tile.width()) * tile.height();
     ++w.stats.tiles;
-    // The buffers have grown to hold this tile: charge the growth, making room for it by dropping
-    // other tiles' tessellations.
-    const uint64_t held = w.bytes(), extra = held > m_perThreadBytes ? held - m_perThreadBytes : 0;
-    if (extra > w.bufferCharge.bytes()) m_tessellations.reclaim(extra - w.bufferCharge.bytes());
-    w.bufferCharge.resize(extra);
+    // What the filter added, with this tile's tessellations given back first.
+    scope.release();
+    chargeBuffers(w);
 }
 
 Framebuffer FrameRenderer::run() {
@@ -1250,6 +1411,7 @@ Framebuffer FrameRenderer::run() {
         m_stats.trianglesOutside += w.stats.trianglesOutside;
         m_stats.objectTileVisits += w.stats.objectTileVisits;
         m_stats.skippedOccluded += w.stats.skippedOccluded;
+        m_stats.tileCopies += w.stats.tileCopies;
         const RasterStats& rs = w.rasterizer.stats();
         m_stats.trianglesRasterized += rs.trianglesRasterized;
         m_stats.fragments += rs.fragments;
@@ -1349,8 +1511,9 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
         m.geometryBytes += sizeof(ObjectView) + o.materials.size() * sizeof(std::vector<shade::Light>) +
                            pieces * sizeof(UnitView) +
                            uint64_t(std::max(1, threads)) *
-                               (pieces * sizeof(const geom::Tessellation*) + sizeof(ObjectTopology) +
-                                sizeof(std::vector<TopologyPiece>) + (pieces > 1 ? pieces * sizeof(TopologyPiece) : 0));
+                               (pieces * (sizeof(const geom::Tessellation*) + sizeof(const std::vector<uint32_t>*)) +
+                                sizeof(ObjectTopology) + sizeof(std::vector<TopologyPiece>) +
+                                (pieces > 1 ? pieces * sizeof(TopologyPiece) : 0));
     }
     return m;
 }
@@ -1453,7 +1616,8 @@ Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, con
         const std::string source = budget.capBytes() == cap.bytes ? cap.source : std::string();
         throw MemoryCapError("the " + std::to_string(e.tile.width()) + "x" + std::to_string(e.tile.height()) +
                                  " tile at (" + std::to_string(e.tile.x0) + ", " + std::to_string(e.tile.y0) +
-                                 ") needs about " + formatBytes(e.bytes) + " more for the triangles of " + e.object +
+                                 ") needs about " + formatBytes(e.bytes) + " more for " +
+                                 (e.object.empty() ? std::string("its fragments and shading") : "the triangles of " + e.object) +
                                  ", beyond the memory cap of " + capText + (source.empty() ? "" : " (" + source + ")") +
                                  " with the frame's buffers held",
                              budget.usedBytes() + e.bytes, capBytes);
@@ -1477,6 +1641,7 @@ void writeRenderStats(util::JsonWriter& j, const RenderStats& s) {
     j.field("skippedOccluded", s.skippedOccluded).field("skippedOffscreen", s.objectsCulledFrustum + s.objectsCulledFar);
     j.field("trianglesMade", s.trianglesMade).field("made", s.tessellationsMade);
     j.field("evicted", s.tessellationsEvicted).field("recomputed", s.tessellationsRecomputed);
+    j.field("tileCopies", s.tileCopies);
     j.field("meshesMade", s.meshesMade).field("meshesEvicted", s.meshesEvicted);
     j.field("tileVisits", s.objectTileVisits);
     j.endObject();

@@ -68,6 +68,9 @@ struct RenderStats {
     uint64_t trianglesMade = 0;            // their triangles
     uint64_t tessellationsEvicted = 0;     // dropped to make room
     uint64_t tessellationsRecomputed = 0;  // made again after being dropped
+    // Tessellations a tile let go before it was shaded, keeping a copy of the triangles it
+    // rasterized, to make room for the next one it needed (under a cap only).
+    uint64_t tileCopies = 0;
     // Meshes of shapes in pieces made again for their pieces (they do not keep them), and how
     // many of those were dropped to make room before the frame ended.
     uint64_t meshesMade = 0;
@@ -91,6 +94,10 @@ struct RenderOptions {
     // Objects that nearer opaque geometry hides in a whole tile are neither tessellated nor
     // rasterized there. The image is the same either way; false does all the work (for checks).
     bool skipOccluded = true;
+    // Under a cap, a tile that meets more tessellations than the budget holds at once keeps a
+    // copy of the triangles it rasterized from each and lets the tessellation go (stats:
+    // tileCopies). The image is the same either way; false stops such a tile instead (for checks).
+    bool copyPinnedTriangles = true;
 };
 
 // The buffers of one render whose size is known before it starts, in bytes, by the category

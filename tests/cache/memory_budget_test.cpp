@@ -176,6 +176,23 @@ TEST(MemoryCharge, TryChargeGivesNothingWhenRefusedAndNullBudgetIsEmpty) {
     EXPECT_EQ(b.usedBytes(), 0u);
 }
 
+TEST(MemoryCharge, TryResizeGrowsOnlyWithinTheCap) {
+    MemoryBudget b(100);
+    MemoryCharge c(&b, MemoryCategory::Fragments, 30);
+    MemoryCharge other(&b, MemoryCategory::Shading, 50);
+    EXPECT_TRUE(c.tryResize(50));
+    EXPECT_EQ(c.bytes(), 50u);
+    EXPECT_FALSE(c.tryResize(51));  // 101 > 100: nothing changes
+    EXPECT_EQ(c.bytes(), 50u);
+    EXPECT_EQ(b.usedBytes(MemoryCategory::Fragments), 50u);
+    EXPECT_TRUE(c.tryResize(10));  // shrinking always succeeds
+    EXPECT_EQ(b.usedBytes(), 60u);
+    EXPECT_EQ(b.peakBytes(), 100u);
+    MemoryCharge none;
+    EXPECT_TRUE(none.tryResize(1000));
+    EXPECT_EQ(none.bytes(), 0u);
+}
+
 TEST(MemoryBudgetDeathTest, ReleasingMoreThanACategoryHoldsAborts) {
     GTEST_FLAG_SET(death_test_style, "threadsafe");
     EXPECT_DEATH(

@@ -1,6 +1,7 @@
 // Tests for core/geom/mesh_pieces.h: a mesh tessellated piece by piece gives the whole
 // tessellation's triangles, corner values and neighbours bit for bit, under the whole shape's
 // triangle ids, whatever the piece size.
+#include "core/geom/geometry_handle.h"
 #include "core/geom/mesh_pieces.h"
 
 #include <gtest/gtest.h>
@@ -276,6 +277,24 @@ TEST(MeshPieces, APieceNeedsOnlyTheFacesAroundIt) {
     // Vertices on the nine piece borders are made on both sides: under a tenth more than the whole.
     EXPECT_GE(vertices, whole.vertexCount());
     EXPECT_LT(double(vertices), 1.1 * double(whole.vertexCount()));
+}
+
+TEST(MeshPieces, PiecesAreSmallerUnderASmallerCap) {
+    constexpr uint64_t MB = uint64_t(1) << 20;
+    EXPECT_EQ(GeometryHandle::pieceTrianglesFor(0), GeometryHandle::kPieceTriangles);
+    EXPECT_EQ(GeometryHandle::pieceTrianglesFor(64 * 1024 * MB), GeometryHandle::kPieceTriangles);
+    EXPECT_EQ(GeometryHandle::pieceTrianglesFor(1024 * MB), 1u << 18);
+    EXPECT_EQ(GeometryHandle::pieceTrianglesFor(512 * MB), 1u << 17);
+    EXPECT_EQ(GeometryHandle::pieceTrianglesFor(256 * MB), 1u << 16);
+    EXPECT_EQ(GeometryHandle::pieceTrianglesFor(1 * MB), 1u << 14);
+    EXPECT_EQ(GeometryHandle::pieceTrianglesFor(1), 1u << 14);
+    // Making a piece takes at most a sixteenth of any cap that is not below the smallest piece's.
+    for (uint64_t cap = 64 * MB; cap <= 8192 * MB; cap += 37 * MB) {
+        const uint32_t n = GeometryHandle::pieceTrianglesFor(cap);
+        EXPECT_TRUE(std::has_single_bit(n)) << cap;
+        EXPECT_LE(uint64_t(n) * GeometryHandle::kPieceMakingBytes, cap / 16) << cap;
+        if (n < GeometryHandle::kPieceTriangles) EXPECT_GT(uint64_t(2 * n) * GeometryHandle::kPieceMakingBytes, cap / 16) << cap;
+    }
 }
 
 }  // namespace

@@ -128,5 +128,26 @@ TEST(Fragment, DepthAtIsThePlane) {
     EXPECT_FLOAT_EQ(f.depthAt(0.5f, 1.0f), 2.0f);
 }
 
+TEST(ObjectTopology, FindsNeighboursInWholePiecesAndInPiecesThatKeepSomeTriangles) {
+    // Object of 3 triangles in one array.
+    const uint32_t whole[9] = {1, kNoTriangle, 2, 0, 2, kNoTriangle, 0 | kHardEdgeBit, 1, kNoTriangle};
+    const ObjectTopology one{whole, 3, nullptr, 0};
+    EXPECT_EQ(one.neighborsOf(1), whole + 3);
+    EXPECT_EQ(one.neighborsOf(3), nullptr);
+    // Pieces [0, 10) whole, [10, 20) keeping triangles 12, 15 and 19, [20, 30) not at hand.
+    uint32_t first[30], kept[9];
+    for (uint32_t i = 0; i < 30; ++i) first[i] = 100 + i;
+    for (uint32_t i = 0; i < 9; ++i) kept[i] = 200 + i;
+    const uint32_t ids[3] = {2, 5, 9};
+    const TopologyPiece pieces[3] = {{0, 10, first, nullptr}, {10, 3, kept, ids}, {20, 10, nullptr, nullptr}};
+    const ObjectTopology split{nullptr, 0, pieces, 3};
+    EXPECT_EQ(split.neighborsOf(0), first);
+    EXPECT_EQ(split.neighborsOf(9), first + 27);
+    EXPECT_EQ(split.neighborsOf(12), kept);
+    EXPECT_EQ(split.neighborsOf(15), kept + 3);
+    EXPECT_EQ(split.neighborsOf(19), kept + 6);
+    for (const uint32_t absent : {10u, 11u, 13u, 18u, 20u, 25u, 31u}) EXPECT_EQ(split.neighborsOf(absent), nullptr) << absent;
+}
+
 }  // namespace
 }  // namespace pushpin::render
