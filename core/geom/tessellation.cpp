@@ -127,6 +127,51 @@ uint64_t Tessellation::bytes() const {
            capacityBytes(face) + capacityBytes(material) + capacityBytes(neighbors) + capacityBytes(clusterBounds);
 }
 
+std::vector<uint32_t> triangleVertices(const Tessellation& t, std::span<const uint32_t> triangles) {
+    std::vector<uint32_t> vertices(3 * triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i)
+        for (size_t k = 0; k < 3; ++k) vertices[3 * i + k] = t.corners[3 * size_t(triangles[i]) + k];
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    return vertices;
+}
+
+uint64_t copiedTrianglesBytes(const Tessellation& t, size_t triangles, size_t vertices) {
+    const uint64_t perVertex = sizeof(glm::vec3) + (t.normals.empty() ? 0 : sizeof(glm::vec3)) +
+                               (t.uvs.empty() ? 0 : sizeof(glm::vec2));
+    const uint64_t perTriangle = 7 * sizeof(uint32_t) + (t.material.empty() ? 0 : sizeof(uint16_t));
+    return uint64_t(vertices) * perVertex + uint64_t(triangles) * perTriangle;
+}
+
+Tessellation copyTriangles(const Tessellation& t, std::span<const uint32_t> triangles,
+                           std::span<const uint32_t> vertices) {
+    Tessellation c;
+    c.positions.resize(vertices.size());
+    if (!t.normals.empty()) c.normals.resize(vertices.size());
+    if (!t.uvs.empty()) c.uvs.resize(vertices.size());
+    for (size_t i = 0; i < vertices.size(); ++i) {
+        c.positions[i] = t.positions[vertices[i]];
+        if (!t.normals.empty()) c.normals[i] = t.normals[vertices[i]];
+        if (!t.uvs.empty()) c.uvs[i] = t.uvs[vertices[i]];
+    }
+    const size_t n = triangles.size();
+    c.corners.resize(3 * n);
+    c.neighbors.resize(3 * n);
+    c.face.resize(n);
+    if (!t.material.empty()) c.material.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const size_t from = triangles[i];
+        for (size_t k = 0; k < 3; ++k) {
+            const uint32_t v = t.corners[3 * from + k];
+            c.corners[3 * i + k] = uint32_t(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin());
+            c.neighbors[3 * i + k] = t.neighbors[3 * from + k];
+        }
+        c.face[i] = t.face[from];
+        if (!t.material.empty()) c.material[i] = from < t.material.size() ? t.material[from] : uint16_t(0);
+    }
+    return c;
+}
+
 Tessellation triangulateMesh(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading) {
     const MeshValidation validation = mesh.validate();
     if (!validation.ok()) return {};

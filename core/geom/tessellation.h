@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,17 @@ uint32_t faceTriangleBound(const Mesh& mesh, const std::vector<uint16_t>& faceMa
 
 // Fills t.bounds and t.clusterBounds from the vertices and corners.
 void computeTessellationBounds(Tessellation& t);
+
+// The vertices the triangles `triangles` of `t` use, ascending, each once.
+std::vector<uint32_t> triangleVertices(const Tessellation& t, std::span<const uint32_t> triangles);
+// Bytes copyTriangles gives for `triangles` triangles using `vertices` vertices of `t`.
+uint64_t copiedTrianglesBytes(const Tessellation& t, size_t triangles, size_t vertices);
+// Triangles `triangles` of `t` (each once, ascending) on their own: triangle i is t's triangle
+// triangles[i], with its face, material and neighbours (t's triangle ids) as t has them, and its
+// corners renumbered onto `vertices` (triangleVertices of them), whose positions, normals and uvs
+// are t's. No bounds or clusters.
+Tessellation copyTriangles(const Tessellation& t, std::span<const uint32_t> triangles,
+                           std::span<const uint32_t> vertices);
 
 // Uniform per-span grid tessellation of a NURBS surface (reference/algorithms.md §8, primary
 // pass) with `divU` × `divV` steps per span: positions and normals evaluated exactly, uvs the

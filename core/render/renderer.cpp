@@ -558,19 +558,13 @@ bool FrameRenderer::copyPinnedUnits(Worker& w) {
         for (const Worker::SubmittedRun& r : w.submittedRuns)
             if (r.unit == unit) kept = std::span<const uint32_t>(w.submitted.data() + r.begin, r.end - r.begin);
         const size_t n = kept.size();
-        // The vertices the kept triangles use, sorted (charged while they are found), then the
-        // copy itself: those vertices, and the triangles' corners, neighbours, face, material and id.
+        // The vertices the kept triangles use (charged while they are found), then the copy.
         std::optional<cache::MemoryCharge> scratch =
             cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Tessellation, 3 * n * sizeof(uint32_t));
         if (!scratch) break;
-        std::vector<uint32_t> vertices(3 * n);
-        for (size_t i = 0; i < n; ++i)
-            for (int j = 0; j < 3; ++j) vertices[3 * i + j] = g.corners[3 * size_t(kept[i]) + j];
-        std::sort(vertices.begin(), vertices.end());
-        vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-        const uint64_t vertexBytes = sizeof(glm::vec3) * (g.normals.empty() ? 1 : 2) + (g.uvs.empty() ? 0 : sizeof(glm::vec2));
-        const uint64_t bytes = sizeof(TileCopy) + vertices.size() * vertexBytes +
-                               n * (8 * sizeof(uint32_t) + (g.material.empty() ? 0 : sizeof(uint16_t)));
+        std::vector<uint32_t> vertices = geom::triangleVertices(g, kept);
+        const uint64_t bytes =
+            sizeof(TileCopy) + geom::copiedTrianglesBytes(g, n, vertices.size()) + n * sizeof(uint32_t);
         std::optional<cache::MemoryCharge> charge;
         if (bytes < g.bytes()) charge = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Tessellation, bytes);
         if (!charge) {
@@ -579,29 +573,8 @@ bool FrameRenderer::copyPinnedUnits(Worker& w) {
         }
         auto copy = std::make_unique<TileCopy>();
         geom::Tessellation& c = copy->tessellation;
+        c = geom::copyTriangles(g, kept, vertices);
         copy->ids.assign(kept.begin(), kept.end());
-        c.positions.resize(vertices.size());
-        if (!g.normals.empty()) c.normals.resize(vertices.size());
-        if (!g.uvs.empty()) c.uvs.resize(vertices.size());
-        for (size_t i = 0; i < vertices.size(); ++i) {
-            c.positions[i] = g.positions[vertices[i]];
-            if (!g.normals.empty()) c.normals[i] = g.normals[vertices[i]];
-            if (!g.uvs.empty()) c.uvs[i] = g.uvs[vertices[i]];
-        }
-        c.corners.resize(3 * n);
-        c.neighbors.resize(3 * n);
-        c.face.resize(n);
-        if (!g.material.empty()) c.material.resize(n);
-        for (size_t i = 0; i < n; ++i) {
-            const size_t t = kept[i];
-            for (int j = 0; j < 3; ++j) {
-                const uint32_t vertex = g.corners[3 * t + j];
-                c.corners[3 * i + j] = uint32_t(std::lower_bound(vertices.begin(), vertices.end(), vertex) - vertices.begin());
-                c.neighbors[3 * i + j] = g.neighbors[3 * t + j];
-            }
-            c.face[i] = g.face[t];
-            if (!g.material.empty()) c.material[i] = t < g.material.size() ? g.material[t] : 0;
-        }
         util::release(vertices);
         scratch.reset();
         copy->charge = std::move(*charge);

@@ -293,7 +293,9 @@ TEST(MeshPieces, PiecesAreSmallerUnderASmallerCap) {
         const uint32_t n = GeometryHandle::pieceTrianglesFor(cap);
         EXPECT_TRUE(std::has_single_bit(n)) << cap;
         EXPECT_LE(uint64_t(n) * GeometryHandle::kPieceMakingBytes, cap / 16) << cap;
-        if (n < GeometryHandle::kPieceTriangles) EXPECT_GT(uint64_t(2 * n) * GeometryHandle::kPieceMakingBytes, cap / 16) << cap;
+        if (n < GeometryHandle::kPieceTriangles) {
+            EXPECT_GT(uint64_t(2 * n) * GeometryHandle::kPieceMakingBytes, cap / 16) << cap;
+        }
     }
 }
 

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -455,6 +456,42 @@ TEST(GeometryHandle, TrianglesPerScanlineFollowsScreenSize) {
     }
     Mesh empty;
     EXPECT_EQ(GeometryHandle::fromMesh(std::make_shared<const Mesh>(empty), {}, nullptr, true)->trianglesPerScanline(10.0), 0.0);
+}
+
+TEST(CopyTriangles, KeepsWhatEachTriangleHasWithSharedVertices) {
+    PolySphereParams p;
+    p.subdivisionsAxis = 12;
+    p.subdivisionsHeight = 8;
+    const std::optional<Mesh> sphere = makePolySphere(p);
+    ASSERT_TRUE(sphere);
+    std::vector<uint16_t> material(sphere->faceCount(), 0);
+    for (size_t f = 0; f < material.size(); f += 3) material[f] = 1;
+    const Tessellation t = triangulateMesh(*sphere, material, true);
+    ASSERT_GT(t.triangleCount(), 100u);
+    ASSERT_FALSE(t.uvs.empty());
+    const std::vector<uint32_t> kept = {0, 1, 2, 13, 14, 40, uint32_t(t.triangleCount() - 1)};
+    const std::vector<uint32_t> vertices = triangleVertices(t, kept);
+    EXPECT_TRUE(std::is_sorted(vertices.begin(), vertices.end()));
+    EXPECT_EQ(std::adjacent_find(vertices.begin(), vertices.end()), vertices.end());
+    EXPECT_LT(vertices.size(), 3 * kept.size());  // neighbouring triangles share theirs
+    const Tessellation c = copyTriangles(t, kept, vertices);
+    ASSERT_EQ(c.triangleCount(), kept.size());
+    EXPECT_EQ(c.vertexCount(), vertices.size());
+    EXPECT_EQ(c.bytes(), copiedTrianglesBytes(t, kept.size(), vertices.size()));
+    for (size_t i = 0; i < kept.size(); ++i) {
+        const size_t from = kept[i];
+        EXPECT_EQ(c.face[i], t.face[from]);
+        EXPECT_EQ(c.material[i], t.material[from]);
+        for (size_t k = 0; k < 3; ++k) {
+            EXPECT_EQ(c.neighbors[3 * i + k], t.neighbors[3 * from + k]);
+            EXPECT_EQ(c.position(3 * i + k), t.position(3 * from + k));
+            EXPECT_EQ(c.normal(3 * i + k), t.normal(3 * from + k));
+            EXPECT_EQ(c.uv(3 * i + k), t.uv(3 * from + k));
+        }
+    }
+    const Tessellation none = copyTriangles(t, {}, triangleVertices(t, {}));
+    EXPECT_EQ(none.triangleCount(), 0u);
+    EXPECT_EQ(none.vertexCount(), 0u);
 }
 
 }  // namespace

@@ -318,7 +318,9 @@ TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
             EXPECT_TRUE(sameImage(image, reference))
                 << c.threads << " threads, tiles of " << c.tile << ", " << c.extra << " bytes over the buffers";
             EXPECT_EQ(budget.usedBytes(), 0u);
-            if (c.extra) EXPECT_LE(budget.peakBytes(), budget.capBytes());
+            if (c.extra) {
+                EXPECT_LE(budget.peakBytes(), budget.capBytes());
+            }
             // Each piece is made once for both instances (when nothing is dropped), and the
             // pieces hold the whole shape's triangles.
             if (c.extra == 0) {
@@ -368,7 +370,9 @@ connectAttr "groundCreator.out" "groundShape.i";
                 EXPECT_TRUE(sameImage(image, reference)) << cap << " bytes, " << threads << " threads";
                 EXPECT_EQ(st.triangles, wholeStats.triangles);
                 EXPECT_LE(budget.peakBytes(), budget.capBytes());
-                if (!copies) EXPECT_EQ(st.tileCopies, 0u);
+                if (!copies) {
+                    EXPECT_EQ(st.tileCopies, 0u);
+                }
             } catch (const MemoryCapError&) {
                 finished = false;
             }
