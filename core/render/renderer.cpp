@@ -3,6 +3,7 @@
 #include "core/geom/tessellation.h"
 #include "core/render/adaptive_shading.h"
 #include "core/render/pixel_filter.h"
+#include "core/render/tile_objects.h"
 #include "core/render/tile_plan.h"
 #include "core/render/visibility.h"
 #include "core/render/visible_set.h"
@@ -109,11 +110,9 @@ struct ObjectView : ObjectPlacement {
 // One piece of an object's shape (the whole shape when it is one piece), the thing a tile lists,
 // orders by depth, tests for occlusion and rasterizes: where its piece's bounds fall on the
 // screen, and the screen boxes of its tessellation's clusters.
-struct UnitView {
+struct UnitView : ScreenBox {
     uint32_t object = 0, piece = 0;
     bool kept = false;
-    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    double nearKey = 0, farKey = 0;
     // Screen boxes of the tessellation's clusters, made by the first tile that needs them.
     std::once_flag clustersMade;
     std::vector<glm::dvec4> clusterBoxes;  // (x0, y0, x1, y1)
@@ -244,8 +243,8 @@ struct Worker {
     // occlusion (rasterizeTile): objects waiting behind nearer ones, and per base-region pixel the
     // depth behind which the fragments rasterized so far hide everything
     std::vector<uint32_t> waiting;
-    std::vector<float> occludingDepth;
-    std::vector<float> blockSeal;   // per 8×8 block of the tile, the farthest of its occludingDepth
+    NearOccluders occluders;
+    OcclusionMap occlusion;
     RenderStats stats;
     // What the buffers above hold beyond the fixed share frameMemory() charges per thread; they
     // grow with the fragments of the busiest tile so far.
@@ -271,8 +270,7 @@ struct Worker {
         util::release(waiting);
         util::release(submitted);
         util::release(submittedRuns);
-        util::release(occludingDepth);
-        util::release(blockSeal);
+        occlusion.release();
         util::release(pending);
         pendingCount = 0;
         util::release(pendingIndex);
@@ -287,7 +285,7 @@ struct Worker {
                      cap(shades) + cap(contributions) + cap(contributionNorm) + cap(baseColor) + cap(adaptive) +
                      cap(tileObjects) + cap(pins) + cap(pinnedUnits) + cap(tessellation) + cap(topology) +
                      cap(pieceTopology) + cap(submitted) + cap(submittedRuns) + cap(copiedIds) + cap(copies) +
-                     cap(waiting) + cap(occludingDepth) + cap(blockSeal);
+                     cap(waiting) + occlusion.bytes();
         for (const std::vector<TopologyPiece>& p : pieceTopology) b += cap(p);
         b += uint64_t(pending.size()) * (sizeof(shade::ShadingBatch) + sizeof(PendingBatch));
         return b;
@@ -675,21 +673,6 @@ void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Wor
     if (w.submitted.size() > runBegin) w.submittedRuns.push_back({unit, runBegin, uint32_t(w.submitted.size())});
 }
 
-// The pixels of `base` a unit's screen box reaches, for a unit listed for the tile.
-PixelRect reachOf(const UnitView& v, const PixelRect& base) {
-    PixelRect r;
-    r.x0 = v.x0 <= base.x0 ? base.x0 : int(std::floor(v.x0));
-    r.y0 = v.y0 <= base.y0 ? base.y0 : int(std::floor(v.y0));
-    r.x1 = v.x1 >= base.x1 ? base.x1 : std::min(base.x1, int(std::floor(v.x1)) + 1);
-    r.y1 = v.y1 >= base.y1 ? base.y1 : std::min(base.y1, int(std::floor(v.y1)) + 1);
-    return r;
-}
-
-uint64_t overlapArea(const PixelRect& a, const PixelRect& b) {
-    const PixelRect o{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
-    return uint64_t(o.width()) * uint64_t(o.height());
-}
-
 // The tile's objects front to back, their tessellations pinned (made on first need, shared by
 // instances), their triangles rasterized into `base`. Throws TileDoesNotFit when a tessellation
 // cannot be made room for in the budget.
@@ -702,15 +685,9 @@ uint64_t overlapArea(const PixelRect& a, const PixelRect& b) {
 // rasterized as usual: the skip changes no bit, only the work done.
 void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
     w.tileObjects.clear();
-    for (uint32_t i = 0; i < m_units.size(); ++i) {
-        const UnitView& v = m_units[i];
-        if (!v.kept) continue;
-        if (v.x1 < base.x0 || v.x0 > base.x1 || v.y1 < base.y0 || v.y0 > base.y1) continue;
-        w.tileObjects.push_back(i);
-    }
-    std::sort(w.tileObjects.begin(), w.tileObjects.end(), [&](uint32_t a, uint32_t b) {
-        return m_units[a].nearKey != m_units[b].nearKey ? m_units[a].nearKey < m_units[b].nearKey : a < b;
-    });
+    for (uint32_t i = 0; i < m_units.size(); ++i)
+        if (m_units[i].kept && reaches(m_units[i], base)) w.tileObjects.push_back(i);
+    sortNearestFirst(w.tileObjects, [&](uint32_t i) { return m_units[i].nearKey; });
     w.rasterizer.reset(base);
 
     auto rasterize = [&](uint32_t unit) {
@@ -783,84 +760,36 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
         addObjectTriangles(unit, base, w);
     };
 
-    // Nearer objects that may hide the ones behind them: the largest boxes met so far, a bounded
-    // number of them so that the test stays linear in the tile's objects.
-    constexpr size_t kOccluders = 32;
-    struct Occluder {
-        PixelRect reach;
-        uint64_t area;
-        double farKey;
-    };
-    std::array<Occluder, kOccluders> occluders;
-    size_t occluderCount = 0;
+    // Nearer objects that may hide the ones behind them, and those waiting behind them.
+    w.occluders.clear();
     w.waiting.clear();
     PixelRect waitingReach{base.x1, base.y1, base.x0, base.y0};
     for (uint32_t i : w.tileObjects) {
         const UnitView& v = m_units[i];
         const PixelRect reach = reachOf(v, base);
-        if (m_options.skipOccluded && std::isfinite(v.nearKey) && !reach.empty()) {
-            uint64_t covered = 0;
-            for (size_t k = 0; k < occluderCount; ++k)
-                if (occluders[k].farKey < v.nearKey) covered += overlapArea(occluders[k].reach, reach);
-            if (covered >= uint64_t(reach.width()) * uint64_t(reach.height())) {
-                w.waiting.push_back(i);
-                waitingReach = {std::min(waitingReach.x0, reach.x0), std::min(waitingReach.y0, reach.y0),
-                                std::max(waitingReach.x1, reach.x1), std::max(waitingReach.y1, reach.y1)};
-                continue;
-            }
-        }
-        rasterize(i);
-        if (!m_views[v.object].mayOcclude || !std::isfinite(v.farKey) || reach.empty()) continue;
-        const Occluder o{reach, uint64_t(reach.width()) * uint64_t(reach.height()), v.farKey};
-        if (occluderCount < kOccluders) {
-            occluders[occluderCount++] = o;
+        if (m_options.skipOccluded && w.occluders.mayHide(reach, v.nearKey)) {
+            w.waiting.push_back(i);
+            waitingReach = {std::min(waitingReach.x0, reach.x0), std::min(waitingReach.y0, reach.y0),
+                            std::max(waitingReach.x1, reach.x1), std::max(waitingReach.y1, reach.y1)};
             continue;
         }
-        size_t smallest = 0;
-        for (size_t k = 1; k < kOccluders; ++k)
-            if (occluders[k].area < occluders[smallest].area) smallest = k;
-        if (occluders[smallest].area < o.area) occluders[smallest] = o;
+        rasterize(i);
+        if (m_views[v.object].mayOcclude) w.occluders.add(reach, v.farKey);
     }
 
     bool finished = false;  // whether the fragments are sorted with every object rasterized so far
     if (!w.waiting.empty()) {
         w.rasterizer.finish();
         finished = true;
-        const int bw = base.width();
-        w.occludingDepth.assign(size_t(bw) * size_t(base.height()), std::numeric_limits<float>::infinity());
+        w.occlusion.reset(base);
         for (int y = waitingReach.y0; y < waitingReach.y1; ++y)
             for (int x = waitingReach.x0; x < waitingReach.x1; ++x) {
                 std::span<const Fragment> frags = w.rasterizer.fragments(x, y);
-                if (!frags.empty())
-                    w.occludingDepth[size_t(y - base.y0) * bw + (x - base.x0)] = w.resolver.occludingDepth(frags);
+                if (!frags.empty()) w.occlusion.set(x, y, w.resolver.occludingDepth(frags));
             }
-        // The farthest occluding depth of each 8×8 block: an object behind the farthest of the
-        // blocks its reach meets is behind every pixel of it (occludedBehind is monotone in the
-        // occluding depth), and only the others are tested pixel by pixel.
-        constexpr int kBlock = 8;
-        const int blocksX = (bw + kBlock - 1) / kBlock, blocksY = (base.height() + kBlock - 1) / kBlock;
-        w.blockSeal.assign(size_t(blocksX) * size_t(blocksY), -std::numeric_limits<float>::infinity());
-        for (int y = 0; y < base.height(); ++y)
-            for (int x = 0; x < bw; ++x) {
-                float& seal = w.blockSeal[size_t(y / kBlock) * blocksX + size_t(x / kBlock)];
-                seal = std::max(seal, w.occludingDepth[size_t(y) * bw + x]);
-            }
+        w.occlusion.finish();
         for (uint32_t i : w.waiting) {
-            const UnitView& v = m_units[i];
-            const PixelRect reach = reachOf(v, base);
-            float seal = -std::numeric_limits<float>::infinity();
-            for (int by = (reach.y0 - base.y0) / kBlock; by <= (reach.y1 - 1 - base.y0) / kBlock; ++by)
-                for (int bx = (reach.x0 - base.x0) / kBlock; bx <= (reach.x1 - 1 - base.x0) / kBlock; ++bx)
-                    seal = std::max(seal, w.blockSeal[size_t(by) * blocksX + size_t(bx)]);
-            if (occludedBehind(seal, v.nearKey)) {
-                ++w.stats.skippedOccluded;
-                continue;
-            }
-            bool hidden = true;
-            for (int y = reach.y0; y < reach.y1 && hidden; ++y)
-                for (int x = reach.x0; x < reach.x1 && hidden; ++x)
-                    hidden = occludedBehind(w.occludingDepth[size_t(y - base.y0) * bw + (x - base.x0)], v.nearKey);
-            if (hidden) {
+            if (w.occlusion.hides(reachOf(m_units[i], base), m_units[i].nearKey)) {
                 ++w.stats.skippedOccluded;
                 continue;
             }
