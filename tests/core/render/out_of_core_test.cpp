@@ -228,10 +228,13 @@ connectAttr "ballShape.iog" "greySG.dsm" -na;
 }
 
 // A bumpy plane of 9,600 triangles (a point tweak keeps it from being made from its creator's
-// counts), shown twice, tilted towards the camera with a sphere in front of it.
-std::string bumpyPlaneScene() {
+// counts), shown twice, tilted towards the camera (and turned by `turn` degrees) with a sphere in
+// front of it; `againLines` place the second instance.
+constexpr std::string_view kAgainTilted =
+    "\tsetAttr \".t\" -type \"double3\" 1.5 -0.5 -2;\n\tsetAttr \".r\" -type \"double3\" 70 0 -10;\n";
+std::string bumpyPlaneScene(double turn = 15.0, std::string_view againLines = kAgainTilted) {
     return groundScene(R"(createNode transform -n "ground";
-	setAttr ".r" -type "double3" 60 0 15;
+	setAttr ".r" -type "double3" 60 0 )" + std::to_string(turn) + R"(;
 createNode mesh -n "groundShape" -p "ground";
 	setAttr ".pt[5]" -type "float3" 0 0.4 0;
 	setAttr ".pt[700]" -type "float3" 0 -0.3 0;
@@ -242,7 +245,7 @@ createNode polyPlane -n "groundCreator";
 	setAttr ".sh" 60;
 connectAttr "groundCreator.out" "groundShape.i";
 )",
-                       "\tsetAttr \".t\" -type \"double3\" 1.5 -0.5 -2;\n\tsetAttr \".r\" -type \"double3\" 70 0 -10;\n");
+                       againLines);
 }
 
 // 120 × 90 pixels in 16 × 16 tiles, for the ground scenes; `onDemand`: built as under a cap (no
@@ -335,18 +338,7 @@ TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
 TEST(OutOfCore, ATileThatMeetsMorePiecesThanTheCapHoldsCopiesTheirTriangles) {
     // The bumpy plane turned so that its rows of faces (and so its pieces) run up the screen: a
     // 16-pixel tile meets many pieces, and a small part of each.
-    const std::string text = groundScene(R"(createNode transform -n "ground";
-	setAttr ".r" -type "double3" 60 0 95;
-createNode mesh -n "groundShape" -p "ground";
-	setAttr ".pt[5]" -type "float3" 0 0.4 0;
-createNode polyPlane -n "groundCreator";
-	setAttr ".w" 9;
-	setAttr ".h" 7;
-	setAttr ".sw" 80;
-	setAttr ".sh" 60;
-connectAttr "groundCreator.out" "groundShape.i";
-)",
-                                         "\tsetAttr \".t\" -type \"double3\" 30 0 0;\n");
+    const std::string text = bumpyPlaneScene(95.0, "\tsetAttr \".t\" -type \"double3\" 30 0 0;\n");
     for (const bool onDemand : {false, true}) {
         SCOPED_TRACE(onDemand ? "meshes evaluated on demand" : "meshes kept");
         const GroundRender g(text, onDemand);
