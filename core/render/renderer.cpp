@@ -120,13 +120,16 @@ struct UnitView : ScreenBox {
 
 // The camera-space position of an object-space point, and the unit camera-space normal of an
 // object-space normal (zero when it has no direction), exactly as every stage computes them.
+// Both stay in double precision: GCC may keep a double rounded to float at double precision in
+// C++ (its excess precision), so a round trip through float would give whatever the optimizer
+// chose, and images that differ from one build to the next.
 glm::dvec3 cameraPoint(const glm::dmat4& cameraFromObject, const glm::vec3& p) {
     return glm::dvec3(cameraFromObject * glm::dvec4(glm::dvec3(p), 1.0));
 }
-glm::vec3 cameraNormal(const glm::dmat3& normalToCamera, const glm::vec3& n) {
+glm::dvec3 cameraNormal(const glm::dmat3& normalToCamera, const glm::vec3& n) {
     const glm::dvec3 c = normalToCamera * glm::dvec3(n);
     const double len = glm::length(c);
-    return len > 0.0 && std::isfinite(len) ? glm::vec3(c / len) : glm::vec3(0.0f);
+    return len > 0.0 && std::isfinite(len) ? c / len : glm::dvec3(0.0);
 }
 
 // Near-plane clip of a camera-space triangle (keeps z <= -near). Returns 0, 3 or 4 vertices.
@@ -841,9 +844,9 @@ void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, const Worker& w, u
         }
     }
     glm::dvec3 ng = nn > 0.0 ? n / std::sqrt(nn) : -dir;
-    glm::dvec3 ns = glm::dvec3(cameraNormal(co.normalToCamera, g.normals[v0])) * b0 +
-                    glm::dvec3(cameraNormal(co.normalToCamera, g.normals[v1])) * b1 +
-                    glm::dvec3(cameraNormal(co.normalToCamera, g.normals[v2])) * b2;
+    glm::dvec3 ns = cameraNormal(co.normalToCamera, g.normals[v0]) * b0 +
+                    cameraNormal(co.normalToCamera, g.normals[v1]) * b1 +
+                    cameraNormal(co.normalToCamera, g.normals[v2]) * b2;
     double nsLen = glm::length(ns);
     ns = nsLen > 1e-12 ? ns / nsLen : ng;
     if (obj.opposite) {
