@@ -3,6 +3,7 @@
 #include "core/geom/tessellation.h"
 #include "core/render/adaptive_shading.h"
 #include "core/render/pixel_filter.h"
+#include "core/render/shading_points.h"
 #include "core/render/tile_objects.h"
 #include "core/render/tile_plan.h"
 #include "core/render/visibility.h"
@@ -809,82 +810,32 @@ void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, const Worker& w, u
     const ObjectView& co = m_views[object];
     const auto [tessellation, local] = triangleAt(w, object, triangle);
     const geom::Tessellation& g = *tessellation;
-    const uint32_t v0 = g.corners[3 * size_t(local)], v1 = g.corners[3 * size_t(local) + 1],
-                   v2 = g.corners[3 * size_t(local) + 2];
-    const glm::dvec3 p0 = cameraPoint(co.cameraFromObject, g.positions[v0]);
-    const glm::dvec3 p1 = cameraPoint(co.cameraFromObject, g.positions[v1]);
-    const glm::dvec3 p2 = cameraPoint(co.cameraFromObject, g.positions[v2]);
+    ShadingTriangle t;
+    t.hasUvs = !g.uvs.empty();
+    t.opposite = obj.opposite;
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t v = g.corners[3 * size_t(local) + size_t(k)];
+        t.p[k] = cameraPoint(co.cameraFromObject, g.positions[v]);
+        t.n[k] = cameraNormal(co.normalToCamera, g.normals[v]);
+        if (t.hasUvs) t.uv[k] = glm::dvec2(g.uvs[v]);
+    }
     glm::dvec3 origin, dir;
     m_camera.rayThrough(rx, ry, origin, dir);
-    glm::dvec3 e1 = p1 - p0, e2 = p2 - p0;
-    glm::dvec3 n = glm::cross(e1, e2);
-    double nn = glm::dot(n, n);
-    double denom = glm::dot(n, dir);
-    double b0 = 1.0 / 3.0, b1 = 1.0 / 3.0, b2 = 1.0 / 3.0;
-    glm::dvec3 p = (p0 + p1 + p2) / 3.0;
-    if (nn > 0.0 && std::fabs(denom) > 1e-300) {
-        double t = glm::dot(n, p0 - origin) / denom;
-        glm::dvec3 hit = origin + dir * t;
-        glm::dvec3 d = hit - p0;
-        b1 = glm::dot(glm::cross(d, e2), n) / nn;
-        b2 = glm::dot(glm::cross(e1, d), n) / nn;
-        b0 = 1.0 - b1 - b2;
-        if (std::isfinite(b0) && std::isfinite(b1) && std::isfinite(b2)) {
-            p = hit;
-            if (b0 < 0.0 || b1 < 0.0 || b2 < 0.0) {
-                // A sample on a sub-sample the triangle owns lies inside it up to rounding; pull
-                // stray points back onto the triangle.
-                b0 = std::max(b0, 0.0), b1 = std::max(b1, 0.0), b2 = std::max(b2, 0.0);
-                double s = b0 + b1 + b2;
-                b0 /= s, b1 /= s, b2 /= s;
-                p = p0 * b0 + p1 * b1 + p2 * b2;
-            }
-        } else {
-            b0 = b1 = b2 = 1.0 / 3.0;
-        }
-    }
-    glm::dvec3 ng = nn > 0.0 ? n / std::sqrt(nn) : -dir;
-    glm::dvec3 ns = cameraNormal(co.normalToCamera, g.normals[v0]) * b0 +
-                    cameraNormal(co.normalToCamera, g.normals[v1]) * b1 +
-                    cameraNormal(co.normalToCamera, g.normals[v2]) * b2;
-    double nsLen = glm::length(ns);
-    ns = nsLen > 1e-12 ? ns / nsLen : ng;
-    if (obj.opposite) {
-        ng = -ng;
-        ns = -ns;
-    }
-    uint8_t flipped = 0;
-    if (glm::dot(ng, dir) > 0.0) {
-        ng = -ng;
-        ns = -ns;
-        flipped = 1;
-    }
+    const ShadingPoint s = shadingPointOn(t, origin, dir);
+    const glm::dvec3& p = s.position;
     b.px[i] = float(p.x), b.py[i] = float(p.y), b.pz[i] = float(p.z);
-    b.nx[i] = float(ns.x), b.ny[i] = float(ns.y), b.nz[i] = float(ns.z);
-    b.gx[i] = float(ng.x), b.gy[i] = float(ng.y), b.gz[i] = float(ng.z);
+    b.nx[i] = float(s.shadingNormal.x), b.ny[i] = float(s.shadingNormal.y), b.nz[i] = float(s.shadingNormal.z);
+    b.gx[i] = float(s.geometricNormal.x), b.gy[i] = float(s.geometricNormal.y), b.gz[i] = float(s.geometricNormal.z);
     b.rx[i] = float(dir.x), b.ry[i] = float(dir.y), b.rz[i] = float(dir.z);
-    glm::dvec3 tu(0.0), tv(0.0);
-    if (!g.uvs.empty()) {
-        glm::dvec2 uv0(g.uvs[v0]), uv1(g.uvs[v1]), uv2(g.uvs[v2]);
-        glm::dvec2 uv = uv0 * b0 + uv1 * b1 + uv2 * b2;
-        b.u[i] = float(uv.x), b.v[i] = float(uv.y);
-        glm::dvec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
-        double det = d1.x * d2.y - d2.x * d1.y;
-        if (std::fabs(det) > 1e-20) {
-            tu = (e1 * d2.y - e2 * d1.y) / det;
-            tv = (e2 * d1.x - e1 * d2.x) / det;
-        }
-    } else {
-        b.u[i] = 0.0f, b.v[i] = 0.0f;
-    }
-    b.tux[i] = float(tu.x), b.tuy[i] = float(tu.y), b.tuz[i] = float(tu.z);
-    b.tvx[i] = float(tv.x), b.tvy[i] = float(tv.y), b.tvz[i] = float(tv.z);
+    b.u[i] = float(s.uv.x), b.v[i] = float(s.uv.y);
+    b.tux[i] = float(s.tangentU.x), b.tuy[i] = float(s.tangentU.y), b.tuz[i] = float(s.tangentU.z);
+    b.tvx[i] = float(s.tangentV.x), b.tvy[i] = float(s.tangentV.y), b.tvz[i] = float(s.tangentV.z);
     glm::dvec3 pw(m_camera.worldFromCamera * glm::dvec4(p, 1.0));
     glm::dvec3 po(co.objectFromCamera * glm::dvec4(p, 1.0));
     b.wx[i] = float(pw.x), b.wy[i] = float(pw.y), b.wz[i] = float(pw.z);
     b.ox[i] = float(po.x), b.oy[i] = float(po.y), b.oz[i] = float(po.z);
     b.pixelX[i] = float(std::floor(rx) + 0.5), b.pixelY[i] = float(std::floor(ry) + 0.5);
-    b.flipped[i] = flipped;
+    b.flipped[i] = s.flipped ? 1 : 0;
 }
 
 void FrameRenderer::flush(Worker& w, PendingBatch& p) {
