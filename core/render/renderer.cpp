@@ -326,6 +326,8 @@ private:
     void addObjectTriangles(uint32_t unit, const PixelRect& base, Worker& w);
     const std::vector<glm::dvec4>& clusterBoxes(uint32_t unit, const geom::Tessellation& g);
     bool copyPinnedUnits(Worker& w);
+    template <class Take>
+    bool withRoom(Worker& w, uint64_t bytes, Take&& take);
     void chargeBuffers(Worker& w);
     // The tessellation (pinned by the tile) holding triangle id `triangle` of `object`, and the
     // triangle's index in it.
@@ -527,21 +529,34 @@ std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const W
     return {w.tessellation[unit], local};
 }
 
-// Charges what the worker's tile buffers have grown to beyond the share frameMemory() charged up
-// front, as the tile goes: room comes from dropping unpinned tessellations and meshes, then from
-// copying the tile's pinned units (copyPinnedUnits). Throws TileDoesNotFit (no object named)
-// when the budget cannot hold them.
-void FrameRenderer::chargeBuffers(Worker& w) {
-    const uint64_t held = w.bytes(), extra = held > m_perThreadBytes ? held - m_perThreadBytes : 0;
-    for (bool copied = false; !w.bufferCharge.tryResize(extra);) {
-        const uint64_t more = extra - w.bufferCharge.bytes();
-        if (m_tessellations.reclaim(more) || m_meshes.reclaim(more)) {
+// Calls `take` (which tries to charge `bytes` more to the budget) until it succeeds: as things
+// stand, then after dropping unpinned tessellations and meshes (their memory handed back), then
+// once more after copying the tile's pinned units (copyPinnedUnits) and dropping those too.
+// Returns whether it succeeded.
+template <class Take>
+bool FrameRenderer::withRoom(Worker& w, uint64_t bytes, Take&& take) {
+    for (bool copied = false;;) {
+        if (take()) return true;
+        if (m_tessellations.reclaim(bytes) || m_meshes.reclaim(bytes)) {
             returnDroppedMemory();
-            if (w.bufferCharge.tryResize(extra)) return;
+            if (take()) return true;
         }
-        if (copied || !copyPinnedUnits(w)) throw TileDoesNotFit{std::string(), more};
+        if (copied || !copyPinnedUnits(w)) return false;
         copied = true;
     }
+}
+
+// Charges what the worker's tile buffers have grown to beyond the share frameMemory() charged up
+// front, as the tile goes (withRoom). Throws TileDoesNotFit (no object named) when the budget
+// cannot hold them.
+void FrameRenderer::chargeBuffers(Worker& w) {
+    const uint64_t held = w.bytes(), extra = held > m_perThreadBytes ? held - m_perThreadBytes : 0;
+    if (extra <= w.bufferCharge.bytes()) {
+        w.bufferCharge.resize(extra);
+        return;
+    }
+    const uint64_t more = extra - w.bufferCharge.bytes();
+    if (!withRoom(w, more, [&] { return w.bufferCharge.tryResize(extra); })) throw TileDoesNotFit{std::string(), more};
 }
 
 // Gives back the pins of the tile's units that a copy of the triangles they gave the rasterizer
@@ -697,22 +712,14 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
     auto rasterize = [&](uint32_t unit) {
         const uint32_t i = m_units[unit].object, piece = m_units[unit].piece;
         const geom::GeometryHandle* handle = m_scene.objects[i].geometry.get();
-        // Room for `bytes` while something is made, by dropping unpinned tessellations, then
-        // unpinned meshes, when needed.
-        // When that is not enough, the tile's pinned units are copied (copyPinnedUnits) and their
-        // tessellations dropped too.
+        // Room for `bytes` while something is made (withRoom).
         auto takeRoom = [&](uint64_t bytes) {
-            std::optional<cache::MemoryCharge> room =
-                cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
-            for (bool copied = false; !room;) {
-                if (m_tessellations.reclaim(bytes) || m_meshes.reclaim(bytes)) {
-                    returnDroppedMemory();
+            std::optional<cache::MemoryCharge> room;
+            if (!withRoom(w, bytes, [&] {
                     room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
-                }
-                if (room || copied || !copyPinnedUnits(w)) break;
-                copied = true;
-            }
-            if (!room) throw TileDoesNotFit{m_scene.objects[i].name, bytes};
+                    return room.has_value();
+                }))
+                throw TileDoesNotFit{m_scene.objects[i].name, bytes};
             return std::move(*room);
         };
         std::optional<TessellationCache::Pin> pin = m_tessellations.tryAcquire(
