@@ -131,7 +131,7 @@ std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshSource(std::shared_ptr<c
 uint32_t GeometryHandle::pieceTrianglesFor(uint64_t capBytes) {
     uint32_t n = kPieceTriangles;
     if (capBytes == 0) return n;
-    while (n > (1u << 14) && uint64_t(n) * kPieceMakingBytes > capBytes / 16) n /= 2;
+    while (n > (1u << 14) && uint64_t(n) * kPieceMakingBytes > capBytes / 64) n /= 2;
     return n;
 }
 
@@ -196,12 +196,28 @@ std::shared_ptr<GeometryHandle> GeometryHandle::withPieces(uint32_t pieceTriangl
     return h;
 }
 
-size_t GeometryHandle::pieceOf(uint32_t triangle) const {
-    if (!m_pieces) return 0;
-    const std::vector<MeshPiece>& p = m_pieces->pieces();
-    const auto it = std::upper_bound(p.begin(), p.end(), triangle,
-                                     [](uint32_t t, const MeshPiece& piece) { return t < piece.firstSlot; });
-    return it == p.begin() ? 0 : size_t(it - p.begin()) - 1;
+namespace {
+
+const SlotRun kOneRun{};
+
+}  // namespace
+
+std::span<const SlotRun> GeometryHandle::slotRuns() const {
+    if (!m_pieces) return {&kOneRun, 1};
+    return m_pieces->slotRuns();
+}
+
+std::span<const SlotRun> GeometryHandle::pieceSlotRuns(size_t k) const {
+    if (!m_pieces) return {&kOneRun, 1};
+    return m_pieces->pieceSlotRuns(k);
+}
+
+GeometryHandle::PiecePlace GeometryHandle::placeOf(uint32_t triangle) const {
+    if (!m_pieces) return {0, triangle};
+    const std::vector<SlotRun>& runs = m_pieces->slotRuns();
+    const SlotRun* r = findSlotRun(runs.data(), runs.size(), triangle);
+    if (!r) return {0, 0};
+    return {r->piece, r->local + (triangle - r->firstSlot)};
 }
 
 uint64_t GeometryHandle::pieceBytesEstimate(size_t k) const {
@@ -217,22 +233,21 @@ uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
     const MeshPiece& p = m_pieces->pieces()[k];
     if (!makesPiecesAlone()) return meshPieceWorkBytes(p, m_meshPoints, m_smooth, m_meshNormals, m_pieces->mapsUvs());
     // The window (its points, face-vertices with normals and uv ids, loop and face starts, edges
-    // and uvs) and the piece made from it, whose point map covers the window's points.
-    const uint64_t faces = p.aroundEnd - p.windowFirst;
+    // and uvs) with what making it holds at its peak (the point and uv ids it gathers, sorted),
+    // and the piece made from it, whose point map covers the window's points.
     const uint64_t faceVertices = p.windowFaceVertices;
-    const uint64_t window = meshArrayBytes(p.windowPointEnd - p.windowPointFirst, faceVertices, 2 * (faces + 1),
-                                           p.windowEdges, p.windowUvEnd - p.windowUvFirst,
-                                           m_pieces->mapsUvs() ? faceVertices : 0) +
+    const uint64_t window = meshArrayBytes(p.windowPoints, faceVertices, 2 * (p.windowFaces + 1), p.windowEdges,
+                                           p.windowUvs, m_pieces->mapsUvs() ? faceVertices : 0) +
                             (m_meshNormals ? faceVertices * sizeof(glm::vec3) : 0);
-    return window + meshPieceWorkBytes(p, p.windowPointEnd - p.windowPointFirst, m_smooth, m_meshNormals,
-                                       m_pieces->mapsUvs());
+    const uint64_t gathering = 2 * faceVertices * sizeof(uint32_t);
+    return window + gathering + meshPieceWorkBytes(p, p.windowPoints, m_smooth, m_meshNormals, m_pieces->mapsUvs());
 }
 
 Tessellation GeometryHandle::tessellatePiece(size_t k, std::string* problem) const {
     if (!m_pieces) return tessellate(problem);
     if (makesPiecesAlone()) {
         static const std::vector<bool> kNone;
-        std::optional<MeshWindow> window = m_source->window(m_pieces->pieces()[k], m_pieces->mapsUvs(), m_meshFaceVertices);
+        std::optional<MeshWindow> window = m_source->window(*m_pieces, k, m_meshFaceVertices);
         if (window)
             return triangulateMeshPiece(*window, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone,
                                         *m_pieces, k);
@@ -243,7 +258,7 @@ Tessellation GeometryHandle::tessellatePiece(size_t k, std::string* problem) con
 Tessellation GeometryHandle::tessellatePiece(size_t k, const Mesh& mesh) const {
     static const std::vector<bool> kNone;
     // A mesh that can no longer be made as it was measured (an empty one) gives no triangles.
-    if (!m_pieces || mesh.faceCount() < m_pieces->pieces().back().endFace || mesh.points.size() != m_meshPoints) return {};
+    if (!m_pieces || mesh.faceCount() != m_meshFaces || mesh.points.size() != m_meshPoints) return {};
     return triangulateMeshPiece(mesh, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone, *m_pieces, k);
 }
 

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,11 +40,11 @@ public:
     virtual bool keepsMesh() const = 0;
     // Whether window() makes the part of the mesh one piece needs without making the rest.
     virtual bool makesWindows() const { return false; }
-    // The window of `piece` (MeshPieces::split of this source's mesh, which has `faceVertexCount`
-    // face-vertices; `mapsUvs` as MeshPieces::mapsUvs): cutMeshWindow of the mesh, bit for bit.
-    // nullopt when it cannot be made.
-    virtual std::optional<MeshWindow> window(const MeshPiece& piece, bool mapsUvs, uint64_t faceVertexCount) const {
-        (void)piece, (void)mapsUvs, (void)faceVertexCount;
+    // The window of piece `piece` of `pieces` (MeshPieces::split of this source's mesh, which has
+    // `faceVertexCount` face-vertices): cutMeshWindow of the mesh, bit for bit. nullopt when it
+    // cannot be made.
+    virtual std::optional<MeshWindow> window(const MeshPieces& pieces, size_t piece, uint64_t faceVertexCount) const {
+        (void)pieces, (void)piece, (void)faceVertexCount;
         return std::nullopt;
     }
 };
@@ -115,19 +116,31 @@ public:
     // The piece size for a render under a memory cap of `capBytes` (0: none): kPieceTriangles, or
     // smaller, a power of two no smaller than 2^14, so that making one piece (its mesh window,
     // working memory and tessellation: about kPieceMakingBytes a triangle id) takes at most a
-    // sixteenth of the cap. A tile can then make its pieces beside the scene and the frame's
-    // buffers under a small cap. The image does not depend on the piece size.
+    // sixty-fourth of the cap. A tile can then make its pieces beside the scene, the frame's
+    // buffers and the pieces it holds under a small cap, and a tile where a distant part of a large
+    // mesh shrinks to a few pixels holds whole pieces no larger than it needs. The image does not
+    // depend on the piece size.
     static constexpr uint64_t kPieceMakingBytes = 256;
     static uint32_t pieceTrianglesFor(uint64_t capBytes);
     size_t pieceCount() const { return m_pieces ? m_pieces->pieces().size() : 1; }
     const Bounds3& pieceBounds(size_t k) const { return m_pieces ? m_pieces->pieces()[k].bounds : m_bounds; }
-    uint32_t pieceFirstTriangle(size_t k) const { return m_pieces ? m_pieces->pieces()[k].firstSlot : 0u; }
     uint64_t pieceTriangleCount(size_t k) const { return m_pieces ? m_pieces->pieces()[k].slotCount : m_triangles; }
+    // Where triangle ids live (MeshPieces::slotRuns; one run from 0 for a shape in one piece), and
+    // the runs of piece k in the order of its tessellation.
+    std::span<const SlotRun> slotRuns() const;
+    std::span<const SlotRun> pieceSlotRuns(size_t k) const;
+    // The pieces themselves (null for a shape in one piece).
+    const MeshPieces* pieces() const { return m_pieces.get(); }
     // The same shape split into pieces of at most `pieceTriangles` triangle ids (0: one piece), for
     // comparing piece sizes; a primitive's counts or a NURBS surface stays one piece.
     std::shared_ptr<GeometryHandle> withPieces(uint32_t pieceTriangles) const;
-    // The piece that holds triangle id `triangle` (of one of the pieces).
-    size_t pieceOf(uint32_t triangle) const;
+    // The piece that holds triangle id `triangle` (of one of the pieces), and the triangle's index
+    // in that piece's tessellation.
+    struct PiecePlace {
+        size_t piece = 0;
+        uint32_t local = 0;
+    };
+    PiecePlace placeOf(uint32_t triangle) const;
     // tessellationBytesEstimate() and tessellationWorkBytesEstimate() for piece k.
     uint64_t pieceBytesEstimate(size_t k) const;
     uint64_t pieceWorkBytesEstimate(size_t k) const;

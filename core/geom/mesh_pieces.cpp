@@ -3,6 +3,7 @@
 #include "core/util/release.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace pushpin::geom {
@@ -10,152 +11,351 @@ namespace pushpin::geom {
 namespace {
 
 constexpr uint32_t kNotLocal = 0xffffffffu;
+// Runs of faces or edges around a piece closer than this are joined (the faces or edges between
+// come along and are passed over): fewer runs to read for a few more elements.
+constexpr uint32_t kRunGap = 8;
+// A piece whose faces or edges around it take more runs than this gets one run from the first to
+// the last instead: its window then reads what lies between, but the table stays small whatever
+// the order of the mesh's faces and edges.
+constexpr size_t kMostRunsAround = 1024;
+
+// The 10 low bits of v spread to every third bit.
+uint32_t spreadBits(uint32_t v) {
+    v &= 0x3ffu;
+    v = (v | (v << 16)) & 0x030000ffu;
+    v = (v | (v << 8)) & 0x0300f00fu;
+    v = (v | (v << 4)) & 0x030c30c3u;
+    v = (v | (v << 2)) & 0x09249249u;
+    return v;
+}
+
+// The triangle ids face `f` of the whole mesh promises, read from face `meshFace` of `mesh` (the
+// whole mesh, or a window holding it).
+uint32_t promisedTriangles(const Mesh& mesh, size_t meshFace, const std::vector<uint16_t>& faceMaterial,
+                           const std::vector<bool>& degenerate, size_t f) {
+    const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
+    if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) return 0;
+    const uint64_t corners = mesh.faceVertexEnd(meshFace) - mesh.faceVertexBegin(meshFace);
+    const uint64_t holes = mesh.holeCount(meshFace);
+    return corners + 2 * holes >= 3 ? uint32_t(corners + 2 * holes - 2) : 0u;
+}
+
+// Adds element `i` (given in ascending order) to `runs`, joining it to the last run when at most
+// kRunGap elements lie between. `start` makes a new run of it.
+template <class Run, class Start>
+void addToRuns(std::vector<Run>& runs, uint32_t i, Start&& start) {
+    if (!runs.empty() && runs.back().end > i) return;
+    if (!runs.empty() && i - runs.back().end <= kRunGap) {
+        runs.back().end = i + 1;
+        return;
+    }
+    runs.push_back(start());
+}
+
+// One run from the first to the last, when there are too many.
+template <class Run>
+void boundRuns(std::vector<Run>& runs) {
+    if (runs.size() <= kMostRunsAround) return;
+    Run one = runs.front();
+    one.end = runs.back().end;
+    runs.assign(1, one);
+    runs.shrink_to_fit();
+}
+
+// The pieces of each point: `first` the first piece seen there, `more` (point << 32 | piece,
+// sorted, each once) the others.
+struct PointPieces {
+    std::vector<uint32_t> first;
+    std::vector<uint64_t> more;
+
+    template <class Visit>
+    void forEach(uint32_t q, Visit&& visit) const {
+        if (q >= first.size() || first[q] == kNotLocal) return;
+        visit(first[q]);
+        auto it = std::lower_bound(more.begin(), more.end(), uint64_t(q) << 32);
+        for (; it != more.end() && uint32_t(*it >> 32) == q; ++it) visit(uint32_t(*it));
+    }
+};
+
+// Each kept face's piece (kNotLocal for the others), cutting the kept faces in `order` into
+// groups of at most maxSlots triangle ids. Returns the number of pieces.
+template <class Order>
+uint32_t cutPieces(std::vector<uint32_t>& pieceOf, uint32_t maxSlots, Order&& order) {
+    uint32_t count = 0;
+    uint64_t inPiece = 0;
+    order([&](uint32_t f, uint32_t n) {
+        if (inPiece > 0 && inPiece + n > maxSlots) {
+            ++count;
+            inPiece = 0;
+        }
+        pieceOf[f] = count;
+        inPiece += n;
+    });
+    return inPiece > 0 ? count + 1 : count;
+}
+
+// Each kept face's piece from `keys` (Morton code << 32 | face, sorted): the cell of the 1024³
+// grid holding every face is split into its eight children while it holds more than maxSlots
+// triangle ids, and consecutive children are gathered into one piece while they fit, so that a
+// piece lies within one cell of the octree and is as compact as the cell. A cell of the finest
+// level that still holds too many is cut in the keys' order. Returns the number of pieces.
+template <class Bound>
+uint32_t cutCells(const std::vector<uint64_t>& keys, std::vector<uint32_t>& pieceOf, uint32_t maxSlots, Bound&& bound) {
+    // Triangle ids before each key (fewer than 2^31 in all).
+    std::vector<uint32_t> before(keys.size() + 1, 0);
+    for (size_t i = 0; i < keys.size(); ++i) before[i + 1] = before[i] + bound(uint32_t(keys[i]));
+    auto slots = [&](size_t lo, size_t hi) { return uint64_t(before[hi] - before[lo]); };
+    uint32_t count = 0;
+    auto emit = [&](size_t lo, size_t hi) {
+        if (lo == hi) return;
+        for (size_t i = lo; i < hi; ++i) pieceOf[uint32_t(keys[i])] = count;
+        ++count;
+    };
+    auto cut = [&](auto&& self, size_t lo, size_t hi, int level) -> void {
+        if (slots(lo, hi) <= maxSlots) return emit(lo, hi);
+        if (level == 0) {
+            size_t start = lo;
+            for (size_t i = lo; i < hi; ++i)
+                if (i > start && slots(start, i + 1) > maxSlots) {
+                    emit(start, i);
+                    start = i;
+                }
+            return emit(start, hi);
+        }
+        const int shift = 32 + 3 * (level - 1);
+        size_t groupLo = lo, groupHi = lo;
+        for (size_t childLo = lo; childLo < hi;) {
+            const uint64_t child = (keys[childLo] >> shift) & 7;
+            size_t childHi = childLo;
+            while (childHi < hi && ((keys[childHi] >> shift) & 7) == child) ++childHi;
+            if (slots(childLo, childHi) > maxSlots) {
+                emit(groupLo, groupHi);
+                self(self, childLo, childHi, level - 1);
+                groupLo = groupHi = childHi;
+            } else if (slots(groupLo, childHi) > maxSlots) {
+                emit(groupLo, groupHi);
+                groupLo = childLo;
+                groupHi = childHi;
+            } else {
+                groupHi = childHi;
+            }
+            childLo = childHi;
+        }
+        emit(groupLo, groupHi);
+    };
+    cut(cut, 0, keys.size(), 10);
+    return count;
+}
 
 }  // namespace
 
-bool inWindow(const MeshPiece& piece, uint32_t point) {
-    return point >= piece.windowPointFirst && point < piece.windowPointEnd;
+uint64_t MeshPieces::bytes() const {
+    return uint64_t(m_pieces.capacity()) * sizeof(MeshPiece) +
+           uint64_t(m_faceRuns.capacity() + m_aroundRuns.capacity()) * sizeof(FaceRun) +
+           uint64_t(m_edgeRuns.capacity()) * sizeof(EdgeRun) +
+           uint64_t(m_slotRuns.capacity() + m_pieceSlotRuns.capacity()) * sizeof(SlotRun);
 }
 
 MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
-                             const std::vector<bool>& degenerate, uint32_t maxSlots) {
+                             const std::vector<bool>& degenerate, uint32_t maxSlots, Layout layout) {
     MeshPieces out;
     maxSlots = std::max<uint32_t>(maxSlots, 1);
-    const size_t faces = mesh.faceCount();
-    out.m_strideSlots.reserve(faces / kSlotStride + 1);
-    MeshPiece current;
-    bool kept = false;
-    uint64_t slot = 0;
-    auto close = [&](uint32_t end) {
-        current.endFace = end;
-        if (kept) out.m_pieces.push_back(current);
-        current = MeshPiece{};
-        current.firstFace = end;
-        current.firstSlot = uint32_t(slot);
-        kept = false;
-    };
-    for (size_t f = 0; f < faces; ++f) {
-        if (f % kSlotStride == 0) out.m_strideSlots.push_back(uint32_t(slot));
-        const uint32_t n = faceTriangleBound(mesh, faceMaterial, degenerate, f);
-        if (n == 0) continue;
-        if (current.slotCount > 0 && uint64_t(current.slotCount) + n > maxSlots) close(uint32_t(f));
-        if (!kept) {
-            // A piece starts at its first kept face.
-            current.firstFace = uint32_t(f);
-            current.firstSlot = uint32_t(slot);
-        }
-        kept = true;
-        current.slotCount += n;
-        slot += n;
-        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c)
-            current.bounds.extend(glm::dvec3(mesh.points[mesh.faceVertices[c]]));
-    }
-    close(uint32_t(faces));
-    out.m_slots = slot;
+    const size_t faces = mesh.faceCount(), points = mesh.points.size();
+    auto bound = [&](size_t f) { return faceTriangleBound(mesh, faceMaterial, degenerate, f); };
 
-    // The faces and edges around each piece: per point the first and last face (then edge) that
-    // uses it, gathered over the points of the piece's kept faces.
-    std::vector<uint32_t> first(mesh.points.size()), last(mesh.points.size());
-    auto overPiecePoints = [&](const MeshPiece& p, auto&& visit) {
-        for (uint32_t f = p.firstFace; f < p.endFace; ++f)
-            if (faceTriangleBound(mesh, faceMaterial, degenerate, f) > 0)
-                for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) visit(mesh.faceVertices[c]);
+    // Each kept face's piece.
+    std::vector<uint32_t> pieceOf(faces, kNotLocal);
+    auto inFaceOrder = [&](auto&& visit) {
+        for (size_t f = 0; f < faces; ++f)
+            if (const uint32_t n = bound(f); n > 0) visit(uint32_t(f), n);
     };
-    std::fill(first.begin(), first.end(), kNotLocal);
-    std::fill(last.begin(), last.end(), 0u);
-    for (size_t f = 0; f < faces; ++f)
-        for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) {
-            const uint32_t p = mesh.faceVertices[c];
-            first[p] = std::min(first[p], uint32_t(f));
-            last[p] = uint32_t(f);
-        }
-    for (MeshPiece& p : out.m_pieces) {
-        p.aroundFirst = p.firstFace;
-        p.aroundEnd = p.endFace;
-        overPiecePoints(p, [&](uint32_t q) {
-            p.aroundFirst = std::min(p.aroundFirst, first[q]);
-            p.aroundEnd = std::max(p.aroundEnd, last[q] + 1);
+    uint32_t pieceCount = 0;
+    bool spatial = false;
+    if (layout == Layout::Spatial) {
+        // Face centres (the mean of the outer loop's points) on a 1024³ grid over the cube around
+        // them, ordered along the Morton curve, ties by face.
+        auto centre = [&](size_t f) {
+            glm::dvec3 c(0.0);
+            const std::span<const uint32_t> loop = mesh.faceOuterLoop(f);
+            for (uint32_t q : loop) c += glm::dvec3(mesh.points[q]);
+            return c / double(std::max<size_t>(loop.size(), 1));
+        };
+        Bounds3 box;
+        size_t kept = 0;
+        inFaceOrder([&](uint32_t f, uint32_t) {
+            box.extend(centre(f));
+            ++kept;
         });
-        p.aroundFaceVertices = mesh.faceVertexBegin(p.aroundEnd) - mesh.faceVertexBegin(p.aroundFirst);
-        // n + 2h − 2 a face: face-vertices, twice the loops, less four times the faces.
-        const uint64_t loops = mesh.faceLoopStarts[p.aroundEnd] - mesh.faceLoopStarts[p.aroundFirst];
-        p.aroundTriangles = p.aroundFaceVertices + 2 * loops - std::min<uint64_t>(p.aroundFaceVertices + 2 * loops,
-                                                                                  4 * uint64_t(p.aroundEnd - p.aroundFirst));
-    }
-    // The points of each piece's surrounding faces, counted with a stamp per point.
-    std::fill(first.begin(), first.end(), kNotLocal);
-    for (size_t k = 0; k < out.m_pieces.size(); ++k) {
-        MeshPiece& p = out.m_pieces[k];
-        for (uint32_t c = mesh.faceVertexBegin(p.aroundFirst); c < mesh.faceVertexBegin(p.aroundEnd); ++c) {
-            uint32_t& stamp = first[mesh.faceVertices[c]];
-            if (stamp != uint32_t(k)) {
-                stamp = uint32_t(k);
-                ++p.aroundPoints;
+        double extent = 0.0;
+        for (int a = 0; a < 3; ++a) extent = std::max(extent, box.hi[a] - box.lo[a]);
+        const double scale = extent > 0.0 && std::isfinite(extent) ? 1024.0 / extent : 0.0;
+        std::vector<uint64_t> keys;
+        keys.reserve(kept);
+        inFaceOrder([&](uint32_t f, uint32_t) {
+            const glm::dvec3 c = (centre(f) - box.lo) * scale;
+            uint32_t code = 0;
+            for (int a = 0; a < 3; ++a)
+                code |= spreadBits(uint32_t(std::clamp(c[a], 0.0, 1023.0))) << a;
+            keys.push_back(uint64_t(code) << 32 | f);
+        });
+        std::sort(keys.begin(), keys.end());
+        pieceCount = cutCells(keys, pieceOf, maxSlots, bound);
+        util::release(keys);
+        // A mesh whose faces lie in no spatial order gives runs of a face or two: cut in face
+        // order then.
+        size_t runs = 0;
+        uint32_t last = kNotLocal;
+        for (size_t f = 0; f < faces; ++f)
+            if (pieceOf[f] != kNotLocal) {
+                runs += pieceOf[f] != last;
+                last = pieceOf[f];
             }
+        spatial = runs <= std::max<size_t>(size_t(pieceCount) * 8, kept / 4);
+        if (!spatial) std::fill(pieceOf.begin(), pieceOf.end(), kNotLocal);
+    }
+    if (!spatial) pieceCount = cutPieces(pieceOf, maxSlots, inFaceOrder);
+    out.m_spatial = spatial;
+    out.m_pieces.resize(pieceCount);
+
+    // Each piece's own runs (a kept face whose last kept predecessor is of the same piece extends
+    // that piece's run over the faces between, which give no triangles), its triangle ids, its
+    // bounds; and the pieces of each point of a kept face.
+    std::vector<std::vector<FaceRun>> own(pieceCount);
+    std::vector<std::vector<SlotRun>> ownSlots(pieceCount);
+    PointPieces at;
+    at.first.assign(points, kNotLocal);
+    {
+        uint64_t slot = 0;
+        uint32_t lastPiece = kNotLocal;
+        for (size_t f = 0; f < faces; ++f) {
+            const uint32_t p = pieceOf[f];
+            if (p == kNotLocal) continue;
+            const uint32_t n = bound(f);
+            MeshPiece& piece = out.m_pieces[p];
+            if (p == lastPiece) {
+                own[p].back().end = uint32_t(f) + 1;
+            } else {
+                own[p].push_back({uint32_t(f), uint32_t(f) + 1, uint32_t(slot), mesh.faceVertexBegin(f)});
+                ownSlots[p].push_back({uint32_t(slot), p, piece.slotCount});
+            }
+            lastPiece = p;
+            piece.slotCount += n;
+            for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c) {
+                const uint32_t q = mesh.faceVertices[c];
+                piece.bounds.extend(glm::dvec3(mesh.points[q]));
+                if (at.first[q] == kNotLocal) at.first[q] = p;
+                else if (at.first[q] != p) at.more.push_back(uint64_t(q) << 32 | p);
+            }
+            slot += n;
+        }
+        out.m_slots = slot;
+    }
+    util::release(pieceOf);
+    std::sort(at.more.begin(), at.more.end());
+    at.more.erase(std::unique(at.more.begin(), at.more.end()), at.more.end());
+    at.more.shrink_to_fit();
+
+    // The faces around each piece: every face with a corner at one of its points.
+    std::vector<std::vector<FaceRun>> around(pieceCount);
+    {
+        uint64_t slot = 0;
+        for (size_t f = 0; f < faces; ++f) {
+            for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c)
+                at.forEach(mesh.faceVertices[c], [&](uint32_t p) {
+                    std::vector<FaceRun>& runs = around[p];
+                    if (!runs.empty() && runs.back().end > f) return;
+                    if (!runs.empty() && f - runs.back().end <= kRunGap) {
+                        runs.back().end = uint32_t(f) + 1;
+                        return;
+                    }
+                    runs.push_back({uint32_t(f), uint32_t(f) + 1, uint32_t(slot), mesh.faceVertexBegin(f)});
+                });
+            slot += bound(f);
         }
     }
-    // Each piece's window: its faces from a stride start, their first face-vertex, and the range
-    // of the points and current-set uv ids they use.
+    // The edges with an end at a point of each piece.
+    std::vector<std::vector<EdgeRun>> edgesAround(pieceCount);
+    for (size_t e = 0; e < mesh.edges.size(); ++e)
+        for (const uint32_t q : {mesh.edges[e].v0, mesh.edges[e].v1})
+            at.forEach(q, [&](uint32_t p) {
+                addToRuns(edgesAround[p], uint32_t(e), [&] { return EdgeRun{uint32_t(e), uint32_t(e) + 1}; });
+            });
+    util::release(at.more);
+
+    // Flat tables.
+    for (uint32_t p = 0; p < pieceCount; ++p) {
+        MeshPiece& piece = out.m_pieces[p];
+        boundRuns(around[p]);
+        boundRuns(edgesAround[p]);
+        piece.faceRunBegin = uint32_t(out.m_faceRuns.size());
+        out.m_faceRuns.insert(out.m_faceRuns.end(), own[p].begin(), own[p].end());
+        out.m_pieceSlotRuns.insert(out.m_pieceSlotRuns.end(), ownSlots[p].begin(), ownSlots[p].end());
+        piece.faceRunEnd = uint32_t(out.m_faceRuns.size());
+        piece.aroundRunBegin = uint32_t(out.m_aroundRuns.size());
+        out.m_aroundRuns.insert(out.m_aroundRuns.end(), around[p].begin(), around[p].end());
+        piece.aroundRunEnd = uint32_t(out.m_aroundRuns.size());
+        piece.edgeRunBegin = uint32_t(out.m_edgeRuns.size());
+        out.m_edgeRuns.insert(out.m_edgeRuns.end(), edgesAround[p].begin(), edgesAround[p].end());
+        piece.edgeRunEnd = uint32_t(out.m_edgeRuns.size());
+        util::release(own[p]);
+        util::release(ownSlots[p]);
+        util::release(around[p]);
+        util::release(edgesAround[p]);
+    }
+    out.m_slotRuns = out.m_pieceSlotRuns;
+    std::sort(out.m_slotRuns.begin(), out.m_slotRuns.end(),
+              [](const SlotRun& a, const SlotRun& b) { return a.firstSlot < b.firstSlot; });
+
+    // What each piece's window holds: its faces, face-vertices and promised triangles, and the
+    // points, uvs and edges among them, counted with a stamp per point and uv.
     const UvSet* uvSet = currentFaceUvSet(mesh);
     out.m_mapsUvs = uvSet != nullptr;
-    for (MeshPiece& p : out.m_pieces) {
-        p.windowFirst = p.aroundFirst - p.aroundFirst % kSlotStride;
-        p.windowFirstFaceVertex = mesh.faceVertexBegin(p.windowFirst);
-        p.windowFaceVertices = mesh.faceVertexBegin(p.aroundEnd) - p.windowFirstFaceVertex;
-        uint32_t lo = kNotLocal, hi = 0, uvLo = kNotLocal, uvHi = 0;
-        for (uint32_t c = mesh.faceVertexBegin(p.windowFirst); c < mesh.faceVertexBegin(p.aroundEnd); ++c) {
-            lo = std::min(lo, mesh.faceVertices[c]);
-            hi = std::max(hi, mesh.faceVertices[c] + 1);
-            if (uvSet && uvSet->faceVertexUvs[c] >= 0) {
-                uvLo = std::min(uvLo, uint32_t(uvSet->faceVertexUvs[c]));
-                uvHi = std::max(uvHi, uint32_t(uvSet->faceVertexUvs[c]) + 1);
+    std::vector<uint32_t>& pointStamp = at.first;
+    std::fill(pointStamp.begin(), pointStamp.end(), kNotLocal);
+    std::vector<uint32_t> uvStamp(uvSet ? uvSet->uvs.size() : 0, kNotLocal);
+    for (uint32_t p = 0; p < pieceCount; ++p) {
+        MeshPiece& piece = out.m_pieces[p];
+        for (const FaceRun& r : out.aroundRuns(p)) {
+            const uint64_t fv = mesh.faceVertexBegin(r.end) - mesh.faceVertexBegin(r.first);
+            const uint64_t loops = mesh.faceLoopStarts[r.end] - mesh.faceLoopStarts[r.first];
+            const uint64_t runFaces = r.end - r.first;
+            piece.windowFaces += runFaces;
+            piece.windowFaceVertices += fv;
+            // n + 2h − 2 a face: face-vertices, twice the loops, less four times the faces.
+            piece.windowTriangles += fv + 2 * loops - std::min<uint64_t>(fv + 2 * loops, 4 * runFaces);
+            for (uint32_t c = mesh.faceVertexBegin(r.first); c < mesh.faceVertexBegin(r.end); ++c) {
+                uint32_t& stamp = pointStamp[mesh.faceVertices[c]];
+                if (stamp != p) {
+                    stamp = p;
+                    ++piece.windowPoints;
+                }
+                if (uvSet && uvSet->faceVertexUvs[c] >= 0) {
+                    uint32_t& uvMark = uvStamp[size_t(uvSet->faceVertexUvs[c])];
+                    if (uvMark != p) {
+                        uvMark = p;
+                        ++piece.windowUvs;
+                    }
+                }
             }
         }
-        p.windowPointFirst = lo < hi ? lo : 0;
-        p.windowPointEnd = hi;
-        p.windowUvFirst = uvLo < uvHi ? uvLo : 0;
-        p.windowUvEnd = uvHi;
-    }
-
-    std::fill(first.begin(), first.end(), kNotLocal);
-    std::fill(last.begin(), last.end(), 0u);
-    const size_t points = mesh.points.size();
-    for (size_t e = 0; e < mesh.edges.size(); ++e)
-        for (uint32_t q : {mesh.edges[e].v0, mesh.edges[e].v1})
-            if (q < points) {
-                first[q] = std::min(first[q], uint32_t(e));
-                last[q] = uint32_t(e) + 1;
+        for (const EdgeRun& r : out.edgeRuns(p))
+            for (uint32_t e = r.first; e < r.end; ++e) {
+                const MeshEdge& edge = mesh.edges[e];
+                piece.windowEdges += edge.v0 < points && edge.v1 < points && pointStamp[edge.v0] == p &&
+                                     pointStamp[edge.v1] == p;
             }
-    for (MeshPiece& p : out.m_pieces) {
-        p.edgeFirst = uint32_t(mesh.edges.size());
-        p.edgeEnd = 0;
-        overPiecePoints(p, [&](uint32_t q) {
-            if (first[q] == kNotLocal) return;
-            p.edgeFirst = std::min(p.edgeFirst, first[q]);
-            p.edgeEnd = std::max(p.edgeEnd, last[q]);
-        });
-        if (p.edgeEnd < p.edgeFirst) p.edgeFirst = p.edgeEnd = 0;
-        for (uint32_t e = p.edgeFirst; e < p.edgeEnd; ++e)
-            p.windowEdges += inWindow(p, mesh.edges[e].v0) && inWindow(p, mesh.edges[e].v1);
     }
     return out;
 }
 
-uint32_t MeshPieces::faceSlot(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
-                              const std::vector<bool>& degenerate, size_t f, size_t faceBase) const {
-    uint32_t slot = m_strideSlots[f / kSlotStride];
-    for (size_t g = f - f % kSlotStride; g < f; ++g) slot += faceTriangleBound(mesh, faceMaterial, degenerate, g, faceBase);
-    return slot;
-}
-
-uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool smoothShading, bool normals, bool uvs) {
-    const uint64_t fv = piece.aroundFaceVertices, points = piece.aroundPoints, t = piece.aroundTriangles;
-    const uint64_t faces = piece.aroundEnd - piece.aroundFirst;
+uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t sourcePoints, bool smoothShading, bool normals, bool uvs) {
+    const uint64_t fv = piece.windowFaceVertices, points = piece.windowPoints, t = piece.windowTriangles;
+    const uint64_t faces = piece.windowFaces;
     // The point map; the piece's mesh (points, face-vertices with their normals and uv ids, loop
     // and face starts, edges, uvs, and the uv map as large as the uvs); its tessellation (vertices
     // of position, normal and uv; corners, face, material, neighbours, cluster bounds); the
     // slot and vertex maps.
-    const uint64_t pointMap = meshPoints * sizeof(uint32_t);
+    const uint64_t pointMap = sourcePoints * sizeof(uint32_t);
     const uint64_t uvBytes = uvs ? 2 * sizeof(glm::vec2) + sizeof(int32_t) : 0;
     const uint64_t mesh = points * (sizeof(glm::vec3) + 3 * sizeof(MeshEdge) + uvBytes) +
                           fv * (sizeof(uint32_t) + (uvs ? sizeof(int32_t) : 0) + (normals ? sizeof(glm::vec3) : 0)) +
@@ -168,92 +368,136 @@ uint64_t meshPieceWorkBytes(const MeshPiece& piece, uint64_t meshPoints, bool sm
         smoothShading ? std::max(16 * fv + 24 * faces + 8 * points + 5 * edges, 24 * fv + 24 * faces + 4 * points) : 0;
     const uint64_t cornerPhase = (smoothShading ? 12 * fv : 0) + 24 * t + 4 * points;
     const uint64_t adjacencyPhase = 24 * t + 4 * points + (smoothShading ? 4 * points + 5 * edges : 0);
-    const uint64_t maps = vertices * sizeof(uint32_t) + 2 * faces * sizeof(uint32_t);
+    // The sub-mesh's faces (index, slot and own flag) and the slot and vertex maps.
+    const uint64_t maps = vertices * sizeof(uint32_t) + 4 * faces * sizeof(uint32_t);
     return pointMap + mesh + tessellation + std::max({normalsPhase, cornerPhase, adjacencyPhase}) + maps;
 }
 
-MeshWindow cutMeshWindow(const Mesh& mesh, const MeshPiece& piece) {
+MeshWindow cutMeshWindow(const Mesh& mesh, const MeshPieces& pieces, size_t piece) {
     MeshWindow w;
     w.window = true;
-    w.faceBase = piece.windowFirst;
-    w.pointBase = piece.windowPointFirst;
-    w.uvBase = piece.windowUvFirst;
     Mesh& m = w.mesh;
-    m.points.assign(mesh.points.begin() + piece.windowPointFirst, mesh.points.begin() + piece.windowPointEnd);
-    const uint32_t loop0 = mesh.faceLoopStarts[piece.windowFirst], loopEnd = mesh.faceLoopStarts[piece.aroundEnd];
-    const uint32_t fv0 = mesh.loopStarts[loop0], fvEnd = mesh.loopStarts[loopEnd];
-    m.faceLoopStarts.clear();
-    for (uint32_t f = piece.windowFirst; f <= piece.aroundEnd; ++f) m.faceLoopStarts.push_back(mesh.faceLoopStarts[f] - loop0);
+    const std::span<const FaceRun> around = pieces.aroundRuns(piece);
+    std::vector<uint32_t> pointIds;
+    for (const FaceRun& r : around)
+        for (uint32_t c = mesh.faceVertexBegin(r.first); c < mesh.faceVertexBegin(r.end); ++c)
+            pointIds.push_back(mesh.faceVertices[c]);
+    std::sort(pointIds.begin(), pointIds.end());
+    pointIds.erase(std::unique(pointIds.begin(), pointIds.end()), pointIds.end());
+    auto localPoint = [&](uint32_t q) {
+        return uint32_t(std::lower_bound(pointIds.begin(), pointIds.end(), q) - pointIds.begin());
+    };
+    m.points.reserve(pointIds.size());
+    for (uint32_t q : pointIds) m.points.push_back(mesh.points[q]);
+    const bool normals = mesh.normals.size() == mesh.faceVertexCount();
     m.loopStarts.clear();
-    for (uint32_t l = loop0; l <= loopEnd; ++l) m.loopStarts.push_back(mesh.loopStarts[l] - fv0);
-    m.faceVertices.reserve(fvEnd - fv0);
-    for (uint32_t c = fv0; c < fvEnd; ++c) m.faceVertices.push_back(mesh.faceVertices[c] - piece.windowPointFirst);
-    if (mesh.normals.size() == mesh.faceVertexCount())
-        m.normals.assign(mesh.normals.begin() + fv0, mesh.normals.begin() + fvEnd);
+    m.faceLoopStarts.clear();
+    for (const FaceRun& r : around)
+        for (uint32_t f = r.first; f < r.end; ++f) {
+            m.faceLoopStarts.push_back(uint32_t(m.loopStarts.size()));
+            for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
+                m.loopStarts.push_back(uint32_t(m.faceVertices.size()));
+                for (uint32_t c = mesh.loopStarts[l]; c < mesh.loopStarts[l + 1]; ++c) {
+                    m.faceVertices.push_back(localPoint(mesh.faceVertices[c]));
+                    if (normals) m.normals.push_back(mesh.normals[c]);
+                }
+            }
+        }
+    m.loopStarts.push_back(uint32_t(m.faceVertices.size()));
+    m.faceLoopStarts.push_back(uint32_t(m.loopStarts.size() - 1));
     if (const UvSet* from = currentFaceUvSet(mesh)) {
+        std::vector<uint32_t> uvIds;
+        for (const FaceRun& r : around)
+            for (uint32_t c = mesh.faceVertexBegin(r.first); c < mesh.faceVertexBegin(r.end); ++c)
+                if (from->faceVertexUvs[c] >= 0) uvIds.push_back(uint32_t(from->faceVertexUvs[c]));
+        std::sort(uvIds.begin(), uvIds.end());
+        uvIds.erase(std::unique(uvIds.begin(), uvIds.end()), uvIds.end());
         UvSet set;
         set.name = from->name;
-        set.uvs.assign(from->uvs.begin() + piece.windowUvFirst, from->uvs.begin() + piece.windowUvEnd);
-        set.faceVertexUvs.reserve(fvEnd - fv0);
-        for (uint32_t c = fv0; c < fvEnd; ++c) {
-            const int32_t id = from->faceVertexUvs[c];
-            set.faceVertexUvs.push_back(id >= 0 ? id - int32_t(piece.windowUvFirst) : -1);
-        }
+        set.uvs.reserve(uvIds.size());
+        for (uint32_t id : uvIds) set.uvs.push_back(from->uvs[id]);
+        set.faceVertexUvs.reserve(m.faceVertices.size());
+        for (const FaceRun& r : around)
+            for (uint32_t c = mesh.faceVertexBegin(r.first); c < mesh.faceVertexBegin(r.end); ++c) {
+                const int32_t id = from->faceVertexUvs[c];
+                set.faceVertexUvs.push_back(
+                    id >= 0 ? int32_t(std::lower_bound(uvIds.begin(), uvIds.end(), uint32_t(id)) - uvIds.begin()) : -1);
+            }
         m.uvSets.push_back(std::move(set));
         m.currentUvSet = 0;
     }
-    m.edges.reserve(piece.windowEdges);
-    for (uint32_t e = piece.edgeFirst; e < piece.edgeEnd; ++e) {
-        const MeshEdge& edge = mesh.edges[e];
-        if (inWindow(piece, edge.v0) && inWindow(piece, edge.v1))
-            m.edges.push_back({edge.v0 - piece.windowPointFirst, edge.v1 - piece.windowPointFirst, edge.smooth});
-    }
+    auto among = [&](uint32_t q) { return std::binary_search(pointIds.begin(), pointIds.end(), q); };
+    for (const EdgeRun& r : pieces.edgeRuns(piece))
+        for (uint32_t e = r.first; e < r.end; ++e) {
+            const MeshEdge& edge = mesh.edges[e];
+            if (among(edge.v0) && among(edge.v1)) m.edges.push_back({localPoint(edge.v0), localPoint(edge.v1), edge.smooth});
+        }
     return w;
 }
 
 namespace {
 
-// triangulateMeshPiece on `mesh`: a whole mesh, or the window `base` describes (base.window).
-// Faces are named by their whole-mesh index below.
-Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const std::vector<uint16_t>& faceMaterial,
+// triangulateMeshPiece on `mesh`: the whole mesh, or the piece's window (`window`). Faces are named
+// by their whole-mesh index f and by their index in `mesh` (f itself, or their place among the
+// window's faces).
+Tessellation triangulatePieceIn(const Mesh& mesh, bool window, const std::vector<uint16_t>& faceMaterial,
                                 bool smoothShading, const std::vector<bool>& degenerate, const MeshPieces& pieces,
                                 size_t pieceIndex) {
     const MeshPiece& piece = pieces.pieces()[pieceIndex];
-    const uint32_t faceBase = base.faceBase;
-    auto bound = [&](size_t f) { return faceTriangleBound(mesh, faceMaterial, degenerate, f, faceBase); };
-    auto keptFace = [&](size_t f) { return bound(f) > 0; };
-    auto fvBegin = [&](size_t f) { return mesh.faceVertexBegin(f - faceBase); };
-    auto fvEnd = [&](size_t f) { return mesh.faceVertexEnd(f - faceBase); };
+    const std::span<const FaceRun> own = pieces.faceRuns(pieceIndex);
+    // Every face of the around runs in order: visit(f, its index in `mesh`, whether it is the
+    // piece's own, its first slot, the slots it promises).
+    auto forEachAround = [&](auto&& visit) {
+        size_t o = 0;
+        uint32_t place = 0;
+        for (const FaceRun& r : pieces.aroundRuns(pieceIndex)) {
+            uint32_t slot = r.firstSlot;
+            for (uint32_t f = r.first; f < r.end; ++f, ++place) {
+                while (o < own.size() && own[o].end <= f) ++o;
+                const bool mine = o < own.size() && f >= own[o].first;
+                const uint32_t meshFace = window ? place : f;
+                const uint32_t n = promisedTriangles(mesh, meshFace, faceMaterial, degenerate, f);
+                visit(f, meshFace, mine, slot, n);
+                slot += n;
+            }
+        }
+    };
 
     // The points of the piece's kept faces, marked; then every face with a corner at a marked point
-    // (the piece's faces among them), in face order: the piece's own mesh. Every face around a
+    // (the piece's kept faces among them), in face order: the piece's own mesh. Every face around a
     // marked point is in it, so the smoothing groups and sums at those points, and the triangles
     // across the edges of the piece's triangles, are the whole mesh's.
     std::vector<uint32_t> local(mesh.points.size(), kNotLocal);
     constexpr uint32_t kMarked = kNotLocal - 1;
-    for (size_t f = piece.firstFace; f < piece.endFace; ++f)
-        if (keptFace(f))
-            for (uint32_t c = fvBegin(f); c < fvEnd(f); ++c) local[mesh.faceVertices[c]] = kMarked;
-    std::vector<uint32_t> subFaces;
-    for (size_t f = piece.aroundFirst; f < piece.aroundEnd; ++f) {
-        bool touches = f >= piece.firstFace && f < piece.endFace;
-        for (uint32_t c = fvBegin(f); c < fvEnd(f) && !touches; ++c)
+    forEachAround([&](uint32_t, uint32_t mf, bool mine, uint32_t, uint32_t n) {
+        if (mine && n > 0)
+            for (uint32_t c = mesh.faceVertexBegin(mf); c < mesh.faceVertexEnd(mf); ++c) local[mesh.faceVertices[c]] = kMarked;
+    });
+    struct SubFace {
+        uint32_t face, meshFace, slot;
+        bool mine;
+    };
+    std::vector<SubFace> subFaces;
+    forEachAround([&](uint32_t f, uint32_t mf, bool mine, uint32_t slot, uint32_t n) {
+        bool touches = false;
+        for (uint32_t c = mesh.faceVertexBegin(mf); c < mesh.faceVertexEnd(mf) && !touches; ++c)
             touches = local[mesh.faceVertices[c]] == kMarked;
-        if (touches) subFaces.push_back(uint32_t(f));
-    }
-    // Local point ids in ascending global order.
-    for (uint32_t f : subFaces)
-        for (uint32_t c = fvBegin(f); c < fvEnd(f); ++c)
+        if (touches) subFaces.push_back({f, mf, slot, mine && n > 0});
+    });
+    // Local point ids in ascending order of the source's.
+    for (const SubFace& s : subFaces)
+        for (uint32_t c = mesh.faceVertexBegin(s.meshFace); c < mesh.faceVertexEnd(s.meshFace); ++c)
             if (local[mesh.faceVertices[c]] == kNotLocal) local[mesh.faceVertices[c]] = kMarked;
     Mesh sub;
-    std::vector<uint32_t> globalPoint;
+    std::vector<uint32_t> sourcePoint;
     for (size_t p = 0; p < local.size(); ++p)
         if (local[p] == kMarked) {
-            local[p] = uint32_t(globalPoint.size());
-            globalPoint.push_back(uint32_t(p));
+            local[p] = uint32_t(sourcePoint.size());
+            sourcePoint.push_back(uint32_t(p));
         }
-    sub.points.reserve(globalPoint.size());
-    for (uint32_t p : globalPoint) sub.points.push_back(mesh.points[p]);
+    sub.points.reserve(sourcePoint.size());
+    for (uint32_t p : sourcePoint) sub.points.push_back(mesh.points[p]);
+    util::release(sourcePoint);
 
     const UvSet* uvSet = currentFaceUvSet(mesh);
     std::vector<int32_t> localUv;
@@ -269,9 +513,10 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
     subDegenerate.reserve(subFaces.size());
     sub.loopStarts.clear();
     sub.faceLoopStarts.clear();
-    for (uint32_t f : subFaces) {
+    for (const SubFace& s : subFaces) {
+        const uint32_t f = s.face;
         sub.faceLoopStarts.push_back(uint32_t(sub.loopStarts.size()));
-        for (uint32_t l = mesh.faceLoopStarts[f - faceBase]; l < mesh.faceLoopStarts[f - faceBase + 1]; ++l) {
+        for (uint32_t l = mesh.faceLoopStarts[s.meshFace]; l < mesh.faceLoopStarts[s.meshFace + 1]; ++l) {
             sub.loopStarts.push_back(uint32_t(sub.faceVertices.size()));
             for (uint32_t c = mesh.loopStarts[l]; c < mesh.loopStarts[l + 1]; ++c) {
                 sub.faceVertices.push_back(local[mesh.faceVertices[c]]);
@@ -294,42 +539,33 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
     util::release(localUv);
     // The mesh's edges between points of the piece's mesh, in their order (the last listing of an
     // edge decides its smoothness, as in the whole mesh). Those that matter have an end at a point
-    // of the piece's kept faces, so they lie in the piece's edge range.
-    const uint32_t edgeFirst = base.window ? 0 : piece.edgeFirst;
-    const uint32_t edgeEnd = base.window ? uint32_t(mesh.edges.size()) : piece.edgeEnd;
-    for (uint32_t k = edgeFirst; k < edgeEnd; ++k) {
-        const MeshEdge& e = mesh.edges[k];
+    // of the piece's kept faces, so they lie in the piece's edge runs (a window holds only those).
+    auto addEdge = [&](const MeshEdge& e) {
         if (e.v0 < local.size() && e.v1 < local.size() && local[e.v0] != kNotLocal && local[e.v1] != kNotLocal)
             sub.edges.push_back({local[e.v0], local[e.v1], e.smooth});
+    };
+    if (window) {
+        for (const MeshEdge& e : mesh.edges) addEdge(e);
+    } else {
+        for (const EdgeRun& r : pieces.edgeRuns(pieceIndex))
+            for (uint32_t k = r.first; k < r.end; ++k) addEdge(mesh.edges[k]);
     }
     util::release(local);
 
     Tessellation whole = triangulateValidMesh(sub, subMaterial, smoothShading, subDegenerate);
+    util::release(sub.faceVertices);
+    util::release(sub.normals);
+    util::release(sub.edges);
+    util::release(sub.uvSets);
 
-    // Triangle ranges per local face (triangles come in face order), and the slot of each face.
+    // Triangle ranges per local face (triangles come in face order).
     const size_t subFaceCount = subFaces.size();
     std::vector<uint32_t> firstTriangle(subFaceCount + 1, 0);
     for (uint32_t lf : whole.face) ++firstTriangle[lf + 1];
     for (size_t lf = 0; lf < subFaceCount; ++lf) firstTriangle[lf + 1] += firstTriangle[lf];
-    std::vector<uint32_t> faceSlot(subFaceCount);
-    size_t ownBegin = subFaceCount, ownEnd = 0;  // the piece's faces among the local ones
-    {
-        uint32_t slot = piece.firstSlot;
-        for (size_t lf = 0; lf < subFaceCount; ++lf) {
-            const uint32_t f = subFaces[lf];
-            if (f >= piece.firstFace && f < piece.endFace) {
-                ownBegin = std::min(ownBegin, lf);
-                ownEnd = lf + 1;
-                faceSlot[lf] = slot;
-                slot += bound(f);
-            } else {
-                faceSlot[lf] = pieces.faceSlot(mesh, faceMaterial, degenerate, f, faceBase);
-            }
-        }
-    }
     auto slotOf = [&](uint32_t t) {
         const uint32_t lf = whole.face[t];
-        return faceSlot[lf] + (t - firstTriangle[lf]);
+        return subFaces[lf].slot + (t - firstTriangle[lf]);
     };
 
     // The piece's triangles in slot order, their vertices renumbered in order of first use, and
@@ -349,9 +585,10 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
         }
         return vertexOf[v];
     };
-    for (size_t lf = ownBegin; lf < ownEnd; ++lf) {
-        const uint32_t f = subFaces[lf];
-        const uint32_t promised = bound(f);
+    for (size_t lf = 0; lf < subFaceCount; ++lf) {
+        if (!subFaces[lf].mine) continue;
+        const uint32_t f = subFaces[lf].face, mf = subFaces[lf].meshFace;
+        const uint32_t promised = promisedTriangles(mesh, mf, faceMaterial, degenerate, f);
         const uint32_t made = firstTriangle[lf + 1] - firstTriangle[lf];
         for (uint32_t t = firstTriangle[lf]; t < firstTriangle[lf + 1]; ++t) {
             for (int k = 0; k < 3; ++k) {
@@ -368,7 +605,7 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
             // A slot the face left unused: a point-sized triangle at one of the face's corners.
             if (spare == kNotLocal) {
                 spare = uint32_t(out.positions.size());
-                out.positions.push_back(mesh.points[mesh.faceOuterLoop(f - faceBase)[0]]);
+                out.positions.push_back(mesh.points[mesh.faceOuterLoop(mf)[0]]);
                 out.normals.push_back(glm::vec3(0.0f, 0.0f, 1.0f));
                 if (!whole.uvs.empty()) out.uvs.push_back(glm::vec2(0.0f));
             }
@@ -389,13 +626,13 @@ Tessellation triangulatePieceIn(const Mesh& mesh, const MeshWindow& base, const 
 
 Tessellation triangulateMeshPiece(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial, bool smoothShading,
                                   const std::vector<bool>& degenerate, const MeshPieces& pieces, size_t piece) {
-    return triangulatePieceIn(mesh, MeshWindow{}, faceMaterial, smoothShading, degenerate, pieces, piece);
+    return triangulatePieceIn(mesh, false, faceMaterial, smoothShading, degenerate, pieces, piece);
 }
 
-Tessellation triangulateMeshPiece(const MeshWindow& window, const std::vector<uint16_t>& faceMaterial,
+Tessellation triangulateMeshPiece(const MeshWindow& source, const std::vector<uint16_t>& faceMaterial,
                                   bool smoothShading, const std::vector<bool>& degenerate, const MeshPieces& pieces,
                                   size_t piece) {
-    return triangulatePieceIn(window.mesh, window, faceMaterial, smoothShading, degenerate, pieces, piece);
+    return triangulatePieceIn(source.mesh, source.window, faceMaterial, smoothShading, degenerate, pieces, piece);
 }
 
 }  // namespace pushpin::geom

@@ -13,6 +13,8 @@
 //   along the view axis for orthographic ones. Only comparisons and interpolation use it.
 #pragma once
 
+#include "core/geom/slot_run.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -79,13 +81,12 @@ struct Fragment {
 constexpr uint32_t kFragmentTransparent = 1u;
 static_assert(sizeof(Fragment) == 48, "Fragment is the unit of tile memory; keep it at 48 bytes");
 
-// The adjacency of the triangles [firstTriangle, firstTriangle + triangleCount) of an object
-// made in pieces: neighbors[3·(t − firstTriangle) + k] for triangle t; null while the piece is
-// not at hand (its triangles then have no fragments). A piece that keeps only some of its
-// triangles lists them in `ids` instead: triangleCount ascending offsets from firstTriangle,
-// neighbors[3·i + k] for the triangle firstTriangle + ids[i].
+// The adjacency of the triangles of one piece of an object made in pieces: neighbors[3·i + k]
+// for the piece's triangle i (ObjectTopology::runs say which triangle ids those are); null while
+// the piece is not at hand (its triangles then have no fragments). A piece that keeps only some of
+// its triangles lists them in `ids` instead: triangleCount ascending indices i, neighbors[3·j + k]
+// for the triangle ids[j].
 struct TopologyPiece {
-    uint32_t firstTriangle = 0;
     uint32_t triangleCount = 0;
     const uint32_t* neighbors = nullptr;
     const uint32_t* ids = nullptr;
@@ -95,25 +96,25 @@ struct TopologyPiece {
 // neighbors[3·t + k] is the triangle across edge k of triangle t (edge k joins corner k and
 // corner (k+1)%3), with kHardEdgeBit set when the edge is hard or the two triangles belong to
 // different shading groups; kNoTriangle on a boundary. Fragments of one object merge across
-// soft edges only. An object made in pieces lists them instead (`pieces`, ascending
-// firstTriangle, `neighbors` null); neighbours are then triangle ids of any piece.
+// soft edges only. An object made in pieces lists them instead (`pieces`, one per piece, and
+// `runs`, sorted by firstSlot, the piece and place of each triangle id; `neighbors` null);
+// neighbours are then triangle ids of any piece.
 struct ObjectTopology {
     const uint32_t* neighbors = nullptr;
     uint32_t triangleCount = 0;
     const TopologyPiece* pieces = nullptr;
     uint32_t pieceCount = 0;
+    const geom::SlotRun* runs = nullptr;
+    uint32_t runCount = 0;
 
     // The three neighbour entries of triangle t, or null when it has none at hand.
     const uint32_t* neighborsOf(uint32_t t) const {
         if (!pieces) return neighbors && t < triangleCount ? neighbors + 3 * size_t(t) : nullptr;
-        uint32_t lo = 0, hi = pieceCount;  // the last piece starting at or before t
-        while (hi - lo > 1) {
-            const uint32_t mid = (lo + hi) / 2;
-            (pieces[mid].firstTriangle <= t ? lo : hi) = mid;
-        }
-        const TopologyPiece& p = pieces[lo];
-        if (!p.neighbors || t < p.firstTriangle) return nullptr;
-        const uint32_t local = t - p.firstTriangle;
+        const geom::SlotRun* run = geom::findSlotRun(runs, runCount, t);
+        if (!run || run->piece >= pieceCount) return nullptr;
+        const TopologyPiece& p = pieces[run->piece];
+        if (!p.neighbors) return nullptr;
+        const uint32_t local = run->local + (t - run->firstSlot);
         if (p.ids) {
             const uint32_t* end = p.ids + p.triangleCount;
             const uint32_t* at = std::lower_bound(p.ids, end, local);

@@ -274,10 +274,10 @@ public:
     }
     bool keepsMesh() const override { return false; }
     bool makesWindows() const override { return m_windows; }
-    std::optional<geom::MeshWindow> window(const geom::MeshPiece& piece, bool mapsUvs,
+    std::optional<geom::MeshWindow> window(const geom::MeshPieces& pieces, size_t piece,
                                            uint64_t faceVertexCount) const override {
         if (!m_windows) return std::nullopt;
-        return scene::decodeStoredMeshWindow(m_pool->local().graph(), m_shape, piece, mapsUvs, faceVertexCount);
+        return scene::decodeStoredMeshWindow(m_pool->local().graph(), m_shape, pieces, piece, faceVertexCount);
     }
 
 private:

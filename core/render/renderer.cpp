@@ -326,6 +326,11 @@ private:
     void addObjectTriangles(uint32_t unit, const PixelRect& base, Worker& w);
     const std::vector<glm::dvec4>& clusterBoxes(uint32_t unit, const geom::Tessellation& g);
     bool copyPinnedUnits(Worker& w);
+    // The topology of object `object` made in pieces, from the worker's table of its pieces.
+    ObjectTopology piecesTopology(uint32_t object, const std::vector<TopologyPiece>& pieces) const {
+        const std::span<const geom::SlotRun> runs = m_scene.objects[object].geometry->slotRuns();
+        return ObjectTopology{nullptr, 0, pieces.data(), uint32_t(pieces.size()), runs.data(), uint32_t(runs.size())};
+    }
     template <class Take>
     bool withRoom(Worker& w, uint64_t bytes, Take&& take);
     void chargeBuffers(Worker& w);
@@ -519,10 +524,9 @@ std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const W
     size_t unit = v.firstUnit;
     uint32_t local = triangle;
     if (v.unitCount != 1) {
-        const geom::GeometryHandle& h = *m_scene.objects[object].geometry;
-        const size_t piece = h.pieceOf(triangle);
-        unit += piece;
-        local -= h.pieceFirstTriangle(piece);
+        const geom::GeometryHandle::PiecePlace place = m_scene.objects[object].geometry->placeOf(triangle);
+        unit += place.piece;
+        local = place.local;
     }
     if (const std::vector<uint32_t>* ids = w.copiedIds[unit])
         local = uint32_t(std::lower_bound(ids->begin(), ids->end(), local) - ids->begin());
@@ -602,11 +606,10 @@ bool FrameRenderer::copyPinnedUnits(Worker& w) {
         std::vector<TopologyPiece>& pieces = w.pieceTopology[u.object];
         if (v.unitCount == 1) pieces.assign(1, TopologyPiece{});
         TopologyPiece& piece = pieces[u.piece];
-        piece.firstTriangle = m_scene.objects[u.object].geometry->pieceFirstTriangle(u.piece);
         piece.triangleCount = uint32_t(n);
         piece.neighbors = c.neighbors.data();
         piece.ids = copy->ids.data();
-        w.topology[u.object] = ObjectTopology{nullptr, 0, pieces.data(), uint32_t(pieces.size())};
+        w.topology[u.object] = piecesTopology(u.object, pieces);
         w.tessellation[unit] = &c;
         w.copiedIds[unit] = &copy->ids;
         w.copies.push_back(std::move(copy));
@@ -629,7 +632,13 @@ void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Wor
     const RenderObject& obj = m_scene.objects[index];
     const ObjectView& v = m_views[index];
     const geom::Tessellation& g = *w.tessellation[unit];
-    const uint32_t firstTriangle = obj.geometry->pieceFirstTriangle(m_units[unit].piece);
+    // The triangle ids of the piece's triangles, run by run (t ascending below).
+    const std::span<const geom::SlotRun> runs = obj.geometry->pieceSlotRuns(m_units[unit].piece);
+    size_t run = 0;
+    auto idOf = [&](uint32_t t) {
+        while (run + 1 < runs.size() && runs[run + 1].local <= t) ++run;
+        return runs[run].firstSlot + (t - runs[run].local);
+    };
     const std::vector<glm::dvec4>& boxes = clusterBoxes(unit, g);
     RenderStats& st = w.stats;
     const double nearZ = -m_camera.nearClipPlane;
@@ -663,7 +672,7 @@ void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Wor
             if (count != 3 || poly[0] != c[0] || poly[1] != c[1] || poly[2] != c[2]) ++st.trianglesNearClipped;
             ScreenTriangle s;
             s.object = index;
-            s.triangle = firstTriangle + uint32_t(t);
+            s.triangle = idOf(uint32_t(t));
             const uint16_t slot = t < g.material.size() ? g.material[t] : 0;
             s.transparent = slot < v.slotTransparent.size() && v.slotTransparent[slot];
             glm::dvec2 r[4];
@@ -757,13 +766,10 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
             w.topology[i] = {made.neighbors.data(), uint32_t(made.triangleCount())};
         } else {
             std::vector<TopologyPiece>& pieces = w.pieceTopology[i];
-            if (pieces.empty()) {
-                pieces.resize(m_views[i].unitCount);
-                for (uint32_t k = 0; k < pieces.size(); ++k) pieces[k].firstTriangle = handle->pieceFirstTriangle(k);
-            }
+            if (pieces.empty()) pieces.resize(m_views[i].unitCount);
             pieces[piece].triangleCount = uint32_t(made.triangleCount());
             pieces[piece].neighbors = made.neighbors.data();
-            w.topology[i] = ObjectTopology{nullptr, 0, pieces.data(), uint32_t(pieces.size())};
+            w.topology[i] = piecesTopology(i, pieces);
         }
         w.pins.push_back(std::move(*pin));
         w.pinnedUnits.push_back(unit);

@@ -1321,25 +1321,18 @@ bool storedMeshMakesWindows(Evaluator& ev, NodeId shape) {
     return next > 0 && next <= kMaxElements;
 }
 
-std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId shape, const geom::MeshPiece& piece,
-                                                       bool mapsUvs, uint64_t faceVertexCount) {
-    if (shape >= g.size()) return std::nullopt;
+std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId shape, const geom::MeshPieces& pieces,
+                                                       size_t piece, uint64_t faceVertexCount) {
+    if (shape >= g.size() || piece >= pieces.pieces().size()) return std::nullopt;
     const Node& node = g.node(shape);
     const AttrData* vt = attrOf(g, shape, "vrts");
     const AttrData* fc = attrOf(g, shape, "face");
     if (!vt || !fc) return std::nullopt;
+    const std::span<const geom::FaceRun> around = pieces.aroundRuns(piece);
     geom::MeshWindow w;
     w.window = true;
-    w.faceBase = piece.windowFirst;
-    w.pointBase = piece.windowPointFirst;
-    w.uvBase = piece.windowUvFirst;
     geom::Mesh& mesh = w.mesh;
 
-    // Points, as decodeStoredMesh reads them.
-    mesh.points.assign(piece.windowPointEnd - piece.windowPointFirst, glm::vec3(0.0f));
-    forEachNumericIn(*vt, piece.windowPointFirst, piece.windowPointEnd, [&](uint64_t i, const double* v, int width) {
-        if (width >= 3) mesh.points[i - piece.windowPointFirst] = glm::vec3(float(v[0]), float(v[1]), float(v[2]));
-    });
     // Edge `index` as decodeStoredMesh makes it: unset elements are {0, 0, smooth}.
     const AttrData* ed = attrOf(g, shape, "edge");
     std::vector<double> element;
@@ -1349,29 +1342,13 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
             e = storedEdge(element.data(), int(element.size()));
         return e;
     };
-    // The piece's edges between window points, in order (read run by run; an unset edge joins
-    // point 0 to itself).
-    mesh.edges.reserve(piece.windowEdges);
-    if (ed) {
-        uint64_t next = piece.edgeFirst;
-        auto unsetUpTo = [&](uint64_t end) {
-            for (; next < end; ++next)
-                if (geom::inWindow(piece, 0)) mesh.edges.push_back({0, 0, true});
-        };
-        forEachNumericIn(*ed, piece.edgeFirst, piece.edgeEnd, [&](uint64_t i, const double* v, int width) {
-            unsetUpTo(i);
-            next = i + 1;
-            if (width < 2) return;
-            const geom::MeshEdge e = storedEdge(v, width);
-            if (geom::inWindow(piece, e.v0) && geom::inWindow(piece, e.v1))
-                mesh.edges.push_back({e.v0 - piece.windowPointFirst, e.v1 - piece.windowPointFirst, e.smooth});
-        });
-        unsetUpTo(piece.edgeEnd);
-    }
 
-    // The current uv set: its multi index, its uv count and its values in the window's range.
+    // The current uv set: its multi index and its uv count.
+    const bool mapsUvs = pieces.mapsUvs();
     int32_t currentSet = -1;
     size_t uvCount = 0;
+    const AttrData* uvPoints = nullptr;
+    geom::UvSet set;
     if (mapsUvs) {
         const std::vector<uint32_t> sets = storedUvSetIndices(node);
         if (sets.empty()) return std::nullopt;
@@ -1380,68 +1357,127 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
         for (size_t s = 0; s < sets.size(); ++s)
             if (storedUvSetName(g, shape, sets[s], s) == current) position = s;
         currentSet = int32_t(sets[position]);
-        geom::UvSet set;
         set.name = storedUvSetName(g, shape, sets[position], position);
-        if (const AttrData* pts = g.findAttr(shape, "uvSet[" + std::to_string(currentSet) + "].uvSetPoints")) {
-            if (pts->multi.endIndex() > kMaxElements) return std::nullopt;
-            uvCount = pts->multi.endIndex();
-            set.uvs.assign(piece.windowUvEnd - piece.windowUvFirst, glm::vec2(0.0f));
-            forEachNumericIn(*pts, piece.windowUvFirst, piece.windowUvEnd, [&](uint64_t i, const double* v, int width) {
-                if (width >= 2) set.uvs[i - piece.windowUvFirst] = glm::vec2(float(v[0]), float(v[1]));
+        if ((uvPoints = g.findAttr(shape, "uvSet[" + std::to_string(currentSet) + "].uvSetPoints"))) {
+            if (uvPoints->multi.endIndex() > kMaxElements) return std::nullopt;
+            uvCount = uvPoints->multi.endIndex();
+        }
+    }
+
+    // The faces of the around runs: their loops, with the whole mesh's point and uv ids for now.
+    mesh.loopStarts.clear();
+    mesh.faceLoopStarts.clear();
+    std::vector<int32_t>& uvIds = set.faceVertexUvs;
+    for (const geom::FaceRun& r : around)
+        for (uint32_t f = r.first; f < r.end; ++f) {
+            const PolyFaces* pf = nullptr;
+            size_t at = f;
+            if (fc->hasValue) {
+                pf = std::get<std::shared_ptr<const PolyFaces>>(fc->value).get();
+            } else if (uint32_t off = 0; const MultiStore::Run* run = fc->multi.find(f, &off)) {
+                pf = std::get<std::shared_ptr<const PolyFaces>>(run->value).get();
+                at = off;
+            }
+            if (!pf || at >= pf->faceCount()) return std::nullopt;
+            mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size()));
+            for (size_t loop : pf->loops(at)) {
+                mesh.loopStarts.push_back(uint32_t(mesh.faceVertices.size()));
+                const size_t base = mesh.faceVertices.size();
+                const std::span<const int32_t> loopEdges = pf->edges(loop);
+                for (const int32_t e : loopEdges) {
+                    const geom::MeshEdge edge = edgeAt(e >= 0 ? uint32_t(e) : uint32_t(~e));
+                    mesh.faceVertices.push_back(e >= 0 ? edge.v0 : edge.v1);
+                }
+                if (!mapsUvs) continue;
+                uvIds.resize(mesh.faceVertices.size(), -1);
+                for (size_t k = 0; k < pf->uvCount(loop); ++k) {
+                    const PolyFaces::Uv uv = pf->uv(loop, k);
+                    if (uv.set != currentSet) continue;
+                    for (size_t i = 0; i < uv.ids.size() && i < loopEdges.size(); ++i) {
+                        const int32_t id = uv.ids[i];
+                        if (id < 0 || size_t(id) >= uvCount) continue;
+                        uvIds[base + i] = id;
+                    }
+                }
+            }
+        }
+    mesh.loopStarts.push_back(uint32_t(mesh.faceVertices.size()));
+    mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size() - 1));
+
+    // The points they use, ascending, read run by run; the face-vertices renumbered to them.
+    std::vector<uint32_t> pointIds(mesh.faceVertices);
+    std::sort(pointIds.begin(), pointIds.end());
+    pointIds.erase(std::unique(pointIds.begin(), pointIds.end()), pointIds.end());
+    auto localPoint = [&](uint32_t q) {
+        return uint32_t(std::lower_bound(pointIds.begin(), pointIds.end(), q) - pointIds.begin());
+    };
+    for (uint32_t& q : mesh.faceVertices) q = localPoint(q);
+    mesh.points.assign(pointIds.size(), glm::vec3(0.0f));
+    for (size_t i = 0; i < pointIds.size();) {
+        size_t j = i + 1;
+        while (j < pointIds.size() && pointIds[j] == pointIds[j - 1] + 1) ++j;
+        forEachNumericIn(*vt, pointIds[i], uint64_t(pointIds[j - 1]) + 1, [&](uint64_t k, const double* v, int width) {
+            if (width >= 3) mesh.points[i + (k - pointIds[i])] = glm::vec3(float(v[0]), float(v[1]), float(v[2]));
+        });
+        i = j;
+    }
+
+    // The uvs they use, the same way.
+    if (mapsUvs) {
+        std::vector<uint32_t> used;
+        for (const int32_t id : uvIds)
+            if (id >= 0) used.push_back(uint32_t(id));
+        std::sort(used.begin(), used.end());
+        used.erase(std::unique(used.begin(), used.end()), used.end());
+        for (int32_t& id : uvIds)
+            if (id >= 0) id = int32_t(std::lower_bound(used.begin(), used.end(), uint32_t(id)) - used.begin());
+        set.uvs.assign(used.size(), glm::vec2(0.0f));
+        for (size_t i = 0; uvPoints && i < used.size();) {
+            size_t j = i + 1;
+            while (j < used.size() && used[j] == used[j - 1] + 1) ++j;
+            forEachNumericIn(*uvPoints, used[i], uint64_t(used[j - 1]) + 1, [&](uint64_t k, const double* v, int width) {
+                if (width >= 2) set.uvs[i + (k - used[i])] = glm::vec2(float(v[0]), float(v[1]));
             });
+            i = j;
         }
         mesh.uvSets.push_back(std::move(set));
         mesh.currentUvSet = 0;
     }
 
-    // Faces [windowFirst, aroundEnd): their loops' start points, and the current set's uv ids.
-    mesh.loopStarts.clear();
-    mesh.faceLoopStarts.clear();
-    std::vector<int32_t>* uvIds = mapsUvs ? &mesh.uvSets[0].faceVertexUvs : nullptr;
-    for (uint32_t f = piece.windowFirst; f < piece.aroundEnd; ++f) {
-        const PolyFaces* pf = nullptr;
-        size_t at = f;
-        if (fc->hasValue) {
-            pf = std::get<std::shared_ptr<const PolyFaces>>(fc->value).get();
-        } else if (uint32_t off = 0; const MultiStore::Run* run = fc->multi.find(f, &off)) {
-            pf = std::get<std::shared_ptr<const PolyFaces>>(run->value).get();
-            at = off;
-        }
-        if (!pf || at >= pf->faceCount()) return std::nullopt;
-        mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size()));
-        for (size_t loop : pf->loops(at)) {
-            mesh.loopStarts.push_back(uint32_t(mesh.faceVertices.size()));
-            const size_t base = mesh.faceVertices.size();
-            const std::span<const int32_t> loopEdges = pf->edges(loop);
-            for (const int32_t e : loopEdges) {
-                const geom::MeshEdge edge = edgeAt(e >= 0 ? uint32_t(e) : uint32_t(~e));
-                const uint32_t p = e >= 0 ? edge.v0 : edge.v1;
-                if (!geom::inWindow(piece, p)) return std::nullopt;
-                mesh.faceVertices.push_back(p - piece.windowPointFirst);
-            }
-            if (!uvIds) continue;
-            uvIds->resize(mesh.faceVertices.size(), -1);
-            for (size_t k = 0; k < pf->uvCount(loop); ++k) {
-                const PolyFaces::Uv uv = pf->uv(loop, k);
-                if (uv.set != currentSet) continue;
-                for (size_t i = 0; i < uv.ids.size() && i < loopEdges.size(); ++i) {
-                    const int32_t id = uv.ids[i];
-                    if (id < 0 || size_t(id) >= uvCount) continue;
-                    (*uvIds)[base + i] = id - int32_t(piece.windowUvFirst);
-                }
-            }
+    // The edges of the piece's edge runs between those points, in order (an unset edge joins
+    // point 0 to itself).
+    auto among = [&](uint32_t q) { return std::binary_search(pointIds.begin(), pointIds.end(), q); };
+    if (ed) {
+        for (const geom::EdgeRun& r : pieces.edgeRuns(piece)) {
+            uint64_t next = r.first;
+            auto unsetUpTo = [&](uint64_t end) {
+                for (; next < end; ++next)
+                    if (among(0)) mesh.edges.push_back({localPoint(0), localPoint(0), true});
+            };
+            forEachNumericIn(*ed, r.first, r.end, [&](uint64_t i, const double* v, int width) {
+                unsetUpTo(i);
+                next = i + 1;
+                if (width < 2) return;
+                const geom::MeshEdge e = storedEdge(v, width);
+                if (among(e.v0) && among(e.v1)) mesh.edges.push_back({localPoint(e.v0), localPoint(e.v1), e.smooth});
+            });
+            unsetUpTo(r.end);
         }
     }
-    mesh.loopStarts.push_back(uint32_t(mesh.faceVertices.size()));
-    mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size() - 1));
 
     // Stored normals of the window's face-vertices, when the shape has one for each face-vertex.
     if (const AttrData* n = attrOf(g, shape, "normals"); n && !n->multi.empty() && n->multi.endIndex() == faceVertexCount) {
-        const uint64_t first = piece.windowFirstFaceVertex, end = first + mesh.faceVertices.size();
         mesh.normals.assign(mesh.faceVertices.size(), glm::vec3(0.0f));
-        forEachNumericIn(*n, first, end, [&](uint64_t i, const double* v, int width) {
-            if (width >= 3) mesh.normals[i - first] = storedNormal(v);
-        });
+        size_t place = 0;
+        for (const geom::FaceRun& r : around) {
+            const size_t faces = r.end - r.first;
+            const uint64_t count = mesh.faceVertexBegin(place + faces) - mesh.faceVertexBegin(place);
+            const uint64_t first = r.firstFaceVertex, to = mesh.faceVertexBegin(place);
+            forEachNumericIn(*n, first, first + count, [&](uint64_t i, const double* v, int width) {
+                if (width >= 3) mesh.normals[to + (i - first)] = storedNormal(v);
+            });
+            place += faces;
+        }
     }
     return w;
 }

@@ -89,12 +89,11 @@ bool hasStoredMesh(const Graph& graph, NodeId meshShape);
 // from face 0 and uvs in uvSet[k].uvSetPoints: then decodeStoredMeshWindow can make any part of it.
 bool storedMeshMakesWindows(Evaluator& ev, NodeId meshShape);
 
-// The window of `piece` (split from the whole decoded mesh, which has `faceVertexCount`
-// face-vertices; `mapsUvs` when its current uv set maps faces) decoded from the stored data
-// alone: geom::cutMeshWindow of the whole mesh, without making the rest. nullopt when the stored
-// data does not hold it.
+// The window of piece `piece` of `pieces` (split from the whole decoded mesh, which has
+// `faceVertexCount` face-vertices) decoded from the stored data alone: geom::cutMeshWindow of the
+// whole mesh, without making the rest. nullopt when the stored data does not hold it.
 std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& graph, NodeId meshShape,
-                                                       const geom::MeshPiece& piece, bool mapsUvs,
+                                                       const geom::MeshPieces& pieces, size_t piece,
                                                        uint64_t faceVertexCount);
 
 }  // namespace pushpin::scene

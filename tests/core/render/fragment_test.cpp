@@ -139,14 +139,27 @@ TEST(ObjectTopology, FindsNeighboursInWholePiecesAndInPiecesThatKeepSomeTriangle
     for (uint32_t i = 0; i < 30; ++i) first[i] = 100 + i;
     for (uint32_t i = 0; i < 9; ++i) kept[i] = 200 + i;
     const uint32_t ids[3] = {2, 5, 9};
-    const TopologyPiece pieces[3] = {{0, 10, first, nullptr}, {10, 3, kept, ids}, {20, 10, nullptr, nullptr}};
-    const ObjectTopology split{nullptr, 0, pieces, 3};
+    const TopologyPiece pieces[3] = {{10, first, nullptr}, {3, kept, ids}, {10, nullptr, nullptr}};
+    const geom::SlotRun runs[3] = {{0, 0, 0}, {10, 1, 0}, {20, 2, 0}};
+    const ObjectTopology split{nullptr, 0, pieces, 3, runs, 3};
     EXPECT_EQ(split.neighborsOf(0), first);
     EXPECT_EQ(split.neighborsOf(9), first + 27);
     EXPECT_EQ(split.neighborsOf(12), kept);
     EXPECT_EQ(split.neighborsOf(15), kept + 3);
     EXPECT_EQ(split.neighborsOf(19), kept + 6);
     for (const uint32_t absent : {10u, 11u, 13u, 18u, 20u, 25u, 31u}) EXPECT_EQ(split.neighborsOf(absent), nullptr) << absent;
+    // Pieces whose triangle ids take several runs: piece 0 holds ids [0, 4) and [8, 12), piece 1
+    // ids [4, 8) keeping its triangles 1 and 3 (ids 5 and 7).
+    const uint32_t keptIds[2] = {1, 3};
+    const TopologyPiece interleaved[2] = {{8, first, nullptr}, {2, kept, keptIds}};
+    const geom::SlotRun interleavedRuns[3] = {{0, 0, 0}, {4, 1, 0}, {8, 0, 4}};
+    const ObjectTopology runsOfIds{nullptr, 0, interleaved, 2, interleavedRuns, 3};
+    EXPECT_EQ(runsOfIds.neighborsOf(3), first + 9);
+    EXPECT_EQ(runsOfIds.neighborsOf(8), first + 12);
+    EXPECT_EQ(runsOfIds.neighborsOf(11), first + 21);
+    EXPECT_EQ(runsOfIds.neighborsOf(5), kept);
+    EXPECT_EQ(runsOfIds.neighborsOf(7), kept + 3);
+    for (const uint32_t absent : {4u, 6u, 12u, 40u}) EXPECT_EQ(runsOfIds.neighborsOf(absent), nullptr) << absent;
 }
 
 }  // namespace
