@@ -306,6 +306,14 @@ public:
           m_tessellations(&budget, cache::MemoryCategory::Tessellation),
           m_meshes(&budget, cache::MemoryCategory::Geometry) {}
 
+    // The charge holding every thread's share of the tile buffers (`threads` shares), so that the
+    // shares of the threads that idle while deferred tiles render one at a time go back to the
+    // budget then.
+    void setTileShares(cache::MemoryCharge* shares, int threads) {
+        m_tileShares = shares;
+        m_shareThreads = threads;
+    }
+
     Framebuffer run();
     // Fills the memory figures of the stats from the budget and the process.
     void finishStats(const cache::MemoryBudget& budget) const;
@@ -362,6 +370,8 @@ private:
     TessellationCache m_tessellations;      // one per piece of a geometry handle, shared by instances
     MeshCache m_meshes;                     // meshes shared by the pieces of a shape
     uint64_t m_perThreadBytes = 0;          // the share of each worker's buffers charged up front
+    cache::MemoryCharge* m_tileShares = nullptr;  // setTileShares
+    int m_shareThreads = 1;
     std::atomic<uint64_t> m_trianglesMade{0};
     std::atomic<uint64_t> m_droppedReturned{0};  // bytes the caches had dropped at the last return
     std::atomic<uint64_t> m_transientFreed{0};   // bytes charged while tessellations were made
@@ -1252,6 +1262,11 @@ Framebuffer FrameRenderer::run() {
         // One tile at a time now: what the tile buffers grew to goes back (the deferred tiles grow
         // them again as they need).
         for (auto& wp : workers) wp->releaseBuffers(m_perThreadBytes);
+        // One worker renders from here: the idle threads' shares go back.
+        if (m_tileShares && m_shareThreads > 1) {
+            const uint64_t idle = std::min(m_tileShares->bytes(), uint64_t(m_shareThreads - 1) * m_perThreadBytes);
+            m_tileShares->resize(m_tileShares->bytes() - idle);
+        }
     }
     for (size_t i : deferred) {
         Worker& w = *workers.local();
@@ -1468,7 +1483,7 @@ Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, con
     cache::MemoryBudget& budget = options.memoryBudget ? *options.memoryBudget : ownBudget.emplace(cap.bytes);
     if (budget.capBytes() != 0) util::returnLargeBlocksOnFree();
     // Charged before the arena and before any buffer is allocated; released when this returns.
-    const std::vector<cache::MemoryCharge> charges =
+    std::vector<cache::MemoryCharge> charges =
         chargeFrame(budget, frameMemory(scene, camera, settings, options, threads), camera,
                     budget.capBytes() == cap.bytes ? cap.source : std::string());
     tbb::task_arena arena(threads);
@@ -1476,6 +1491,8 @@ Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, con
     try {
         arena.execute([&] {
             FrameRenderer renderer(scene, camera, settings, stats, options, budget);
+            for (cache::MemoryCharge& c : charges)
+                if (c.category() == cache::MemoryCategory::Fragments) renderer.setTileShares(&c, threads);
             out = renderer.run();
             renderer.finishStats(budget);
         });
