@@ -465,8 +465,13 @@ void FrameRenderer::prepare() {
 // cell of the square grid its triangles make over its box).
 void FrameRenderer::planFrameTiles() {
     const bool fixed = m_settings.forceTileSize || m_budget.capBytes() == 0;
+    // Under a cap, tiles are taken along the Hilbert curve, so that the next tile (or a thread's
+    // next) meets what the last one made while it is still cached.
+    const bool walk = m_budget.capBytes() != 0;
+    std::vector<PixelRect> rowMajor;
     if (fixed) {
-        m_tiles = planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
+        rowMajor = planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
+        m_tiles = walk ? alongHilbertCurve(rowMajor) : rowMajor;
         if (!m_options.tilePlan) return;
     }
     std::vector<ScreenCost> costs;
@@ -488,16 +493,16 @@ void FrameRenderer::planFrameTiles() {
     if (fixed) {
         TilePlan& plan = *m_options.tilePlan;
         plan = TilePlan{};
-        plan.tiles = m_tiles;
+        plan.tiles = std::move(rowMajor);
         plan.maxTileCost = std::numeric_limits<double>::infinity();
-        for (const PixelRect& t : m_tiles) plan.cost.push_back(tileCost(t, costs));
+        for (const PixelRect& t : plan.tiles) plan.cost.push_back(tileCost(t, costs));
         return;
     }
     const int threads = std::max(1, tbb::this_task_arena::max_concurrency());
     const uint64_t available = m_budget.availableBytes();
     m_stats.maxTileCost = maxTileCost(available / 2 / uint64_t(threads), m_settings, (m_region.height() + 1) / 2);
     TilePlan plan = planAdaptiveTiles(m_region, costs, m_stats.maxTileCost, 16);
-    m_tiles = plan.tiles;
+    m_tiles = alongHilbertCurve(plan.tiles);
     if (m_options.tilePlan) *m_options.tilePlan = std::move(plan);
 }
 

@@ -296,4 +296,49 @@ void writeTilePattern(const TilePlan& plan, int width, int height, const std::fi
     writeImage(frame, path, format, settings, false);
 }
 
+uint64_t hilbertIndex(uint32_t x, uint32_t y, int order) {
+    uint64_t d = 0;
+    for (uint64_t s = order > 0 ? uint64_t(1) << (order - 1) : 0; s > 0; s /= 2) {
+        const uint64_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
+        d += s * s * ((3 * rx) ^ ry);
+        // Rotate the quadrant so that the curve's sub-curve starts and ends where it joins.
+        if (ry == 0) {
+            if (rx == 1) {
+                x = uint32_t(s - 1) - (x & uint32_t(s - 1));
+                y = uint32_t(s - 1) - (y & uint32_t(s - 1));
+            }
+            std::swap(x, y);
+        }
+        x &= uint32_t(s - 1);
+        y &= uint32_t(s - 1);
+    }
+    return d;
+}
+
+std::vector<PixelRect> alongHilbertCurve(std::vector<PixelRect> tiles) {
+    if (tiles.size() < 2) return tiles;
+    int x0 = tiles[0].x0, y0 = tiles[0].y0, x1 = tiles[0].x1, y1 = tiles[0].y1;
+    for (const PixelRect& t : tiles) {
+        x0 = std::min(x0, t.x0), y0 = std::min(y0, t.y0);
+        x1 = std::max(x1, t.x1), y1 = std::max(y1, t.y1);
+    }
+    // Centres on the pixel grid, doubled so that they are whole.
+    const uint64_t extent = 2 * uint64_t(std::max(x1 - x0, y1 - y0)) + 1;
+    int order = 0;
+    while ((uint64_t(1) << order) < extent) ++order;
+    std::vector<std::pair<uint64_t, PixelRect>> keyed;
+    keyed.reserve(tiles.size());
+    for (const PixelRect& t : tiles) {
+        const uint32_t cx = uint32_t(int64_t(t.x0) + t.x1 - 2 * int64_t(x0));
+        const uint32_t cy = uint32_t(int64_t(t.y0) + t.y1 - 2 * int64_t(y0));
+        keyed.push_back({hilbertIndex(cx, cy, order), t});
+    }
+    std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
+        if (a.first != b.first) return a.first < b.first;
+        return a.second.y0 != b.second.y0 ? a.second.y0 < b.second.y0 : a.second.x0 < b.second.x0;
+    });
+    for (size_t i = 0; i < tiles.size(); ++i) tiles[i] = keyed[i].second;
+    return tiles;
+}
+
 }  // namespace pushpin::render

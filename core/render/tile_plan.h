@@ -80,6 +80,16 @@ struct TilePlan {
 TilePlan planAdaptiveTiles(const PixelRect& region, std::span<const ScreenCost> objects, double maxTileCost,
                            int minTileSize = 16);
 
+// Index of point (x, y) (each below 2^order) along the Hilbert curve through the 2^order ×
+// 2^order grid: consecutive indices are neighbouring cells.
+uint64_t hilbertIndex(uint32_t x, uint32_t y, int order);
+
+// `tiles` reordered along the Hilbert curve through their centres (ties by (y0, x0)), so that
+// tiles taken one after another, or a thread's run of them, lie close together on screen and
+// meet the same objects: under a memory cap, what one tile made is still cached for the next.
+// The image does not depend on the order.
+std::vector<PixelRect> alongHilbertCurve(std::vector<PixelRect> tiles);
+
 // The --tile-pattern picture of `plan`: width × height pixels of 8-bit RGB, row-major, top row
 // first (3 × width × height bytes; empty when either size is below 1). Each tile is filled with a
 // heat-ramp colour by cost / maxTileCost (from dark blue at 0 through purple and orange to yellow

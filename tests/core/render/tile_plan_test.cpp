@@ -556,5 +556,49 @@ TEST(TilePlanPattern, UnwritablePathThrowsOutputErrorAndLeavesNoFile) {
     EXPECT_EQ(dir.files(), (std::vector<std::string>{"blocker", "tiles.png"}));
 }
 
+TEST(TileOrder, TheHilbertIndexWalksFromCellToNeighbouringCell) {
+    for (int order : {1, 2, 3, 5}) {
+        const uint32_t n = 1u << order;
+        std::vector<std::pair<uint32_t, uint32_t>> cellAt(size_t(n) * n, {n, n});
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x) {
+                const uint64_t d = hilbertIndex(x, y, order);
+                ASSERT_LT(d, uint64_t(n) * n);
+                EXPECT_EQ(cellAt[d].first, n) << "index " << d << " given twice";
+                cellAt[d] = {x, y};
+            }
+        EXPECT_EQ(cellAt[0], (std::pair<uint32_t, uint32_t>{0, 0}));
+        for (size_t d = 1; d < cellAt.size(); ++d) {
+            const int dx = int(cellAt[d].first) - int(cellAt[d - 1].first);
+            const int dy = int(cellAt[d].second) - int(cellAt[d - 1].second);
+            EXPECT_EQ(std::abs(dx) + std::abs(dy), 1) << "order " << order << " index " << d;
+        }
+    }
+}
+
+TEST(TileOrder, TilesAlongTheHilbertCurveAreTheSameTilesEachNextToTheLast) {
+    // A 6 × 5 grid of 32 × 32 tiles, then an adaptive plan: the same tiles, and in the grid each
+    // tile after the first shares an edge with the one before it.
+    const std::vector<PixelRect> grid = planTiles(PixelRect{0, 0, 192, 160}, 32, 32);
+    const std::vector<PixelRect> walked = alongHilbertCurve(grid);
+    ASSERT_EQ(walked.size(), grid.size());
+    EXPECT_TRUE(std::is_permutation(walked.begin(), walked.end(), grid.begin()));
+    size_t apart = 0;
+    for (size_t i = 1; i < walked.size(); ++i) {
+        const PixelRect& a = walked[i - 1];
+        const PixelRect& b = walked[i];
+        const bool touch = (a.x1 == b.x0 || b.x1 == a.x0) ? a.y0 == b.y0 : (a.y1 == b.y0 || b.y1 == a.y0) && a.x0 == b.x0;
+        apart += !touch;
+    }
+    // A 6 × 5 grid is not a power of two across, so the curve leaves it a few times.
+    EXPECT_LE(apart, 4u);
+    std::vector<ScreenCost> objects = {{10, 5, 90, 70, 400.0}, {120, 100, 180, 150, 2000.0}};
+    const TilePlan plan = planAdaptiveTiles(PixelRect{0, 0, 192, 160}, objects, 300.0, 16);
+    const std::vector<PixelRect> planned = alongHilbertCurve(plan.tiles);
+    EXPECT_TRUE(std::is_permutation(planned.begin(), planned.end(), plan.tiles.begin()));
+    EXPECT_EQ(alongHilbertCurve(planned), planned);
+    EXPECT_TRUE(alongHilbertCurve({}).empty());
+}
+
 }  // namespace
 }  // namespace pushpin::render
