@@ -144,6 +144,8 @@ MeshValidation Mesh::validate() const {
     if (!v.errors.empty()) return v;
 
     const size_t nPoints = points.size();
+    if (nPoints >= kMaxMeshPoints)
+        error(std::to_string(nPoints) + " points: a mesh holds fewer than " + std::to_string(kMaxMeshPoints));
     for (size_t i = 0; i < nPoints; ++i) {
         const glm::vec3& p = points[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))

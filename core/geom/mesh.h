@@ -46,11 +46,16 @@ struct ColorSet {
 };
 
 // An edge between two points; `smooth` is Maya's soft-edge flag (false = hard edge).
+// Points of a mesh are numbered below this (validate() refuses more), so that an edge fits in 8
+// bytes: meshes hold millions of edges.
+constexpr uint64_t kMaxMeshPoints = uint64_t(1) << 31;
+
 struct MeshEdge {
     uint32_t v0 = 0;
-    uint32_t v1 = 0;
-    bool smooth = true;
+    uint32_t v1 : 31 = 0;
+    uint32_t smooth : 1 = 1;
 };
+static_assert(sizeof(MeshEdge) == 8);
 
 // What validate() found. `errors` are structural (an index out of range, inconsistent offsets,
 // a non-finite point): such a mesh must not be rendered. Degenerate faces (fewer than three

@@ -101,49 +101,59 @@ uint32_t cutPieces(std::vector<uint32_t>& pieceOf, uint32_t maxSlots, Order&& or
 // level that still holds too many is cut in the keys' order. Returns the number of pieces.
 template <class Bound>
 uint32_t cutCells(const std::vector<uint64_t>& keys, std::vector<uint32_t>& pieceOf, uint32_t maxSlots, Bound&& bound) {
-    // Triangle ids before each key (fewer than 2^31 in all).
-    std::vector<uint32_t> before(keys.size() + 1, 0);
-    for (size_t i = 0; i < keys.size(); ++i) before[i + 1] = before[i] + bound(uint32_t(keys[i]));
-    auto slots = [&](size_t lo, size_t hi) { return uint64_t(before[hi] - before[lo]); };
+    auto slotsOf = [&](size_t i) { return uint64_t(bound(uint32_t(keys[i]))); };
     uint32_t count = 0;
     auto emit = [&](size_t lo, size_t hi) {
         if (lo == hi) return;
         for (size_t i = lo; i < hi; ++i) pieceOf[uint32_t(keys[i])] = count;
         ++count;
     };
-    auto cut = [&](auto&& self, size_t lo, size_t hi, int level) -> void {
-        if (slots(lo, hi) <= maxSlots) return emit(lo, hi);
+    // Keys [lo, hi) share their code above `level`'s three bits and hold `total` triangle ids.
+    auto cut = [&](auto&& self, size_t lo, size_t hi, int level, uint64_t total) -> void {
+        if (total <= maxSlots) return emit(lo, hi);
         if (level == 0) {
             size_t start = lo;
-            for (size_t i = lo; i < hi; ++i)
-                if (i > start && slots(start, i + 1) > maxSlots) {
+            uint64_t held = 0;
+            for (size_t i = lo; i < hi; ++i) {
+                const uint64_t n = slotsOf(i);
+                if (i > start && held + n > maxSlots) {
                     emit(start, i);
                     start = i;
+                    held = 0;
                 }
+                held += n;
+            }
             return emit(start, hi);
         }
         const int shift = 32 + 3 * (level - 1);
         size_t groupLo = lo, groupHi = lo;
+        uint64_t groupSlots = 0;
         for (size_t childLo = lo; childLo < hi;) {
             const uint64_t child = (keys[childLo] >> shift) & 7;
             size_t childHi = childLo;
-            while (childHi < hi && ((keys[childHi] >> shift) & 7) == child) ++childHi;
-            if (slots(childLo, childHi) > maxSlots) {
+            uint64_t childSlots = 0;
+            for (; childHi < hi && ((keys[childHi] >> shift) & 7) == child; ++childHi) childSlots += slotsOf(childHi);
+            if (childSlots > maxSlots) {
                 emit(groupLo, groupHi);
-                self(self, childLo, childHi, level - 1);
+                self(self, childLo, childHi, level - 1, childSlots);
                 groupLo = groupHi = childHi;
-            } else if (slots(groupLo, childHi) > maxSlots) {
+                groupSlots = 0;
+            } else if (groupSlots + childSlots > maxSlots) {
                 emit(groupLo, groupHi);
                 groupLo = childLo;
                 groupHi = childHi;
+                groupSlots = childSlots;
             } else {
                 groupHi = childHi;
+                groupSlots += childSlots;
             }
             childLo = childHi;
         }
         emit(groupLo, groupHi);
     };
-    cut(cut, 0, keys.size(), 10);
+    uint64_t total = 0;
+    for (size_t i = 0; i < keys.size(); ++i) total += slotsOf(i);
+    cut(cut, 0, keys.size(), 10, total);
     return count;
 }
 
@@ -276,7 +286,7 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
     // The edges with an end at a point of each piece.
     std::vector<std::vector<EdgeRun>> edgesAround(pieceCount);
     for (size_t e = 0; e < mesh.edges.size(); ++e)
-        for (const uint32_t q : {mesh.edges[e].v0, mesh.edges[e].v1})
+        for (const uint32_t q : {uint32_t(mesh.edges[e].v0), uint32_t(mesh.edges[e].v1)})
             at.forEach(q, [&](uint32_t p) {
                 addToRuns(edgesAround[p], uint32_t(e), [&] { return EdgeRun{uint32_t(e), uint32_t(e) + 1}; });
             });

@@ -16,7 +16,7 @@
 // normals and uvs bit for bit, and neighbours (by slot) across piece borders too, because the
 // piece is made with every face around its points.
 // Thread safety: MeshPieces is immutable after split(); triangulateMeshPiece is pure.
-// Memory: MeshPieces holds about 130 bytes a piece and 8 to 48 bytes a run; split() works with 16
+// Memory: MeshPieces holds about 130 bytes a piece and 8 to 48 bytes a run; split() works with 12
 // bytes a face and 4 bytes a point besides.
 #pragma once
 

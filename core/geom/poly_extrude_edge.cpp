@@ -46,7 +46,7 @@ bool extrudeEdges(Mesh& mesh, const ExtrudeEdgesParams& params, ExtrudeEdgesResu
         if (params.keepFacesTogether) {
             std::unordered_map<uint32_t, uint32_t> edgeAt;  // point → first selected edge on it
             for (uint32_t e : selected)
-                for (uint32_t p : {work.edges[e].v0, work.edges[e].v1}) {
+                for (uint32_t p : {uint32_t(work.edges[e].v0), uint32_t(work.edges[e].v1)}) {
                     const auto [it, fresh] = edgeAt.try_emplace(p, e);
                     if (!fresh) sets.join(it->second, e);
                 }
@@ -58,7 +58,7 @@ bool extrudeEdges(Mesh& mesh, const ExtrudeEdgesParams& params, ExtrudeEdgesResu
             if (fresh) regions.emplace_back();
             Region& r = regions[it->second];
             r.edges.push_back(e);
-            for (uint32_t p : {work.edges[e].v0, work.edges[e].v1}) {
+            for (uint32_t p : {uint32_t(work.edges[e].v0), uint32_t(work.edges[e].v1)}) {
                 // Kept together, a point is in one region; apart, each edge lists its own two.
                 if (!params.keepFacesTogether) {
                     if (r.points.empty() || r.points.back() != p) r.points.push_back(p);

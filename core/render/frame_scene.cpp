@@ -3,6 +3,7 @@
 #include "core/geom/finite.h"
 #include "core/render/camera.h"
 #include "core/util/format.h"
+#include "core/util/release.h"
 #include "cache/error.h"
 #include "core/geom/nurbs.h"
 #include "core/geom/geometry_handle.h"
@@ -617,6 +618,7 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
                     const size_t from = origin.size() == faces ? origin[f] : f;
                     faceGroup[f] = from < sourceFaces ? sourceGroup[from] : -1;
                 }
+                util::release(sourceGroup);
                 // Slots for the groups that kept at least one face, in first-use order.
                 std::vector<int32_t> slotOf(candidates.size(), -1);
                 std::vector<uint16_t> faceMaterial(faces, kNoMaterial);
@@ -637,6 +639,9 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
                     }
                     faceMaterial[f] = uint16_t(slotOf[size_t(c)]);
                 }
+                // The handle below measures and splits a large mesh: what it works with is all that
+                // stays.
+                util::release(faceGroup);
                 if (dropped == faces) {
                     skip("no face belongs to a shading group");
                     continue;

@@ -1210,7 +1210,10 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     mesh.faceVertices.reserve(totalCorners);
     mesh.loopStarts.reserve(totalLoops + 1);
     mesh.faceLoopStarts.reserve(totalFaces + 1);
-    std::vector<std::vector<int32_t>> setIds(mesh.uvSets.size(), std::vector<int32_t>(totalCorners, -1));
+    // A set without uvs can take no uv id: it gets no table.
+    std::vector<std::vector<int32_t>> setIds(mesh.uvSets.size());
+    for (size_t s = 0; s < mesh.uvSets.size(); ++s)
+        if (!mesh.uvSets[s].uvs.empty()) setIds[s].assign(totalCorners, -1);
     std::vector<int32_t> colorIds(mesh.colorSets.empty() ? 0 : totalCorners, -1);
     bool anyColor = false;
     size_t brokenLoops = 0, badUvIds = 0, unknownUvSets = 0;
