@@ -29,17 +29,6 @@ uint32_t spreadBits(uint32_t v) {
     return v;
 }
 
-// The triangle ids face `f` of the whole mesh promises, read from face `meshFace` of `mesh` (the
-// whole mesh, or a window holding it).
-uint32_t promisedTriangles(const Mesh& mesh, size_t meshFace, const std::vector<uint16_t>& faceMaterial,
-                           const std::vector<bool>& degenerate, size_t f) {
-    const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
-    if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) return 0;
-    const uint64_t corners = mesh.faceVertexEnd(meshFace) - mesh.faceVertexBegin(meshFace);
-    const uint64_t holes = mesh.holeCount(meshFace);
-    return corners + 2 * holes >= 3 ? uint32_t(corners + 2 * holes - 2) : 0u;
-}
-
 // Adds element `i` (given in ascending order) to `runs`, joining it to the last run when at most
 // kRunGap elements lie between. `start` makes a new run of it.
 template <class Run, class Start>
@@ -272,13 +261,9 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
         for (size_t f = 0; f < faces; ++f) {
             for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c)
                 at.forEach(mesh.faceVertices[c], [&](uint32_t p) {
-                    std::vector<FaceRun>& runs = around[p];
-                    if (!runs.empty() && runs.back().end > f) return;
-                    if (!runs.empty() && f - runs.back().end <= kRunGap) {
-                        runs.back().end = uint32_t(f) + 1;
-                        return;
-                    }
-                    runs.push_back({uint32_t(f), uint32_t(f) + 1, uint32_t(slot), mesh.faceVertexBegin(f)});
+                    addToRuns(around[p], uint32_t(f), [&] {
+                        return FaceRun{uint32_t(f), uint32_t(f) + 1, uint32_t(slot), mesh.faceVertexBegin(f)};
+                    });
                 });
             slot += bound(f);
         }
@@ -466,7 +451,7 @@ Tessellation triangulatePieceIn(const Mesh& mesh, bool window, const std::vector
                 while (o < own.size() && own[o].end <= f) ++o;
                 const bool mine = o < own.size() && f >= own[o].first;
                 const uint32_t meshFace = window ? place : f;
-                const uint32_t n = promisedTriangles(mesh, meshFace, faceMaterial, degenerate, f);
+                const uint32_t n = faceTriangleBound(mesh, meshFace, faceMaterial, degenerate, f);
                 visit(f, meshFace, mine, slot, n);
                 slot += n;
             }
@@ -485,14 +470,14 @@ Tessellation triangulatePieceIn(const Mesh& mesh, bool window, const std::vector
     });
     struct SubFace {
         uint32_t face, meshFace, slot;
-        bool mine;
+        uint32_t ownSlots;  // the triangle ids it promises when it is the piece's own, else 0
     };
     std::vector<SubFace> subFaces;
     forEachAround([&](uint32_t f, uint32_t mf, bool mine, uint32_t slot, uint32_t n) {
         bool touches = false;
         for (uint32_t c = mesh.faceVertexBegin(mf); c < mesh.faceVertexEnd(mf) && !touches; ++c)
             touches = local[mesh.faceVertices[c]] == kMarked;
-        if (touches) subFaces.push_back({f, mf, slot, mine && n > 0});
+        if (touches) subFaces.push_back({f, mf, slot, mine ? n : 0});
     });
     // Local point ids in ascending order of the source's.
     for (const SubFace& s : subFaces)
@@ -596,9 +581,9 @@ Tessellation triangulatePieceIn(const Mesh& mesh, bool window, const std::vector
         return vertexOf[v];
     };
     for (size_t lf = 0; lf < subFaceCount; ++lf) {
-        if (!subFaces[lf].mine) continue;
+        const uint32_t promised = subFaces[lf].ownSlots;
+        if (promised == 0) continue;
         const uint32_t f = subFaces[lf].face, mf = subFaces[lf].meshFace;
-        const uint32_t promised = promisedTriangles(mesh, mf, faceMaterial, degenerate, f);
         const uint32_t made = firstTriangle[lf + 1] - firstTriangle[lf];
         for (uint32_t t = firstTriangle[lf]; t < firstTriangle[lf + 1]; ++t) {
             for (int k = 0; k < 3; ++k) {

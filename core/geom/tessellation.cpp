@@ -181,12 +181,16 @@ Tessellation triangulateMesh(const Mesh& mesh, const std::vector<uint16_t>& face
 }
 
 uint32_t faceTriangleBound(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
-                           const std::vector<bool>& degenerate, size_t f, size_t faceBase) {
+                           const std::vector<bool>& degenerate, size_t f) {
+    return faceTriangleBound(mesh, f, faceMaterial, degenerate, f);
+}
+
+uint32_t faceTriangleBound(const Mesh& mesh, size_t meshFace, const std::vector<uint16_t>& faceMaterial,
+                           const std::vector<bool>& degenerate, size_t f) {
     const uint16_t material = f < faceMaterial.size() ? faceMaterial[f] : uint16_t(0);
     if (material == kNoFaceMaterial || (f < degenerate.size() && degenerate[f])) return 0;
-    const size_t local = f - faceBase;
-    const uint64_t corners = mesh.faceVertexEnd(local) - mesh.faceVertexBegin(local);
-    const uint64_t holes = mesh.holeCount(local);
+    const uint64_t corners = mesh.faceVertexEnd(meshFace) - mesh.faceVertexBegin(meshFace);
+    const uint64_t holes = mesh.holeCount(meshFace);
     return corners + 2 * holes >= 3 ? uint32_t(corners + 2 * holes - 2) : 0u;
 }
 

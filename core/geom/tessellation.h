@@ -80,10 +80,13 @@ Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>&
 // an upper bound always.
 uint64_t meshTriangleCount(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
                            const std::vector<bool>& degenerate);
-// The same for face `f` alone: 0 for a face not kept. `mesh` may hold the faces from `faceBase`
-// on only (a MeshWindow); `f`, `faceMaterial` and `degenerate` count from the whole mesh's first.
+// The same for face `f` alone: 0 for a face not kept.
 uint32_t faceTriangleBound(const Mesh& mesh, const std::vector<uint16_t>& faceMaterial,
-                           const std::vector<bool>& degenerate, size_t f, size_t faceBase = 0);
+                           const std::vector<bool>& degenerate, size_t f);
+// The same when `mesh` holds face f of a whole mesh as its face `meshFace` (a MeshWindow); `f`,
+// `faceMaterial` and `degenerate` count from the whole mesh's first face.
+uint32_t faceTriangleBound(const Mesh& mesh, size_t meshFace, const std::vector<uint16_t>& faceMaterial,
+                           const std::vector<bool>& degenerate, size_t f);
 
 // Fills t.bounds and t.clusterBounds from the vertices and corners.
 void computeTessellationBounds(Tessellation& t);
