@@ -373,17 +373,16 @@ MeshWindow cutMeshWindow(const Mesh& mesh, const MeshPieces& pieces, size_t piec
     w.window = true;
     Mesh& m = w.mesh;
     const std::span<const FaceRun> around = pieces.aroundRuns(piece);
-    std::vector<uint32_t> pointIds;
-    for (const FaceRun& r : around)
-        for (uint32_t c = mesh.faceVertexBegin(r.first); c < mesh.faceVertexBegin(r.end); ++c)
-            pointIds.push_back(mesh.faceVertices[c]);
-    std::sort(pointIds.begin(), pointIds.end());
-    pointIds.erase(std::unique(pointIds.begin(), pointIds.end()), pointIds.end());
-    auto localPoint = [&](uint32_t q) {
-        return uint32_t(std::lower_bound(pointIds.begin(), pointIds.end(), q) - pointIds.begin());
+    // Calls visit(c) for every face-vertex of the window's faces, in order.
+    auto forEachCorner = [&](auto&& visit) {
+        for (const FaceRun& r : around)
+            for (uint32_t c = mesh.faceVertexBegin(r.first); c < mesh.faceVertexBegin(r.end); ++c) visit(c);
     };
-    m.points.reserve(pointIds.size());
-    for (uint32_t q : pointIds) m.points.push_back(mesh.points[q]);
+    std::vector<uint32_t> used;
+    forEachCorner([&](uint32_t c) { used.push_back(mesh.faceVertices[c]); });
+    const WindowIds points(std::move(used));
+    m.points.reserve(points.size());
+    for (size_t i = 0; i < points.size(); ++i) m.points.push_back(mesh.points[points[i]]);
     const bool normals = mesh.normals.size() == mesh.faceVertexCount();
     m.loopStarts.clear();
     m.faceLoopStarts.clear();
@@ -393,7 +392,7 @@ MeshWindow cutMeshWindow(const Mesh& mesh, const MeshPieces& pieces, size_t piec
             for (uint32_t l = mesh.faceLoopStarts[f]; l < mesh.faceLoopStarts[f + 1]; ++l) {
                 m.loopStarts.push_back(uint32_t(m.faceVertices.size()));
                 for (uint32_t c = mesh.loopStarts[l]; c < mesh.loopStarts[l + 1]; ++c) {
-                    m.faceVertices.push_back(localPoint(mesh.faceVertices[c]));
+                    m.faceVertices.push_back(points.place(mesh.faceVertices[c]));
                     if (normals) m.normals.push_back(mesh.normals[c]);
                 }
             }
@@ -401,31 +400,28 @@ MeshWindow cutMeshWindow(const Mesh& mesh, const MeshPieces& pieces, size_t piec
     m.loopStarts.push_back(uint32_t(m.faceVertices.size()));
     m.faceLoopStarts.push_back(uint32_t(m.loopStarts.size() - 1));
     if (const UvSet* from = currentFaceUvSet(mesh)) {
-        std::vector<uint32_t> uvIds;
-        for (const FaceRun& r : around)
-            for (uint32_t c = mesh.faceVertexBegin(r.first); c < mesh.faceVertexBegin(r.end); ++c)
-                if (from->faceVertexUvs[c] >= 0) uvIds.push_back(uint32_t(from->faceVertexUvs[c]));
-        std::sort(uvIds.begin(), uvIds.end());
-        uvIds.erase(std::unique(uvIds.begin(), uvIds.end()), uvIds.end());
+        std::vector<uint32_t> ids;
+        forEachCorner([&](uint32_t c) {
+            if (from->faceVertexUvs[c] >= 0) ids.push_back(uint32_t(from->faceVertexUvs[c]));
+        });
+        const WindowIds uvs(std::move(ids));
         UvSet set;
         set.name = from->name;
-        set.uvs.reserve(uvIds.size());
-        for (uint32_t id : uvIds) set.uvs.push_back(from->uvs[id]);
+        set.uvs.reserve(uvs.size());
+        for (size_t i = 0; i < uvs.size(); ++i) set.uvs.push_back(from->uvs[uvs[i]]);
         set.faceVertexUvs.reserve(m.faceVertices.size());
-        for (const FaceRun& r : around)
-            for (uint32_t c = mesh.faceVertexBegin(r.first); c < mesh.faceVertexBegin(r.end); ++c) {
-                const int32_t id = from->faceVertexUvs[c];
-                set.faceVertexUvs.push_back(
-                    id >= 0 ? int32_t(std::lower_bound(uvIds.begin(), uvIds.end(), uint32_t(id)) - uvIds.begin()) : -1);
-            }
+        forEachCorner([&](uint32_t c) {
+            const int32_t id = from->faceVertexUvs[c];
+            set.faceVertexUvs.push_back(id >= 0 ? int32_t(uvs.place(uint32_t(id))) : -1);
+        });
         m.uvSets.push_back(std::move(set));
         m.currentUvSet = 0;
     }
-    auto among = [&](uint32_t q) { return std::binary_search(pointIds.begin(), pointIds.end(), q); };
     for (const EdgeRun& r : pieces.edgeRuns(piece))
         for (uint32_t e = r.first; e < r.end; ++e) {
             const MeshEdge& edge = mesh.edges[e];
-            if (among(edge.v0) && among(edge.v1)) m.edges.push_back({localPoint(edge.v0), localPoint(edge.v1), edge.smooth});
+            if (points.contains(edge.v0) && points.contains(edge.v1))
+                m.edges.push_back({points.place(edge.v0), points.place(edge.v1), edge.smooth});
         }
     return w;
 }

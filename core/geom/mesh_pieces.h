@@ -25,6 +25,7 @@
 #include "core/geom/slot_run.h"
 #include "core/geom/tessellation.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -70,6 +71,37 @@ struct MeshPiece {
 struct MeshWindow {
     Mesh mesh;
     bool window = false;  // false: `mesh` is a whole mesh
+};
+
+// The points (or uvs) of a whole mesh that a window uses: their ids ascending, each once, and the
+// place of each among them, which is its index in the window.
+class WindowIds {
+public:
+    // From ids in any order, repeats allowed.
+    explicit WindowIds(std::vector<uint32_t> ids) : m_ids(std::move(ids)) {
+        std::sort(m_ids.begin(), m_ids.end());
+        m_ids.erase(std::unique(m_ids.begin(), m_ids.end()), m_ids.end());
+    }
+    size_t size() const { return m_ids.size(); }
+    uint32_t operator[](size_t place) const { return m_ids[place]; }
+    bool contains(uint32_t id) const { return std::binary_search(m_ids.begin(), m_ids.end(), id); }
+    // The place of `id`, which must be among them.
+    uint32_t place(uint32_t id) const {
+        return uint32_t(std::lower_bound(m_ids.begin(), m_ids.end(), id) - m_ids.begin());
+    }
+    // visit(first place, first id, end id) for each run of consecutive ids, in order.
+    template <class Visit>
+    void forEachRun(Visit&& visit) const {
+        for (size_t i = 0; i < m_ids.size();) {
+            size_t j = i + 1;
+            while (j < m_ids.size() && m_ids[j] == m_ids[j - 1] + 1) ++j;
+            visit(i, m_ids[i], uint64_t(m_ids[j - 1]) + 1);
+            i = j;
+        }
+    }
+
+private:
+    std::vector<uint32_t> m_ids;
 };
 
 class MeshPieces {

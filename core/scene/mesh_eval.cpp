@@ -1408,61 +1408,50 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
     mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size() - 1));
 
     // The points they use, ascending, read run by run; the face-vertices renumbered to them.
-    std::vector<uint32_t> pointIds(mesh.faceVertices);
-    std::sort(pointIds.begin(), pointIds.end());
-    pointIds.erase(std::unique(pointIds.begin(), pointIds.end()), pointIds.end());
-    auto localPoint = [&](uint32_t q) {
-        return uint32_t(std::lower_bound(pointIds.begin(), pointIds.end(), q) - pointIds.begin());
-    };
-    for (uint32_t& q : mesh.faceVertices) q = localPoint(q);
-    mesh.points.assign(pointIds.size(), glm::vec3(0.0f));
-    for (size_t i = 0; i < pointIds.size();) {
-        size_t j = i + 1;
-        while (j < pointIds.size() && pointIds[j] == pointIds[j - 1] + 1) ++j;
-        forEachNumericIn(*vt, pointIds[i], uint64_t(pointIds[j - 1]) + 1, [&](uint64_t k, const double* v, int width) {
-            if (width >= 3) mesh.points[i + (k - pointIds[i])] = glm::vec3(float(v[0]), float(v[1]), float(v[2]));
+    const geom::WindowIds points(mesh.faceVertices);
+    for (uint32_t& q : mesh.faceVertices) q = points.place(q);
+    mesh.points.assign(points.size(), glm::vec3(0.0f));
+    points.forEachRun([&](size_t place, uint32_t first, uint64_t end) {
+        forEachNumericIn(*vt, first, end, [&](uint64_t k, const double* v, int width) {
+            if (width >= 3) mesh.points[place + (k - first)] = glm::vec3(float(v[0]), float(v[1]), float(v[2]));
         });
-        i = j;
-    }
+    });
 
     // The uvs they use, the same way.
     if (mapsUvs) {
-        std::vector<uint32_t> used;
+        std::vector<uint32_t> ids;
         for (const int32_t id : uvIds)
-            if (id >= 0) used.push_back(uint32_t(id));
-        std::sort(used.begin(), used.end());
-        used.erase(std::unique(used.begin(), used.end()), used.end());
+            if (id >= 0) ids.push_back(uint32_t(id));
+        const geom::WindowIds uvs(std::move(ids));
         for (int32_t& id : uvIds)
-            if (id >= 0) id = int32_t(std::lower_bound(used.begin(), used.end(), uint32_t(id)) - used.begin());
-        set.uvs.assign(used.size(), glm::vec2(0.0f));
-        for (size_t i = 0; uvPoints && i < used.size();) {
-            size_t j = i + 1;
-            while (j < used.size() && used[j] == used[j - 1] + 1) ++j;
-            forEachNumericIn(*uvPoints, used[i], uint64_t(used[j - 1]) + 1, [&](uint64_t k, const double* v, int width) {
-                if (width >= 2) set.uvs[i + (k - used[i])] = glm::vec2(float(v[0]), float(v[1]));
+            if (id >= 0) id = int32_t(uvs.place(uint32_t(id)));
+        set.uvs.assign(uvs.size(), glm::vec2(0.0f));
+        if (uvPoints)
+            uvs.forEachRun([&](size_t place, uint32_t first, uint64_t end) {
+                forEachNumericIn(*uvPoints, first, end, [&](uint64_t k, const double* v, int width) {
+                    if (width >= 2) set.uvs[place + (k - first)] = glm::vec2(float(v[0]), float(v[1]));
+                });
             });
-            i = j;
-        }
         mesh.uvSets.push_back(std::move(set));
         mesh.currentUvSet = 0;
     }
 
     // The edges of the piece's edge runs between those points, in order (an unset edge joins
     // point 0 to itself).
-    auto among = [&](uint32_t q) { return std::binary_search(pointIds.begin(), pointIds.end(), q); };
     if (ed) {
         for (const geom::EdgeRun& r : pieces.edgeRuns(piece)) {
             uint64_t next = r.first;
             auto unsetUpTo = [&](uint64_t end) {
                 for (; next < end; ++next)
-                    if (among(0)) mesh.edges.push_back({localPoint(0), localPoint(0), true});
+                    if (points.contains(0)) mesh.edges.push_back({points.place(0), points.place(0), true});
             };
             forEachNumericIn(*ed, r.first, r.end, [&](uint64_t i, const double* v, int width) {
                 unsetUpTo(i);
                 next = i + 1;
                 if (width < 2) return;
                 const geom::MeshEdge e = storedEdge(v, width);
-                if (among(e.v0) && among(e.v1)) mesh.edges.push_back({localPoint(e.v0), localPoint(e.v1), e.smooth});
+                if (points.contains(e.v0) && points.contains(e.v1))
+                    mesh.edges.push_back({points.place(e.v0), points.place(e.v1), e.smooth});
             });
             unsetUpTo(r.end);
         }
