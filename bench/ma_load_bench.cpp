@@ -188,22 +188,42 @@ double peakRssMiB() {
     return double(u.ru_maxrss) / 1024.0;  // Linux reports kilobytes
 }
 
-// Bytes of numbers and face records the Graph keeps for the mesh (its own, necessary copy).
+// Bytes of numbers and face records the Graph keeps for the mesh (its own, necessary copy), and
+// what the same numbers and ids take unpacked (doubles, floats, 32-bit integers).
 struct Payload {
     double numberBytes = 0, faceBytes = 0;
+    double plainNumberBytes = 0, plainFaceBytes = 0;
+    double intBytes = 0, plainIntBytes = 0;  // the numbers kept as packed integers
     size_t faces = 0;
 };
 Payload graphPayload(const Graph& g) {
+    using pushpin::scene::Numbers;
     Payload p;
-    for (const auto& node : g.nodes())
-        for (const auto& [key, data] : node.attrs)
-            for (const auto& [first, run] : data.multi.runs()) {
-                if (auto* nums = std::get_if<pushpin::scene::Numbers>(&run.value)) p.numberBytes += 8.0 * nums->values.size();
-                if (auto* pf = std::get_if<std::shared_ptr<const pushpin::scene::PolyFaces>>(&run.value)) {
-                    p.faceBytes += double(sizeof(pushpin::scene::PolyFaces) + (*pf)->heapBytes());
-                    p.faces += (*pf)->faceCount();
-                }
+    auto add = [&](const pushpin::scene::Value& value) {
+        if (auto* nums = std::get_if<Numbers>(&value)) {
+            p.numberBytes += double(nums->heapBytes());
+            p.plainNumberBytes += double(nums->size()) * (nums->storage() == Numbers::Storage::Doubles ? 8.0 : 4.0);
+            if (nums->storage() == Numbers::Storage::Ints) {
+                p.intBytes += double(nums->heapBytes());
+                p.plainIntBytes += 4.0 * double(nums->size());
             }
+        }
+        if (auto* pf = std::get_if<std::shared_ptr<const pushpin::scene::PolyFaces>>(&value); pf && *pf) {
+            const pushpin::scene::PolyFaces& faces = **pf;
+            p.faceBytes += double(sizeof(pushpin::scene::PolyFaces) + faces.heapBytes());
+            p.faces += faces.faceCount();
+            // Unpacked: an offset per loop, and per edge its id, its uv ids and its colour id.
+            double ids = double(faces.loopCount() + 1);
+            for (size_t loop = 0; loop < faces.loopCount(); ++loop)
+                ids += double(faces.edgeCount(loop)) * double(1 + faces.uvCount(loop) + (faces.colors(loop).empty() ? 0 : 1));
+            p.plainFaceBytes += double(sizeof(pushpin::scene::PolyFaces)) + 4.0 * ids;
+        }
+    };
+    for (const auto& node : g.nodes())
+        for (const auto& [key, data] : node.attrs) {
+            if (data.hasValue) add(data.value);
+            for (const auto& [first, run] : data.multi.runs()) add(run.value);
+        }
     return p;
 }
 
@@ -235,11 +255,25 @@ int main(int argc, char** argv) {
         (void)MaReader::readString("createNode transform -n \"warm\";\n", "warm.ma");
         double bytes = 0, seconds = 0;
         size_t nodes = 0, loaded = 0, failed = 0;
+        Payload total;
         for (const fs::path& f : files) {
             std::vector<double> times;
             size_t count = 0;
             try {
-                for (int r = 0; r < runs; ++r) count = timedLoad(f, times).size();
+                for (int r = 0; r < runs; ++r) {
+                    const Graph g = timedLoad(f, times);
+                    count = g.size();
+                    if (r == 0) {
+                        const Payload p = graphPayload(g);
+                        total.numberBytes += p.numberBytes;
+                        total.plainNumberBytes += p.plainNumberBytes;
+                        total.faceBytes += p.faceBytes;
+                        total.plainFaceBytes += p.plainFaceBytes;
+                        total.faces += p.faces;
+                        total.intBytes += p.intBytes;
+                        total.plainIntBytes += p.plainIntBytes;
+                    }
+                }
             } catch (const std::exception&) {
                 ++failed;
                 continue;
@@ -254,6 +288,14 @@ int main(int argc, char** argv) {
                     "%.1f MiB/s, %.2f us per node\n",
                     loaded, failed, mib, nodes, runs, seconds, seconds > 0 ? mib / seconds : 0.0,
                     nodes ? seconds * 1e6 / double(nodes) : 0.0);
+        std::printf("stored numbers: %.2f MiB, %.2f MiB unpacked (%.2fx), of which packed integers %.2f MiB, %.2f MiB "
+                    "unpacked (%.2fx); face records of %zu faces: %.2f MiB, %.2f MiB unpacked (%.2fx)\n",
+                    total.numberBytes / (1024.0 * 1024.0), total.plainNumberBytes / (1024.0 * 1024.0),
+                    total.numberBytes > 0 ? total.plainNumberBytes / total.numberBytes : 0.0,
+                    total.intBytes / (1024.0 * 1024.0), total.plainIntBytes / (1024.0 * 1024.0),
+                    total.intBytes > 0 ? total.plainIntBytes / total.intBytes : 0.0, total.faces,
+                    total.faceBytes / (1024.0 * 1024.0), total.plainFaceBytes / (1024.0 * 1024.0),
+                    total.faceBytes > 0 ? total.plainFaceBytes / total.faceBytes : 0.0);
         return loaded ? 0 : 1;
     }
     if (duplicates > 0) {
@@ -326,9 +368,12 @@ int main(int argc, char** argv) {
                 fileMiB / tMax);
     const double mib = 1024.0 * 1024.0;
     std::printf("peak RSS growth during loads: %.1f MiB (%.2f x file size); graph payload (numbers + face "
-                "records): %.1f MiB, of which face records %.1f MiB, %.1f bytes per face\n",
-                rssGrowth, rssGrowth / fileMiB, (payload.numberBytes + payload.faceBytes) / mib, payload.faceBytes / mib,
-                payload.faces ? payload.faceBytes / double(payload.faces) : 0.0);
+                "records): %.1f MiB (%.1f MiB unpacked), of which face records %.1f MiB, %.1f bytes per face "
+                "(%.1f unpacked)\n",
+                rssGrowth, rssGrowth / fileMiB, (payload.numberBytes + payload.faceBytes) / mib,
+                (payload.plainNumberBytes + payload.plainFaceBytes) / mib, payload.faceBytes / mib,
+                payload.faces ? payload.faceBytes / double(payload.faces) : 0.0,
+                payload.faces ? payload.plainFaceBytes / double(payload.faces) : 0.0);
     if (!keep) fs::remove(path);
     return 0;
 }

@@ -15,6 +15,7 @@
 #include "core/scene/deformer_eval.h"
 #include "core/scene/detail/multi_elements.h"
 #include "core/scene/nurbs_eval.h"
+#include "core/util/release.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -1204,7 +1205,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         ++totalFaces;
         for (size_t loop : pf.loops(size_t(f - runFirst[faceRun[f]]))) {
             ++totalLoops;
-            totalCorners += pf.edges(loop).size();
+            totalCorners += pf.edgeCount(loop);
         }
     }
     mesh.faceVertices.reserve(totalCorners);
@@ -1218,8 +1219,9 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     bool anyColor = false;
     size_t brokenLoops = 0, badUvIds = 0, unknownUvSets = 0;
     std::vector<uint32_t> verts;
+    std::vector<int32_t> edgeScratch, idScratch;
     auto appendLoop = [&](const PolyFaces& pf, size_t loop, bool hole) -> bool {
-        const std::span<const int32_t> loopEdges = pf.edges(loop);
+        const std::span<const int32_t> loopEdges = pf.edges(loop, edgeScratch);
         verts.clear();
         uint32_t previousEnd = 0;
         bool meets = true;
@@ -1239,7 +1241,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         if (hole) mesh.addHole(verts);
         else mesh.addFace(verts);
         for (size_t k = 0; k < pf.uvCount(loop); ++k) {
-            const PolyFaces::Uv uv = pf.uv(loop, k);
+            const PolyFaces::Uv uv = pf.uv(loop, k, idScratch);
             const auto it = uvSetByIndex.find(uint32_t(uv.set));
             if (it == uvSetByIndex.end()) {
                 ++unknownUvSets;
@@ -1255,7 +1257,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
                 setIds[s][base + i] = id;
             }
         }
-        const std::span<const int32_t> colors = mesh.colorSets.empty() ? std::span<const int32_t>() : pf.colors(loop);
+        const std::span<const int32_t> colors = mesh.colorSets.empty() ? std::span<const int32_t>() : pf.colors(loop, idScratch);
         for (size_t i = 0; i < colors.size() && i < verts.size(); ++i) {
             const int32_t id = colors[i];
             if (!mesh.colorSets.empty() && id >= 0 && size_t(id) < mesh.colorSets[0].colors.size()) {
@@ -1336,15 +1338,7 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
     w.window = true;
     geom::Mesh& mesh = w.mesh;
 
-    // Edge `index` as decodeStoredMesh makes it: unset elements are {0, 0, smooth}.
     const AttrData* ed = attrOf(g, shape, "edge");
-    std::vector<double> element;
-    auto edgeAt = [&](uint32_t index) {
-        geom::MeshEdge e;
-        if (ed && ed->multi.numbers(index, element) && element.size() >= 2)
-            e = storedEdge(element.data(), int(element.size()));
-        return e;
-    };
 
     // The current uv set: its multi index and its uv count.
     const bool mapsUvs = pieces.mapsUvs();
@@ -1367,10 +1361,12 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
         }
     }
 
-    // The faces of the around runs: their loops, with the whole mesh's point and uv ids for now.
+    // The faces of the around runs: their loops, with the whole mesh's signed edge ids and uv ids
+    // for now.
     mesh.loopStarts.clear();
     mesh.faceLoopStarts.clear();
     std::vector<int32_t>& uvIds = set.faceVertexUvs;
+    std::vector<int32_t> cornerEdges, edgeScratch, idScratch;
     for (const geom::FaceRun& r : around)
         for (uint32_t f = r.first; f < r.end; ++f) {
             const PolyFaces* pf = nullptr;
@@ -1384,17 +1380,14 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
             if (!pf || at >= pf->faceCount()) return std::nullopt;
             mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size()));
             for (size_t loop : pf->loops(at)) {
-                mesh.loopStarts.push_back(uint32_t(mesh.faceVertices.size()));
-                const size_t base = mesh.faceVertices.size();
-                const std::span<const int32_t> loopEdges = pf->edges(loop);
-                for (const int32_t e : loopEdges) {
-                    const geom::MeshEdge edge = edgeAt(e >= 0 ? uint32_t(e) : uint32_t(~e));
-                    mesh.faceVertices.push_back(e >= 0 ? edge.v0 : edge.v1);
-                }
+                mesh.loopStarts.push_back(uint32_t(cornerEdges.size()));
+                const size_t base = cornerEdges.size();
+                const std::span<const int32_t> loopEdges = pf->edges(loop, edgeScratch);
+                cornerEdges.insert(cornerEdges.end(), loopEdges.begin(), loopEdges.end());
                 if (!mapsUvs) continue;
-                uvIds.resize(mesh.faceVertices.size(), -1);
+                uvIds.resize(cornerEdges.size(), -1);
                 for (size_t k = 0; k < pf->uvCount(loop); ++k) {
-                    const PolyFaces::Uv uv = pf->uv(loop, k);
+                    const PolyFaces::Uv uv = pf->uv(loop, k, idScratch);
                     if (uv.set != currentSet) continue;
                     for (size_t i = 0; i < uv.ids.size() && i < loopEdges.size(); ++i) {
                         const int32_t id = uv.ids[i];
@@ -1404,8 +1397,31 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
                 }
             }
         }
-    mesh.loopStarts.push_back(uint32_t(mesh.faceVertices.size()));
+    mesh.loopStarts.push_back(uint32_t(cornerEdges.size()));
     mesh.faceLoopStarts.push_back(uint32_t(mesh.loopStarts.size() - 1));
+
+    // The edges they walk, read in ascending order, as decodeStoredMesh makes them (an unset edge
+    // is {0, 0, smooth}); each face-vertex is its edge's first point, or its second walked backwards.
+    {
+        std::vector<uint32_t> ids(cornerEdges.size());
+        for (size_t i = 0; i < cornerEdges.size(); ++i)
+            ids[i] = cornerEdges[i] >= 0 ? uint32_t(cornerEdges[i]) : uint32_t(~cornerEdges[i]);
+        const geom::WindowIds walked(std::move(ids));
+        std::vector<geom::MeshEdge> byPlace(walked.size());
+        if (ed)
+            walked.forEachRun([&](size_t place, uint32_t first, uint64_t end) {
+                forEachNumericIn(*ed, first, end, [&](uint64_t i, const double* v, int width) {
+                    if (width >= 2) byPlace[place + (i - first)] = storedEdge(v, width);
+                });
+            });
+        mesh.faceVertices.resize(cornerEdges.size());
+        for (size_t i = 0; i < cornerEdges.size(); ++i) {
+            const int32_t e = cornerEdges[i];
+            const geom::MeshEdge& edge = byPlace[walked.place(e >= 0 ? uint32_t(e) : uint32_t(~e))];
+            mesh.faceVertices[i] = e >= 0 ? edge.v0 : edge.v1;
+        }
+    }
+    util::release(cornerEdges);
 
     // The points they use, ascending, read run by run; the face-vertices renumbered to them.
     const geom::WindowIds points(mesh.faceVertices);

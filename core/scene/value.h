@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
+
+#include "core/scene/packed_ints.h"
 
 namespace pushpin::scene {
 
@@ -31,10 +34,10 @@ struct Numbers {
     std::vector<double> values;
     // A long run of a multi attribute's elements may be kept smaller instead (Graph::setValue,
     // compactNumbers): `floats` for an attribute Maya itself stores in single precision (float,
-    // float2, float3: mesh points, uvs, normals), `ints` for an integer attribute whose values are
-    // all 32-bit integers (mesh edges). At most one of the three is in use.
+    // float2, float3: mesh points, uvs, normals), `ints` packed for an integer attribute whose values
+    // are all 32-bit integers (mesh edges). At most one of the three is in use.
     std::vector<float> floats;
-    std::vector<int32_t> ints;
+    PackedInts ints;
 
     enum class Storage : unsigned char { Doubles, Floats, Ints };
     // Which of the three holds the numbers (Doubles when there are none).
@@ -48,35 +51,44 @@ struct Numbers {
     }
     // Numbers [first, first + n) as doubles into out.
     void copyTo(size_t first, size_t n, double* out) const {
-        if (!floats.empty())
+        if (!floats.empty()) {
             for (size_t i = 0; i < n; ++i) out[i] = double(floats[first + i]);
-        else if (!ints.empty())
-            for (size_t i = 0; i < n; ++i) out[i] = double(ints[first + i]);
-        else
+        } else if (!ints.empty()) {
+            int32_t part[256];
+            for (size_t done = 0; done < n;) {
+                const size_t take = std::min(n - done, std::size(part));
+                ints.read(first + done, take, part);
+                for (size_t i = 0; i < take; ++i) out[done + i] = double(part[i]);
+                done += take;
+            }
+        } else {
             std::copy(values.begin() + std::ptrdiff_t(first), values.begin() + std::ptrdiff_t(first + n), out);
+        }
     }
-    // Numbers [first, first + n) in the same storage.
+    // Numbers [first, first + n) in the same storage (packed integers come out as doubles).
     Numbers slice(size_t first, size_t n) const {
         Numbers out{kind, tupleSize, {}, {}, {}};
-        auto part = [&](const auto& from, auto& to) {
-            if (!from.empty()) to.assign(from.begin() + std::ptrdiff_t(first), from.begin() + std::ptrdiff_t(first + n));
-        };
-        part(values, out.values);
-        part(floats, out.floats);
-        part(ints, out.ints);
+        if (!ints.empty()) {
+            out.values.resize(n);
+            copyTo(first, n, out.values.data());
+        } else if (!floats.empty()) {
+            out.floats.assign(floats.begin() + std::ptrdiff_t(first), floats.begin() + std::ptrdiff_t(first + n));
+        } else {
+            out.values.assign(values.begin() + std::ptrdiff_t(first), values.begin() + std::ptrdiff_t(first + n));
+        }
         return out;
     }
-    // Appends `more`'s numbers; false (nothing appended) when the two are kept in different storage.
+    // Appends `more`'s numbers; false (nothing appended) when the two are kept in different storage
+    // or either is packed.
     bool append(const Numbers& more) {
+        if (more.empty()) return true;
+        if (!ints.empty() || !more.ints.empty()) return false;
         if (!empty() && !more.empty() && storage() != more.storage()) return false;
         values.insert(values.end(), more.values.begin(), more.values.end());
         floats.insert(floats.end(), more.floats.begin(), more.floats.end());
-        ints.insert(ints.end(), more.ints.begin(), more.ints.end());
         return true;
     }
-    size_t heapBytes() const {
-        return values.capacity() * sizeof(double) + floats.capacity() * sizeof(float) + ints.capacity() * sizeof(int32_t);
-    }
+    size_t heapBytes() const { return values.capacity() * sizeof(double) + floats.capacity() * sizeof(float) + ints.heapBytes(); }
 };
 
 // The widest element a compact run holds (Numbers::floats, Numbers::ints).
@@ -86,7 +98,8 @@ constexpr size_t kMinCompactNumbers = 64;
 
 // Keeps a run of `count` elements of a multi attribute smaller when it may be: as floats when
 // `singlePrecision` and every number is finite within float range (the attribute's own storage in
-// Maya), as 32-bit integers when `integral` and every number is one. Runs of fewer than
+// Maya), as packed 32-bit integers (PackedInts, predicted one element back) when `integral` and
+// every number is one. Runs of fewer than
 // kMinCompactNumbers numbers, of elements wider than kMaxCompactWidth, or not in doubles are left.
 inline void compactNumbers(Numbers& n, size_t count, bool singlePrecision, bool integral) {
     const size_t size = n.values.size();
@@ -99,8 +112,9 @@ inline void compactNumbers(Numbers& n, size_t count, bool singlePrecision, bool 
     } else if (integral) {
         for (double v : n.values)
             if (!(v >= -2147483648.0 && v <= 2147483647.0 && v == std::trunc(v))) return;
-        n.ints.resize(size);
-        for (size_t i = 0; i < size; ++i) n.ints[i] = int32_t(n.values[i]);
+        std::vector<int32_t> ints(size);
+        for (size_t i = 0; i < size; ++i) ints[i] = int32_t(n.values[i]);
+        n.ints = PackedInts(ints, size / count);
     } else {
         return;
     }
@@ -142,14 +156,18 @@ struct LoopRange {
 // A face is one or more loops: its outer loop, then its holes. A loop has its edges (signed; e < 0
 // walks edge ~e backwards), any number of uv records (`mu`, `mf`, `mh`: a uv set index and one uv id
 // per edge, in file order) and at most one colour record (`fc`: one colour id per edge). Faces and
-// loops are numbered from 0 in file order. The records sit in a few flat arrays: read them through
-// the accessors, write them through PolyFaces::Builder.
+// loops are numbered from 0 in file order. The ids sit in a few packed arrays (PackedInts, predicted
+// one loop back): read them through the accessors, write them through PolyFaces::Builder.
 class PolyFaces {
 public:
     // One uv record of a loop.
     struct Uv {
         int32_t set = 0;               // uv set index
         std::span<const int32_t> ids;  // one uv id per edge of the loop
+    };
+    struct UvCopy {
+        int32_t set = 0;
+        std::vector<int32_t> ids;
     };
     class Builder;
 
@@ -160,29 +178,46 @@ public:
         if (m_faceLoops.empty()) return {face, face + 1};
         return {size_t(m_faceLoops[face]), size_t(m_faceLoops[face + 1])};
     }
-    std::span<const int32_t> edges(size_t loop) const {
-        return {m_edges.data() + m_loopEdges[loop], m_loopEdges[loop + 1] - m_loopEdges[loop]};
+    size_t edgeCount(size_t loop) const { return edgeBegin(loop + 1) - edgeBegin(loop); }
+    // The edges of `loop`, read into `scratch`; the span lives as long as scratch is not changed.
+    std::span<const int32_t> edges(size_t loop, std::vector<int32_t>& scratch) const {
+        return readInto(m_edges, edgeBegin(loop), edgeCount(loop), scratch);
+    }
+    std::vector<int32_t> edges(size_t loop) const {
+        std::vector<int32_t> out;
+        edges(loop, out);
+        return out;
     }
     size_t uvCount(size_t loop) const {
         return m_loopUvs.empty() ? m_sharedUvSets.size() : m_loopUvs[loop + 1] - m_loopUvs[loop];
     }
-    // Uv record `k` (< uvCount(loop)) of `loop`.
-    Uv uv(size_t loop, size_t k) const {
-        const size_t n = m_loopEdges[loop + 1] - m_loopEdges[loop];
+    // Uv record `k` (< uvCount(loop)) of `loop`, its ids read into `scratch`.
+    Uv uv(size_t loop, size_t k, std::vector<int32_t>& scratch) const {
+        const size_t first = edgeBegin(loop), n = edgeBegin(loop + 1) - first;
         if (m_loopUvs.empty())
-            return {m_sharedUvSets[k], {m_uvIds.data() + m_sharedUvSets.size() * m_loopEdges[loop] + k * n, n}};
+            return {m_sharedUvSets[k], readInto(m_uvIds, m_sharedUvSets.size() * first + k * n, n, scratch)};
         const UvRecord& r = m_uvRecords[m_loopUvs[loop] + k];
-        return {r.set, {m_uvIds.data() + r.firstId, n}};
+        return {r.set, readInto(m_uvIds, r.firstId, n, scratch)};
     }
-    // The colour ids of `loop`, one per edge; empty when it has none.
-    std::span<const int32_t> colors(size_t loop) const {
+    UvCopy uv(size_t loop, size_t k) const {
+        std::vector<int32_t> ids;
+        const int32_t set = uv(loop, k, ids).set;
+        return {set, std::move(ids)};
+    }
+    // The colour ids of `loop`, one per edge, read into `scratch`; empty when it has none.
+    std::span<const int32_t> colors(size_t loop, std::vector<int32_t>& scratch) const {
         if (m_loopColors.empty()) return {};
-        return {m_colors.data() + m_loopColors[loop], m_loopColors[loop + 1] - m_loopColors[loop]};
+        return readInto(m_colors, m_loopColors[loop], m_loopColors[loop + 1] - m_loopColors[loop], scratch);
+    }
+    std::vector<int32_t> colors(size_t loop) const {
+        std::vector<int32_t> out;
+        colors(loop, out);
+        return out;
     }
     // Bytes of the arrays' storage, for memory figures.
     size_t heapBytes() const {
-        return 4 * (m_faceLoops.capacity() + m_loopEdges.capacity() + m_edges.capacity() + m_sharedUvSets.capacity() +
-                    m_loopUvs.capacity() + m_uvIds.capacity() + m_loopColors.capacity() + m_colors.capacity()) +
+        return 4 * (m_faceLoops.capacity() + m_sharedUvSets.capacity() + m_loopUvs.capacity() + m_loopColors.capacity()) +
+               m_loopEdges.heapBytes() + m_edges.heapBytes() + m_uvIds.heapBytes() + m_colors.heapBytes() +
                sizeof(UvRecord) * m_uvRecords.capacity();
     }
 
@@ -191,23 +226,30 @@ private:
         int32_t set;
         uint32_t firstId;  // into m_uvIds
     };
+    size_t edgeBegin(size_t loop) const { return size_t(uint32_t(m_loopEdges[loop])); }
+    static std::span<const int32_t> readInto(const PackedInts& from, size_t first, size_t n, std::vector<int32_t>& scratch) {
+        scratch.resize(n);
+        from.read(first, n, scratch.data());
+        return scratch;
+    }
+
     // Face f's loops are [m_faceLoops[f], m_faceLoops[f + 1]); empty while no face has a hole, when
     // face f is loop f.
     std::vector<uint32_t> m_faceLoops;
-    // Loop l's edges are m_edges[m_loopEdges[l] .. m_loopEdges[l + 1]).
-    std::vector<uint32_t> m_loopEdges{0};
-    std::vector<int32_t> m_edges;
+    // Loop l's edges are m_edges[m_loopEdges[l] .. m_loopEdges[l + 1]) (offsets as uint32 bits).
+    PackedInts m_loopEdges;
+    PackedInts m_edges;
     // While m_loopUvs is empty, every loop has uv records of the sets m_sharedUvSets, in that order,
     // and the ids of loop l's record k start at m_sharedUvSets.size() × m_loopEdges[l] + k × (its
     // edge count). Otherwise loop l's records are m_uvRecords[m_loopUvs[l] .. m_loopUvs[l + 1]).
     std::vector<int32_t> m_sharedUvSets;
     std::vector<uint32_t> m_loopUvs;
     std::vector<UvRecord> m_uvRecords;
-    std::vector<int32_t> m_uvIds;
+    PackedInts m_uvIds;
     // Loop l's colour ids are m_colors[m_loopColors[l] .. m_loopColors[l + 1]); empty while no loop
     // has any.
     std::vector<uint32_t> m_loopColors;
-    std::vector<int32_t> m_colors;
+    PackedInts m_colors;
 };
 
 // Appends faces to a PolyFaces in file order. The records of the last face may come in any order
@@ -221,8 +263,8 @@ public:
 
     // Room for about `faces` faces.
     void reserve(size_t faces) {
-        m_out.m_loopEdges.reserve(faces + 1);
-        m_out.m_edges.reserve(4 * faces);
+        m_out.loopEdges.reserve(faces + 1);
+        m_out.edges.reserve(4 * faces);
     }
     // Whether `ids` more ids fit under kMaxIds.
     bool fits(size_t ids) const { return ids <= kMaxIds - std::min(m_ids, kMaxIds); }
@@ -255,14 +297,29 @@ public:
         m_openColors[loop] = uint32_t(m_openIds.size());
         appendIds(ids);
     }
-    // The faces added, with storage trimmed to size. The builder is empty afterwards.
+    // The faces added, packed. The builder is empty afterwards.
     PolyFaces finish() {
         store();
-        PolyFaces& o = m_out;
-        for (auto* v : {&o.m_faceLoops, &o.m_loopEdges, &o.m_loopUvs, &o.m_loopColors}) v->shrink_to_fit();
-        for (auto* v : {&o.m_edges, &o.m_sharedUvSets, &o.m_uvIds, &o.m_colors}) v->shrink_to_fit();
-        o.m_uvRecords.shrink_to_fit();
-        PolyFaces out = std::move(o);
+        Plain& o = m_out;
+        PolyFaces out;
+        const size_t hint = o.loopCount() > 0 ? size_t(o.loopEdges[1]) : 1;
+        auto pack = [](const std::vector<uint32_t>& v) {
+            return PackedInts(std::span<const int32_t>(reinterpret_cast<const int32_t*>(v.data()), v.size()), 1);
+        };
+        out.m_faceLoops = std::move(o.faceLoops);
+        out.m_faceLoops.shrink_to_fit();
+        out.m_loopEdges = pack(o.loopEdges);
+        out.m_edges = PackedInts(o.edges, hint);
+        out.m_sharedUvSets = std::move(o.sharedUvSets);
+        out.m_sharedUvSets.shrink_to_fit();
+        out.m_loopUvs = std::move(o.loopUvs);
+        out.m_loopUvs.shrink_to_fit();
+        out.m_uvRecords = std::move(o.uvRecords);
+        out.m_uvRecords.shrink_to_fit();
+        out.m_uvIds = PackedInts(o.uvIds, hint * std::max<size_t>(1, out.m_sharedUvSets.size()));
+        out.m_loopColors = std::move(o.loopColors);
+        out.m_loopColors.shrink_to_fit();
+        out.m_colors = PackedInts(o.colors, hint);
         *this = Builder();
         return out;
     }
@@ -273,6 +330,19 @@ private:
         uint32_t loop;
         int32_t set;
         uint32_t firstId;  // into m_openIds
+    };
+    // The stored faces, unpacked: the arrays of PolyFaces as plain vectors.
+    struct Plain {
+        std::vector<uint32_t> faceLoops;
+        std::vector<uint32_t> loopEdges{0};
+        std::vector<int32_t> edges;
+        std::vector<int32_t> sharedUvSets;
+        std::vector<uint32_t> loopUvs;
+        std::vector<UvRecord> uvRecords;
+        std::vector<int32_t> uvIds;
+        std::vector<uint32_t> loopColors;
+        std::vector<int32_t> colors;
+        size_t loopCount() const { return loopEdges.size() - 1; }
     };
 
     void checkIds(size_t loop, std::span<const int32_t> ids) const {
@@ -293,13 +363,13 @@ private:
     }
     // Moves the last face into m_out.
     void store() {
-        PolyFaces& o = m_out;
+        Plain& o = m_out;
         const size_t loops = loopCount();
         if (loops == 0) return;
-        if (loops > 1 && o.m_faceLoops.empty()) {
+        if (loops > 1 && o.faceLoops.empty()) {
             // The first face with a hole: every face so far is one loop.
-            o.m_faceLoops.resize(o.loopCount() + 1);
-            for (size_t f = 0; f < o.m_faceLoops.size(); ++f) o.m_faceLoops[f] = uint32_t(f);
+            o.faceLoops.resize(o.loopCount() + 1);
+            for (size_t f = 0; f < o.faceLoops.size(); ++f) o.faceLoops[f] = uint32_t(f);
         }
         if (loops > 1 && !std::is_sorted(m_openUvs.begin(), m_openUvs.end(),
                                          [](const OpenUv& a, const OpenUv& b) { return a.loop < b.loop; }))
@@ -309,34 +379,34 @@ private:
         for (size_t l = 0; l < loops; ++l) {
             const size_t loop = o.loopCount();
             const size_t first = m_openLoopEdges[l], n = m_openLoopEdges[l + 1] - first;
-            o.m_edges.insert(o.m_edges.end(), m_openEdges.begin() + first, m_openEdges.begin() + first + n);
-            o.m_loopEdges.push_back(uint32_t(o.m_edges.size()));
+            o.edges.insert(o.edges.end(), m_openEdges.begin() + first, m_openEdges.begin() + first + n);
+            o.loopEdges.push_back(uint32_t(o.edges.size()));
 
             const size_t uvBegin = nextUv;
             while (nextUv < m_openUvs.size() && m_openUvs[nextUv].loop == l) ++nextUv;
             const std::span<const OpenUv> uvs(m_openUvs.data() + uvBegin, nextUv - uvBegin);
-            if (o.m_loopUvs.empty()) {
+            if (o.loopUvs.empty()) {
                 if (loop == 0) {
-                    for (const OpenUv& r : uvs) o.m_sharedUvSets.push_back(r.set);
-                    o.m_uvIds.reserve(uvs.size() * o.m_edges.capacity());
-                } else if (!std::equal(uvs.begin(), uvs.end(), o.m_sharedUvSets.begin(), o.m_sharedUvSets.end(),
+                    for (const OpenUv& r : uvs) o.sharedUvSets.push_back(r.set);
+                    o.uvIds.reserve(uvs.size() * o.edges.capacity());
+                } else if (!std::equal(uvs.begin(), uvs.end(), o.sharedUvSets.begin(), o.sharedUvSets.end(),
                                        [](const OpenUv& r, int32_t set) { return r.set == set; })) {
                     recordUvsPerLoop(loop);
                 }
             }
             for (const OpenUv& r : uvs) {
-                if (!o.m_loopUvs.empty()) o.m_uvRecords.push_back({r.set, uint32_t(o.m_uvIds.size())});
-                o.m_uvIds.insert(o.m_uvIds.end(), m_openIds.begin() + r.firstId, m_openIds.begin() + r.firstId + n);
+                if (!o.loopUvs.empty()) o.uvRecords.push_back({r.set, uint32_t(o.uvIds.size())});
+                o.uvIds.insert(o.uvIds.end(), m_openIds.begin() + r.firstId, m_openIds.begin() + r.firstId + n);
             }
-            if (!o.m_loopUvs.empty()) o.m_loopUvs.push_back(uint32_t(o.m_uvRecords.size()));
+            if (!o.loopUvs.empty()) o.loopUvs.push_back(uint32_t(o.uvRecords.size()));
 
             if (const uint32_t c = m_openColors[l]; c != kNone) {
-                if (o.m_loopColors.empty()) o.m_loopColors.assign(loop + 1, 0);
-                o.m_colors.insert(o.m_colors.end(), m_openIds.begin() + c, m_openIds.begin() + c + n);
+                if (o.loopColors.empty()) o.loopColors.assign(loop + 1, 0);
+                o.colors.insert(o.colors.end(), m_openIds.begin() + c, m_openIds.begin() + c + n);
             }
-            if (!o.m_loopColors.empty()) o.m_loopColors.push_back(uint32_t(o.m_colors.size()));
+            if (!o.loopColors.empty()) o.loopColors.push_back(uint32_t(o.colors.size()));
         }
-        if (!o.m_faceLoops.empty()) o.m_faceLoops.push_back(uint32_t(o.loopCount()));
+        if (!o.faceLoops.empty()) o.faceLoops.push_back(uint32_t(o.loopCount()));
         m_openLoopEdges.resize(1);
         m_openEdges.clear();
         m_openUvs.clear();
@@ -345,20 +415,20 @@ private:
     }
     // Leaves the shared uv layout: loops [0, loops) get records of their own.
     void recordUvsPerLoop(size_t loops) {
-        PolyFaces& o = m_out;
-        const size_t k = o.m_sharedUvSets.size();
-        o.m_loopUvs.reserve(o.m_loopEdges.capacity());
-        o.m_loopUvs.push_back(0);
+        Plain& o = m_out;
+        const size_t k = o.sharedUvSets.size();
+        o.loopUvs.reserve(o.loopEdges.capacity());
+        o.loopUvs.push_back(0);
         for (size_t l = 0; l < loops; ++l) {
-            const size_t n = o.m_loopEdges[l + 1] - o.m_loopEdges[l];
+            const size_t n = o.loopEdges[l + 1] - o.loopEdges[l];
             for (size_t r = 0; r < k; ++r)
-                o.m_uvRecords.push_back({o.m_sharedUvSets[r], uint32_t(k * o.m_loopEdges[l] + r * n)});
-            o.m_loopUvs.push_back(uint32_t(o.m_uvRecords.size()));
+                o.uvRecords.push_back({o.sharedUvSets[r], uint32_t(k * o.loopEdges[l] + r * n)});
+            o.loopUvs.push_back(uint32_t(o.uvRecords.size()));
         }
-        o.m_sharedUvSets.clear();
+        o.sharedUvSets.clear();
     }
 
-    PolyFaces m_out;
+    Plain m_out;
     size_t m_faces = 0;
     size_t m_ids = 0;  // ids added, stored or open
     // The last face, not yet stored: its loops' edges, uv records and colour records.

@@ -32,23 +32,26 @@ void forEachNumericIn(const AttrData& a, uint64_t first, uint64_t end, F&& fn) {
     const auto& runs = a.multi.runs();
     auto it = runs.upper_bound(uint32_t(std::min<uint64_t>(first, UINT32_MAX)));
     if (it != runs.begin()) --it;
-    double element[kMaxCompactWidth];
+    // Compact runs are read a chunk of elements at a time (packed integers decode by blocks).
+    constexpr size_t kChunkNumbers = 1024;
+    double chunk[kChunkNumbers];
     for (; it != runs.end() && it->first < end; ++it) {
         const Numbers* nums = std::get_if<Numbers>(&it->second.value);
         if (!nums || it->second.width <= 0 || (nums->values.empty() && size_t(it->second.width) > kMaxCompactWidth))
             continue;
         const size_t width = size_t(it->second.width);
         const uint64_t from = std::max<uint64_t>(first, it->first);
-        const uint64_t to = std::min<uint64_t>(end, uint64_t(it->first) + it->second.count);
-        for (uint64_t i = from; i < to; ++i) {
-            const size_t k = size_t(i - it->first);
-            if ((k + 1) * width > nums->size()) break;
-            if (!nums->values.empty()) {
-                fn(i, nums->values.data() + k * width, int(width));
-            } else {
-                nums->copyTo(k * width, width, element);
-                fn(i, static_cast<const double*>(element), int(width));
-            }
+        const uint64_t to = std::min<uint64_t>({end, uint64_t(it->first) + it->second.count, it->first + nums->size() / width});
+        if (!nums->values.empty()) {
+            for (uint64_t i = from; i < to; ++i) fn(i, nums->values.data() + size_t(i - it->first) * width, int(width));
+            continue;
+        }
+        const uint64_t perChunk = kChunkNumbers / width;
+        for (uint64_t i = from; i < to;) {
+            const uint64_t n = std::min<uint64_t>(perChunk, to - i);
+            nums->copyTo(size_t(i - it->first) * width, size_t(n) * width, chunk);
+            for (uint64_t k = 0; k < n; ++k) fn(i + k, static_cast<const double*>(chunk + k * width), int(width));
+            i += n;
         }
     }
 }
