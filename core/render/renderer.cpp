@@ -2,6 +2,7 @@
 
 #include "core/geom/tessellation.h"
 #include "core/render/adaptive_shading.h"
+#include "core/render/lazy_tessellation.h"
 #include "core/render/pixel_filter.h"
 #include "core/render/shading_points.h"
 #include "core/render/tile_objects.h"
@@ -91,12 +92,6 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
     return l;
 }
 
-// What making a piece of a shape's tessellation needs beyond the piece itself: the mesh evaluated
-// again (when the shape does not keep it) and the working memory.
-uint64_t transientBytes(const geom::GeometryHandle& h, size_t piece) {
-    return (h.keepsSource() || h.makesPiecesAlone() ? 0 : h.meshMakingBytes()) + h.pieceWorkBytesEstimate(piece);
-}
-
 // ---------------------------------------------------------------- per-object view data
 // Where one object sits for this camera (visible_set.h), found once per frame without its
 // triangles, and the lights of each material slot in camera space. Each tile projects the
@@ -162,22 +157,6 @@ struct PendingBatch {
     std::array<uint32_t, shade::kBatchSize> target{};  // index into the tile's sample results
 };
 
-// A piece of a geometry handle's tessellation (piece 0 of a shape in one piece: the whole).
-struct PieceKey {
-    const geom::GeometryHandle* handle = nullptr;
-    uint32_t piece = 0;
-    bool operator==(const PieceKey&) const = default;
-};
-struct PieceKeyHash {
-    size_t operator()(const PieceKey& k) const {
-        return std::hash<const void*>()(k.handle) ^ (size_t(k.piece) * 0x9e3779b97f4a7c15ull);
-    }
-};
-using TessellationCache = cache::LruCache<PieceKey, geom::Tessellation, PieceKeyHash>;
-// The meshes of shapes in pieces whose source does not keep them, by source: made once for the
-// pieces tiles need while the budget keeps them.
-using MeshCache = cache::LruCache<const void*, std::shared_ptr<const geom::Mesh>>;
-
 // A tile whose tessellations do not fit in the memory budget beside what other tiles hold.
 struct TileDoesNotFit {
     std::string object;  // the object whose tessellation found no room
@@ -206,7 +185,7 @@ struct Worker {
     // units only. An object in pieces lists them in `pieceTopology` (one entry per piece, made on
     // first use), which its `topology` entry points to.
     std::vector<uint32_t> tileObjects;
-    std::vector<TessellationCache::Pin> pins;
+    std::vector<LazyTessellations::Pin> pins;
     std::vector<uint32_t> pinnedUnits;  // the unit of each pin
     std::vector<const geom::Tessellation*> tessellation;
     // Under a cap: the triangles each unit gave the rasterizer in this tile (ascending offsets in
@@ -303,8 +282,7 @@ public:
         : m_scene(scene), m_camera(camera), m_settings(settings), m_stats(stats), m_options(options),
           m_budget(budget), m_pattern(SubsamplePattern::forEdgeAntiAliasing(settings.edgeAntiAliasing)),
           m_filter(makePixelFilter(settings)),
-          m_tessellations(&budget, cache::MemoryCategory::Tessellation),
-          m_meshes(&budget, cache::MemoryCategory::Geometry) {}
+          m_lazy(&budget) {}
 
     // The charge holding every thread's share of the tile buffers (`threads` shares), so that the
     // shares of the threads that idle while deferred tiles render one at a time go back to the
@@ -367,14 +345,11 @@ private:
     std::deque<ObjectView> m_views;         // per object (a deque: views do not move)
     std::deque<UnitView> m_units;           // per piece of each object's shape, object by object
     std::vector<PixelRect> m_tiles;
-    TessellationCache m_tessellations;      // one per piece of a geometry handle, shared by instances
-    MeshCache m_meshes;                     // meshes shared by the pieces of a shape
+    LazyTessellations m_lazy;               // the tessellations, made when a tile first needs them
     uint64_t m_perThreadBytes = 0;          // the share of each worker's buffers charged up front
     cache::MemoryCharge* m_tileShares = nullptr;  // setTileShares
     int m_shareThreads = 1;
-    std::atomic<uint64_t> m_trianglesMade{0};
     std::atomic<uint64_t> m_droppedReturned{0};  // bytes the caches had dropped at the last return
-    std::atomic<uint64_t> m_transientFreed{0};   // bytes charged while tessellations were made
     int m_marginLeft = 0, m_marginRight = 0, m_marginTop = 0, m_marginBottom = 0;
     bool m_adaptive = false;
     Framebuffer m_frame;
@@ -556,7 +531,7 @@ template <class Take>
 bool FrameRenderer::withRoom(Worker& w, uint64_t bytes, Take&& take) {
     for (bool copied = false;;) {
         if (take()) return true;
-        if (m_tessellations.reclaim(bytes) || m_meshes.reclaim(bytes)) {
+        if (m_lazy.reclaim(bytes)) {
             returnDroppedMemory();
             if (take()) return true;
         }
@@ -746,35 +721,12 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
                 throw TileDoesNotFit{m_scene.objects[i].name, bytes};
             return std::move(*room);
         };
-        std::optional<TessellationCache::Pin> pin = m_tessellations.tryAcquire(
-            PieceKey{handle, piece},
-            [&] {
-                // A shape in pieces that does not keep its mesh has it made once for the pieces
-                // made while it stays resident.
-                const bool shareMesh = handle->pieceCount() > 1 && !handle->keepsSource() && !handle->makesPiecesAlone();
-                std::optional<MeshCache::Pin> mesh;
-                if (shareMesh) {
-                    mesh = m_meshes.tryAcquire(
-                        handle->sourceId(),
-                        [&] {
-                            const cache::MemoryCharge room = takeRoom(handle->meshMakingBytes());
-                            return handle->makeMesh();
-                        },
-                        [&](const std::shared_ptr<const geom::Mesh>&) { return handle->meshBytes(); });
-                    if (!mesh) throw TileDoesNotFit{m_scene.objects[i].name, handle->meshBytes()};
-                }
-                // While it is made, a tessellation needs its shape's mesh (evaluated again when
-                // not kept or shared), its working memory and itself: room for them is taken first.
-                const uint64_t making = (shareMesh ? handle->pieceWorkBytesEstimate(piece) : transientBytes(*handle, piece)) +
-                                        handle->pieceBytesEstimate(piece);
-                const cache::MemoryCharge room = takeRoom(making);
-                geom::Tessellation t = shareMesh ? handle->tessellatePiece(piece, ***mesh) : handle->tessellatePiece(piece);
-                m_trianglesMade.fetch_add(t.triangleCount(), std::memory_order_relaxed);
-                m_transientFreed.fetch_add(making, std::memory_order_relaxed);
-                return t;
-            },
-            [](const geom::Tessellation& t) { return t.bytes(); });
-        if (!pin) throw TileDoesNotFit{m_scene.objects[i].name, handle->pieceBytesEstimate(piece)};
+        std::optional<LazyTessellations::Pin> pin;
+        try {
+            pin = m_lazy.acquire(*handle, piece, takeRoom);
+        } catch (const TessellationDoesNotFit& e) {
+            throw TileDoesNotFit{m_scene.objects[i].name, e.bytes};
+        }
         const geom::Tessellation& made = **pin;
         w.tessellation[unit] = &made;
         if (m_views[i].unitCount == 1) {
@@ -944,8 +896,7 @@ void FrameRenderer::returnDroppedMemory() {
 #ifdef __GLIBC__
     constexpr uint64_t kEvery = uint64_t(64) << 20;
     if (m_budget.capBytes() == 0) return;
-    const uint64_t dropped = m_tessellations.stats().evictedBytes + m_meshes.stats().evictedBytes +
-                             m_transientFreed.load(std::memory_order_relaxed);
+    const uint64_t dropped = m_lazy.tessellationStats().evictedBytes + m_lazy.meshStats().evictedBytes + m_lazy.transientFreed();
     uint64_t last = m_droppedReturned.load(std::memory_order_relaxed);
     if (dropped - last < kEvery || !m_droppedReturned.compare_exchange_strong(last, dropped)) return;
     malloc_trim(0);
@@ -1308,14 +1259,14 @@ Framebuffer FrameRenderer::run() {
         m_stats.mergedFragments += vs.mergedFragments;
         m_stats.surfaces += vs.surfaces;
     }
-    const cache::LruCacheStats ts = m_tessellations.stats();
+    const cache::LruCacheStats ts = m_lazy.tessellationStats();
     m_stats.tessellationsMade = ts.made;
     m_stats.tessellationsEvicted = ts.evicted;
     m_stats.tessellationsRecomputed = ts.recomputed;
-    const cache::LruCacheStats ms = m_meshes.stats();
+    const cache::LruCacheStats ms = m_lazy.meshStats();
     m_stats.meshesMade = ms.made;
     m_stats.meshesEvicted = ms.evicted;
-    m_stats.trianglesMade = m_trianglesMade.load();
+    m_stats.trianglesMade = m_lazy.trianglesMade();
     m_stats.tileMinSize = m_stats.tileMaxSize = 0;
     for (const PixelRect& t : m_tiles) {
         const int lo = std::min(t.width(), t.height()), hi = std::max(t.width(), t.height());

@@ -14,11 +14,13 @@
 // Memory: before it allocates, renderFrame charges one MemoryBudget (RenderOptions::memoryBudget,
 // else its own with the cap of memoryCap(settings)) with every buffer whose size it knows
 // (frameMemory()): "framebuffer" for the frame, the image writer's copy and the adaptive mask,
-// "fragments" for the tile list, bins and per-thread tile buffers, "tessellation" for the
-// camera-space copy of the geometry and its screen triangles. A frame the cap cannot hold fails
-// with pushpin::MemoryCapError before any of them is allocated; every charge is released when
-// renderFrame returns or throws. Fragment lists and shading batches that grow with the scene's
-// depth complexity are not charged.
+// "fragments" for the tile list and each thread's share of the tile buffers, "tessellation" for
+// each object's view, "geometry" for the sources that stay resident. A frame the cap cannot hold
+// fails with pushpin::MemoryCapError before any of them is allocated. Tessellations are made when a
+// tile first needs them and kept in an LRU charged as "tessellation" (lazy_tessellation.h), and a
+// tile's buffers beyond its thread's share are charged as "fragments" as they grow; a tile that
+// cannot fit stops the render with MemoryCapError too. Every charge is released when renderFrame
+// returns or throws.
 #pragma once
 
 #include "core/render/camera.h"
