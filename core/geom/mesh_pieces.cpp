@@ -52,15 +52,18 @@ void boundRuns(std::vector<Run>& runs) {
 }
 
 // The pieces of each point: `first` the first piece seen there, `more` (point << 32 | piece,
-// sorted, each once) the others.
+// sorted, each once) the others, `shared` whether `more` holds any for the point (most points are
+// inside one piece and need no search).
 struct PointPieces {
     std::vector<uint32_t> first;
     std::vector<uint64_t> more;
+    std::vector<bool> shared;
 
     template <class Visit>
     void forEach(uint32_t q, Visit&& visit) const {
         if (q >= first.size() || first[q] == kNotLocal) return;
         visit(first[q]);
+        if (!shared[q]) return;
         auto it = std::lower_bound(more.begin(), more.end(), uint64_t(q) << 32);
         for (; it != more.end() && uint32_t(*it >> 32) == q; ++it) visit(uint32_t(*it));
     }
@@ -223,6 +226,7 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
     std::vector<std::vector<SlotRun>> ownSlots(pieceCount);
     PointPieces at;
     at.first.assign(points, kNotLocal);
+    at.shared.assign(points, false);
     {
         uint64_t slot = 0;
         uint32_t lastPiece = kNotLocal;
@@ -243,7 +247,10 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
                 const uint32_t q = mesh.faceVertices[c];
                 piece.bounds.extend(glm::dvec3(mesh.points[q]));
                 if (at.first[q] == kNotLocal) at.first[q] = p;
-                else if (at.first[q] != p) at.more.push_back(uint64_t(q) << 32 | p);
+                else if (at.first[q] != p) {
+                    at.more.push_back(uint64_t(q) << 32 | p);
+                    at.shared[q] = true;
+                }
             }
             slot += n;
         }
@@ -276,6 +283,7 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
                 addToRuns(edgesAround[p], uint32_t(e), [&] { return EdgeRun{uint32_t(e), uint32_t(e) + 1}; });
             });
     util::release(at.more);
+    util::release(at.shared);
 
     // Flat tables.
     for (uint32_t p = 0; p < pieceCount; ++p) {
