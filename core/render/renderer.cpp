@@ -2,6 +2,7 @@
 
 #include "core/geom/tessellation.h"
 #include "core/render/adaptive_shading.h"
+#include "core/render/filter_borders.h"
 #include "core/render/lazy_tessellation.h"
 #include "core/render/pixel_filter.h"
 #include "core/render/shading_points.h"
@@ -62,8 +63,9 @@ double secondsSince(Clock::time_point t0) {
 }
 
 // ---------------------------------------------------------------- frame layout
-// The pixels rendered and the apron each tile needs around it, fixed before anything is
-// allocated (frameMemory() sizes the buffers from it).
+// The pixels rendered and the apron each tile needs around it for the contrast test, fixed before
+// anything is allocated (frameMemory() sizes the buffers from it). The multi-pixel filter needs
+// none: the pixels whose window reaches past their tile are filtered at the end (filter_borders.h).
 struct FrameLayout {
     PixelRect region;   // the render region or the whole image
     bool adaptive = false;
@@ -84,11 +86,11 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
     for (const RenderObject& o : scene.objects)
         if (settings.edgeAntiAliasing == 0 && o.shadingSamplesOverride && o.maxShadingSamples > o.shadingSamples)
             l.adaptive = true;
-    const int reach = filter.reach;
-    l.marginLeft = reach + (l.adaptive ? 2 : 0);
-    l.marginRight = reach + (l.adaptive ? 1 : 0);
-    l.marginTop = reach + (l.adaptive ? 1 : 0);
-    l.marginBottom = reach;
+    (void)filter;
+    l.marginLeft = l.adaptive ? 2 : 0;
+    l.marginRight = l.adaptive ? 1 : 0;
+    l.marginTop = l.adaptive ? 1 : 0;
+    l.marginBottom = 0;
     return l;
 }
 
@@ -221,6 +223,7 @@ struct Worker {
     std::vector<SurfaceShade> shades;        // per group
     std::vector<SurfaceContribution> contributions;  // per group
     std::vector<float> contributionNorm;     // per group: sum of filter weights over target pixels
+    std::vector<FilterSurface> filterSurfaces;  // one pixel's surfaces as the tile keeps them
     std::vector<glm::vec3> baseColor;        // per base-region pixel, for the contrast test
     std::vector<uint8_t> adaptive;           // per base-region pixel
     // occlusion (rasterizeTile): objects waiting behind nearer ones, and per base-region pixel the
@@ -305,7 +308,9 @@ private:
         return {m_region.x0 - m_marginRight, m_region.y0 - m_marginBottom, m_region.x1 + m_marginLeft,
                 m_region.y1 + m_marginTop};
     }
-    void renderTile(const PixelRect& tile, Worker& w);
+    void renderTile(size_t index, Worker& w);
+    // Writes pixel (x, y)'s filtered colour sums (c premultiplied, a not clamped) over the background.
+    void writeColor(int x, int y, const double* c, double a);
     void returnDroppedMemory();
     void planFrameTiles();
     void rasterizeTile(const PixelRect& base, Worker& w);
@@ -346,6 +351,8 @@ private:
     std::deque<UnitView> m_units;           // per piece of each object's shape, object by object
     std::vector<PixelRect> m_tiles;
     LazyTessellations m_lazy;               // the tessellations, made when a tile first needs them
+    std::optional<FilterBorders> m_borders;  // with a multi-pixel filter: what tiles share for it
+    std::vector<cache::MemoryCharge> m_borderCharges;  // per tile: what m_borders keeps of it
     uint64_t m_perThreadBytes = 0;          // the share of each worker's buffers charged up front
     cache::MemoryCharge* m_tileShares = nullptr;  // setTileShares
     int m_shareThreads = 1;
@@ -903,14 +910,12 @@ void FrameRenderer::returnDroppedMemory() {
 #endif
 }
 
-void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
+void FrameRenderer::renderTile(size_t index, Worker& w) {
     auto tRaster = Clock::now();
-    // The base region: the tile, the pixels whose surfaces the filter spreads into it, and the
-    // neighbours the contrast test of those pixels reads.
+    const PixelRect& tile = m_tiles[index];
+    // The base region: the tile and the neighbours the contrast test of its pixels reads.
     PixelRect base{std::max(m_region.x0, tile.x0 - m_marginLeft), std::max(m_region.y0, tile.y0 - m_marginTop),
                    std::min(m_region.x1, tile.x1 + m_marginRight), std::min(m_region.y1, tile.y1 + m_marginBottom)};
-    PixelRect contrib{std::max(m_region.x0, tile.x0 - m_filter.reach), std::max(m_region.y0, tile.y0 - m_filter.reach),
-                      std::min(m_region.x1, tile.x1 + m_filter.reach), std::min(m_region.y1, tile.y1 + m_filter.reach)};
     const int bw = base.width(), bh = base.height();
     auto baseIndex = [&](int x, int y) { return size_t(y - base.y0) * bw + (x - base.x0); };
 
@@ -1054,8 +1059,8 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
         w.groupExtraStart.assign(groupCount + 1, 0);
         std::vector<int> extraCount(groupCount, 0);
         uint32_t extraTotal = 0;
-        for (int y = contrib.y0; y < contrib.y1; ++y)
-            for (int x = contrib.x0; x < contrib.x1; ++x) {
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
                 size_t pi = baseIndex(x, y);
                 const double f = contrastExcess(w.baseColor, base, m_region, x, y, thr);
                 if (f <= 0.0) continue;
@@ -1112,14 +1117,14 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
     chargeBuffers(w);
     w.stats.shadeSeconds += secondsSince(tShade);
 
-    // Filter: gather into each tile pixel the surfaces of the pixels within reach.
+    // Filter: gather into each tile pixel the surfaces of the pixels within reach. A pixel whose
+    // window reaches past the tile is filtered at the end, from what the tiles keep (m_borders).
     auto tFilter = Clock::now();
-    const glm::vec3 bg(m_camera.backgroundColor);
     const int reach = m_filter.reach;
     if (reach > 0) {
         w.contributionNorm.assign(groupCount, 0.0f);
-        for (int y = contrib.y0; y < contrib.y1; ++y)
-            for (int x = contrib.x0; x < contrib.x1; ++x) {
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
                 size_t pi = baseIndex(x, y);
                 for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
                     const SurfaceContribution& c = w.contributions[gi];
@@ -1127,6 +1132,11 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
                 }
             }
     }
+    auto surfacesOf = [&](int sx, int sy, auto&& visit) {
+        const size_t pi = baseIndex(sx, sy);
+        for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi)
+            visit(w.contributions[gi], w.contributionNorm[gi]);
+    };
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             double c[3] = {0, 0, 0}, a = 0.0;
@@ -1136,23 +1146,11 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
                     const SurfaceContribution& s = w.contributions[gi];
                     c[0] += s.color[0], c[1] += s.color[1], c[2] += s.color[2], a += s.alpha;
                 }
-            } else {
-                for (int sy = std::max(contrib.y0, y - reach); sy <= std::min(contrib.y1 - 1, y + reach); ++sy)
-                    for (int sx = std::max(contrib.x0, x - reach); sx <= std::min(contrib.x1 - 1, x + reach); ++sx) {
-                        size_t pi = baseIndex(sx, sy);
-                        for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
-                            const SurfaceContribution& s = w.contributions[gi];
-                            const double wgt = filterShare(m_filter, w.contributionNorm[gi], sx, sy, s.cu, s.cv, x, y);
-                            if (wgt == 0.0) continue;
-                            c[0] += wgt * s.color[0], c[1] += wgt * s.color[1], c[2] += wgt * s.color[2];
-                            a += wgt * s.alpha;
-                        }
-                    }
+                writeColor(x, y, c, a);
+            } else if (m_borders->completeIn(tile, x, y)) {
+                gatherFiltered(m_filter, m_region, x, y, surfacesOf, c, a);
+                writeColor(x, y, c, a);
             }
-            a = std::clamp(a, 0.0, 1.0);
-            float* px = m_frame.pixel(x, y);
-            for (int k = 0; k < 3; ++k) px[k] = float(m_settings.composite ? c[k] : c[k] + (1.0 - a) * bg[k]);
-            px[3] = float(a);
             if (!m_frame.depth.empty()) {
                 float key = w.nearestDepth[baseIndex(x, y)];
                 m_frame.depth[size_t(y) * m_frame.width + x] =
@@ -1160,12 +1158,42 @@ void FrameRenderer::renderTile(const PixelRect& tile, Worker& w) {
             }
             if (m_options.adaptiveMask) (*m_options.adaptiveMask)[size_t(y) * m_frame.width + x] = w.adaptive[baseIndex(x, y)];
         }
+    if (reach > 0) {
+        // The surfaces of the pixels a border pixel may read, charged, then kept for the end.
+        uint64_t kept = 0;
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x)
+                if (m_borders->needed(tile, x, y)) {
+                    const size_t pi = baseIndex(x, y);
+                    kept += w.pixelGroupStart[pi + 1] - w.pixelGroupStart[pi];
+                }
+        const uint64_t bytes = FilterBorders::bytesFor(tile, kept);
+        cache::MemoryCharge& charge = m_borderCharges[index];
+        if (bytes > charge.bytes() && !withRoom(w, bytes - charge.bytes(), [&] { return charge.tryResize(bytes); }))
+            throw TileDoesNotFit{std::string(), bytes - charge.bytes()};
+        m_borders->keep(index, [&](int x, int y) {
+            const size_t pi = baseIndex(x, y);
+            w.filterSurfaces.clear();
+            for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi)
+                w.filterSurfaces.push_back({w.contributions[gi], w.contributionNorm[gi]});
+            return std::span<const FilterSurface>(w.filterSurfaces);
+        });
+        charge.resize(bytes);
+    }
     w.stats.filterSeconds += secondsSince(tFilter);
     w.stats.apronPixels += uint64_t(base.width()) * base.height() - uint64_t(tile.width()) * tile.height();
     ++w.stats.tiles;
     // What the filter added, with this tile's tessellations given back first.
     scope.release();
     chargeBuffers(w);
+}
+
+void FrameRenderer::writeColor(int x, int y, const double* c, double a) {
+    a = std::clamp(a, 0.0, 1.0);
+    const glm::vec3 bg(m_camera.backgroundColor);
+    float* px = m_frame.pixel(x, y);
+    for (int k = 0; k < 3; ++k) px[k] = float(m_settings.composite ? c[k] : c[k] + (1.0 - a) * bg[k]);
+    px[3] = float(a);
 }
 
 Framebuffer FrameRenderer::run() {
@@ -1180,6 +1208,12 @@ Framebuffer FrameRenderer::run() {
     if (m_options.adaptiveMask) m_options.adaptiveMask->assign(size_t(m_camera.width) * m_camera.height, 0);
     prepare();
     m_stats.pixels = uint64_t(m_region.width()) * m_region.height();
+    if (m_filter.reach > 0) {
+        m_borders.emplace(m_filter, m_region, m_tiles);
+        m_borderCharges.clear();
+        for (size_t i = 0; i < m_tiles.size(); ++i)
+            m_borderCharges.emplace_back(&m_budget, cache::MemoryCategory::Fragments, 0);
+    }
 
     auto tTiles = Clock::now();
     const size_t objects = m_scene.objects.size();
@@ -1200,7 +1234,7 @@ Framebuffer FrameRenderer::run() {
             const RasterStats rasterBefore = w.rasterizer.stats();
             const ResolveStats resolveBefore = w.resolver.stats();
             try {
-                renderTile(m_tiles[i], w);
+                renderTile(i, w);
                 returnDroppedMemory();
             } catch (const TileDoesNotFit&) {
                 // What the tile counted is counted again when it is rendered alone.
@@ -1227,12 +1261,19 @@ Framebuffer FrameRenderer::run() {
     for (size_t i : deferred) {
         Worker& w = *workers.local();
         try {
-            renderTile(m_tiles[i], w);
+            renderTile(i, w);
             returnDroppedMemory();
         } catch (TileDoesNotFit& e) {
             e.tile = m_tiles[i];
             throw;
         }
+    }
+    if (m_borders) {
+        auto tFilter = Clock::now();
+        m_borders->filterAll([&](int x, int y, const double* c, double a) { writeColor(x, y, c, a); });
+        m_borders->release();
+        m_borderCharges.clear();
+        m_stats.filterSeconds += secondsSince(tFilter);
     }
     m_stats.tilesSeconds += secondsSince(tTiles);
     for (auto& wp : workers) {
@@ -1295,9 +1336,9 @@ uint64_t tileBytesPerCrossing(const RenderSettings& settings) {
     const int samples = std::max(1, adaptive ? settings.maxShadingSamples : settings.shadingSamples);
     uint64_t bytes = 4 * sizeof(Fragment) + sizeof(SurfaceGroup) + sizeof(SurfaceShade) + sizeof(SurfaceContribution) +
                      uint64_t(samples) * sizeof(SampleResult);
-    // A multi-pixel filter widens every tile by its reach on each side.
-    const PixelFilter filter = makePixelFilter(settings);
-    if (filter.reach > 0) bytes = bytes * uint64_t(16 + 2 * filter.reach) / 16;
+    // A multi-pixel filter keeps the surfaces of the pixels near the tile's edges for the end
+    // (FilterBorders); counted for every crossing, as if every pixel were near an edge.
+    if (makePixelFilter(settings).reach > 0) bytes += sizeof(FilterSurface);
     return bytes;
 }
 

@@ -9,8 +9,11 @@
 // (PixelResolver::occludingDepth), which changes no bit of the image.
 // Thread safety: renderFrame() runs its own parallel loop; the FrameScene and camera are read-only.
 // Determinism: the image depends only on the scene, camera and settings — not on the thread
-// count, the tile size or the tile order. Each tile renders an apron of neighbouring pixels so
-// that filters and the contrast test see the same data wherever the tile boundaries fall.
+// count, the tile size or the tile order. At the Highest level each tile renders an apron of the
+// neighbouring pixels the contrast test reads (two columns left, one right, one row above); a
+// multi-pixel filter needs none: pixels whose window reaches past their tile are filtered once all
+// tiles are done, from the surfaces the tiles kept near their edges (filter_borders.h), summed in
+// the same order as inside a tile.
 // Memory: before it allocates, renderFrame charges one MemoryBudget (RenderOptions::memoryBudget,
 // else its own with the cap of memoryCap(settings)) with every buffer whose size it knows
 // (frameMemory()): "framebuffer" for the frame, the image writer's copy and the adaptive mask,
@@ -56,7 +59,7 @@ struct RenderStats {
     uint64_t fragments = 0, mergedFragments = 0, surfaces = 0;
     uint64_t shadingSamplesBase = 0, shadingSamplesAdaptive = 0;
     uint64_t adaptivePixels = 0;           // pixels that took extra samples
-    uint64_t apronPixels = 0;              // pixels rendered outside their tile for filters/contrast
+    uint64_t apronPixels = 0;              // pixels rendered outside their tile for the contrast test
     // tiles
     int tileMinSize = 0, tileMaxSize = 0;  // shortest and longest tile side, pixels
     double maxTileCost = 0.0;              // the plan's cost limit (triangles per tile scanline); 0: fixed tiles
@@ -108,7 +111,7 @@ struct FrameMemory {
     // framebuffer: rgba (16 B/pixel), depth (4 B/pixel when kept), the adaptive mask (1 B/pixel
     // when asked for) and the image writer's conversion buffer (imageOutputBytes()).
     uint64_t framebufferBytes = 0;
-    // fragments: the tile list and bins, and one set of tile buffers (the tile plus its apron:
+    // fragments: the tile list and bins, and one set of tile buffers (the tile plus its contrast apron:
     // surface indices, nearest depths, contrast colours, shading batch and results) per thread.
     uint64_t tileBytes = 0;
     uint64_t perThreadBytes = 0;  // of tileBytes, one thread's share (a worker's buffers beyond it are
@@ -138,7 +141,8 @@ FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, con
 // its triangle crossings — a triangle meeting one pixel row — each leaving about
 // tileBytesPerCrossing(settings) bytes: its fragment as the rasterizer, the tile and the resolver
 // hold it (4 × 48 B), its surface group, shade and contribution, one shading result per sample it
-// may take (the adaptive maximum at Highest), widened by a multi-pixel filter's apron.
+// may take (the adaptive maximum at Highest), and with a multi-pixel filter the surface it keeps
+// for the pixels filtered at the end (filter_borders.h).
 uint64_t tileBytesPerCrossing(const RenderSettings& settings);
 // maxTileCost, triangles per tile scanline: a tile of `tallestTile` rows whose every row costs
 // that much fills `bytesPerTile`, i.e. bytesPerTile / tileBytesPerCrossing / tallestTile (at

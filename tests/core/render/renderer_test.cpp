@@ -265,6 +265,33 @@ TEST(Renderer, SameImageWithOneOrTwoThreadsAndAnyTileSize) {
     }
 }
 
+// A multi-pixel filter costs small tiles no apron: the pixels whose window reaches past their
+// tile are filtered at the end from what the tiles kept, the same bits as one tile over the frame.
+TEST(Renderer, AMultiPixelFilterRendersNoApron) {
+    Scene sc(std::string(scene::demoSceneText()), "softSpotlight.ma");
+    for (int filter : {2, 4, 6}) {
+        render::RenderSettings s = sc.settings;
+        s.width = 160;
+        s.height = 120;
+        s.edgeAntiAliasing = 1;
+        s.useMultiPixelFilter = true;
+        s.pixelFilterType = filter;
+        s.pixelFilterWidthX = s.pixelFilterWidthY = 3.0;
+        s.numCpusToUse = 1;
+        s.tileWidth = 160;
+        s.tileHeight = 120;
+        const Rendered whole = sc.render(s);
+        s.numCpusToUse = 2;
+        s.tileWidth = s.tileHeight = 16;
+        const Rendered small = sc.render(s);
+        ASSERT_EQ(whole.image.rgba.size(), small.image.rgba.size());
+        EXPECT_EQ(0, std::memcmp(whole.image.rgba.data(), small.image.rgba.data(), whole.image.rgba.size() * sizeof(float)))
+            << "filter " << filter;
+        EXPECT_EQ(small.stats.apronPixels, 0u) << "filter " << filter;
+        EXPECT_EQ(small.stats.pixels, 160u * 120u);
+    }
+}
+
 // ---------------------------------------------------------------- deferred primitives
 
 // A lit sphere from a polySphere, a cube from a polyCube, a torus and a cylinder with n-gon caps,
