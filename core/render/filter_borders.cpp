@@ -2,8 +2,6 @@
 
 #include "core/util/release.h"
 
-#include <oneapi/tbb/parallel_for.h>
-
 #include <stdexcept>
 
 namespace pushpin::render {
@@ -29,6 +27,31 @@ FilterBorders::FilterBorders(const PixelFilter& filter, const PixelRect& region,
     m_cellTiles.resize(m_cellStart.back());
     std::vector<uint32_t> next(m_cellStart.begin(), m_cellStart.end() - 1);
     for (uint32_t i = 0; i < m_tiles.size(); ++i) forEachCell(m_tiles[i], [&](size_t c) { m_cellTiles[next[c]++] = i; });
+
+    // Each tile's near tiles: those meeting it widened by the reach (a relation both ways).
+    const int r = filter.reach;
+    m_nearStart.assign(m_tiles.size() + 1, 0);
+    m_waiting = std::make_unique<std::atomic<uint32_t>[]>(m_tiles.size());
+    m_readers = std::make_unique<std::atomic<uint32_t>[]>(m_tiles.size());
+    std::vector<uint32_t> found;
+    for (uint32_t i = 0; i < m_tiles.size(); ++i) {
+        const PixelRect& t = m_tiles[i];
+        const PixelRect wide{std::max(region.x0, t.x0 - r), std::max(region.y0, t.y0 - r), std::min(region.x1, t.x1 + r),
+                             std::min(region.y1, t.y1 + r)};
+        found.clear();
+        forEachCell(wide, [&](size_t c) {
+            for (uint32_t k = m_cellStart[c]; k < m_cellStart[c + 1]; ++k) {
+                const PixelRect& o = m_tiles[m_cellTiles[k]];
+                if (o.x0 < wide.x1 && wide.x0 < o.x1 && o.y0 < wide.y1 && wide.y0 < o.y1) found.push_back(m_cellTiles[k]);
+            }
+        });
+        std::sort(found.begin(), found.end());
+        found.erase(std::unique(found.begin(), found.end()), found.end());
+        m_near.insert(m_near.end(), found.begin(), found.end());
+        m_nearStart[i + 1] = uint32_t(m_near.size());
+        m_waiting[i].store(uint32_t(found.size()), std::memory_order_relaxed);
+        m_readers[i].store(uint32_t(found.size()), std::memory_order_relaxed);
+    }
 }
 
 uint32_t FilterBorders::tileAt(int x, int y) const {
@@ -47,29 +70,43 @@ std::span<const FilterSurface> FilterBorders::surfacesAt(int x, int y) const {
     return {k.surfaces.data() + k.start[i], k.start[i + 1] - k.start[i]};
 }
 
-void FilterBorders::filterAll(const Write& write) const {
-    tbb::parallel_for(size_t(0), m_tiles.size(), [&](size_t index) {
-        const PixelRect& t = m_tiles[index];
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) {
-                if (completeIn(t, x, y)) continue;
-                double c[3] = {0, 0, 0}, a = 0.0;
-                gatherFiltered(
-                    m_filter, m_region, x, y,
-                    [&](int sx, int sy, auto&& visit) {
-                        for (const FilterSurface& s : surfacesAt(sx, sy)) visit(s.contribution, s.norm);
-                    },
-                    c, a);
-                write(x, y, c, a);
-            }
-    });
+void FilterBorders::filterBorders(size_t index, const Write& write) const {
+    const PixelRect& t = m_tiles[index];
+    for (int y = t.y0; y < t.y1; ++y)
+        for (int x = t.x0; x < t.x1; ++x) {
+            if (completeIn(t, x, y)) continue;
+            double c[3] = {0, 0, 0}, a = 0.0;
+            gatherFiltered(
+                m_filter, m_region, x, y,
+                [&](int sx, int sy, auto&& visit) {
+                    for (const FilterSurface& s : surfacesAt(sx, sy)) visit(s.contribution, s.norm);
+                },
+                c, a);
+            write(x, y, c, a);
+        }
 }
 
-void FilterBorders::release() {
-    for (Kept& k : m_kept) {
-        util::release(k.start);
-        util::release(k.surfaces);
+void FilterBorders::tileDone(size_t index, const Write& write, const Released& released) {
+    for (uint32_t k = m_nearStart[index]; k < m_nearStart[index + 1]; ++k) {
+        const uint32_t n = m_near[k];
+        if (m_waiting[n].fetch_sub(1, std::memory_order_acq_rel) != 1) continue;
+        // Every tile near n is done: its border pixels can be filtered, and the tiles near it
+        // have one reader fewer.
+        filterBorders(n, write);
+        for (uint32_t j = m_nearStart[n]; j < m_nearStart[n + 1]; ++j) {
+            const uint32_t m = m_near[j];
+            if (m_readers[m].fetch_sub(1, std::memory_order_acq_rel) != 1) continue;
+            util::release(m_kept[m].start);
+            util::release(m_kept[m].surfaces);
+            released(m);
+        }
     }
+}
+
+bool FilterBorders::allFiltered() const {
+    for (size_t i = 0; i < m_tiles.size(); ++i)
+        if (m_readers[i].load(std::memory_order_acquire) != 0) return false;
+    return true;
 }
 
 }  // namespace pushpin::render

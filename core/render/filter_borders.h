@@ -3,16 +3,21 @@
 //
 // A tile filters a pixel itself when the pixel's whole filter window (its pixels within the
 // filter's reach, inside the rendered region) lies in the tile. The other pixels, those near an
-// edge the tile shares with another tile, are filtered once every tile is done (filterAll), from
-// the surfaces the tiles kept of their pixels near such edges: a tile keeps (keep) every pixel
-// within twice the reach of a shared edge, which is every pixel a border pixel's window can reach.
+// edge the tile shares with another tile, are filtered from the surfaces the tiles keep of their
+// pixels near such edges: a tile keeps (keep) every pixel within twice the reach of a shared edge,
+// which is every pixel a border pixel's window can reach. When a tile is done (tileDone), every
+// tile near it (within the reach, itself included) whose near tiles are now all done has its
+// border pixels filtered, and what a tile kept is let go once every tile near it is filtered. So
+// what is kept at any time is the band along the edge between done and not-done tiles.
 // The sum runs over the window's pixels row by row, then over each pixel's surfaces in order
 // (gatherFiltered), wherever it is done, so that the image is the same for any tile plan.
 //
-// Thread safety: keep() may be called by any number of threads at once for different tiles;
-// filterAll() runs after the last keep(), on any number of threads.
+// Thread safety: keep() and tileDone() may be called by any number of threads at once for
+// different tiles; keep() may be called again for a tile until its tileDone(), which is called
+// once per tile.
 // Memory: the kept surfaces (28 bytes each) and a 4-byte start per pixel of each tile's kept
-// band; bytesFor() says what a keep() will hold, for the caller to charge first.
+// band; bytesFor() says what a keep() will hold, for the caller to charge first; the Release
+// callback of tileDone says when it is let go.
 #pragma once
 
 #include "core/render/fragment.h"
@@ -20,9 +25,11 @@
 #include "core/render/visibility.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -84,12 +91,14 @@ public:
             }
         k.start[i] = uint32_t(k.surfaces.size());
     }
-    // Filters every pixel of every tile that is not complete in it (in parallel over tiles):
-    // write(x, y, c, a) with gatherFiltered's sums, each pixel once. Every tile must have been kept.
+    // Tile `index`, kept, is done: the border pixels of every tile near it whose near tiles are
+    // now all done are filtered, write(x, y, c, a) with gatherFiltered's sums, each pixel once;
+    // then released(t) for every tile t whose kept surfaces are let go.
     using Write = std::function<void(int x, int y, const double* c, double a)>;
-    void filterAll(const Write& write) const;
-    // Gives back everything kept.
-    void release();
+    using Released = std::function<void(size_t tile)>;
+    void tileDone(size_t index, const Write& write, const Released& released);
+    // Whether every tile is done and filtered.
+    bool allFiltered() const;
 
 private:
     struct Kept {
@@ -103,6 +112,8 @@ private:
     }
     // The tile holding pixel (x, y) of the region.
     uint32_t tileAt(int x, int y) const;
+    // Filters the pixels of tile `index` that are not complete in it.
+    void filterBorders(size_t index, const Write& write) const;
     // The surfaces kept of pixel (x, y).
     std::span<const FilterSurface> surfacesAt(int x, int y) const;
 
@@ -114,6 +125,11 @@ private:
     // m_cellTiles[m_cellStart[c] .. m_cellStart[c + 1]).
     int m_cell = 16, m_cellsX = 0;
     std::vector<uint32_t> m_cellStart, m_cellTiles;
+    // The tiles near tile t (within the reach of it, t included): m_near[m_nearStart[t] ..
+    // m_nearStart[t + 1]). m_waiting[t]: near tiles not done yet; m_readers[t]: near tiles whose
+    // border pixels are not filtered yet.
+    std::vector<uint32_t> m_nearStart, m_near;
+    std::unique_ptr<std::atomic<uint32_t>[]> m_waiting, m_readers;
 };
 
 }  // namespace pushpin::render

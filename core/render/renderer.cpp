@@ -311,6 +311,9 @@ private:
     void renderTile(size_t index, Worker& w);
     // Writes pixel (x, y)'s filtered colour sums (c premultiplied, a not clamped) over the background.
     void writeColor(int x, int y, const double* c, double a);
+    // Tile `index` is rendered: with a multi-pixel filter, the border pixels of the tiles around it
+    // that are now ready are filtered (FilterBorders::tileDone) and what they no longer need given back.
+    void bordersDone(size_t index, Worker& w);
     void returnDroppedMemory();
     void planFrameTiles();
     void rasterizeTile(const PixelRect& base, Worker& w);
@@ -1188,6 +1191,15 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
     chargeBuffers(w);
 }
 
+void FrameRenderer::bordersDone(size_t index, Worker& w) {
+    if (!m_borders) return;
+    const auto tFilter = Clock::now();
+    m_borders->tileDone(
+        index, [&](int x, int y, const double* c, double a) { writeColor(x, y, c, a); },
+        [&](size_t tile) { m_borderCharges[tile].resize(0); });
+    w.stats.filterSeconds += secondsSince(tFilter);
+}
+
 void FrameRenderer::writeColor(int x, int y, const double* c, double a) {
     a = std::clamp(a, 0.0, 1.0);
     const glm::vec3 bg(m_camera.backgroundColor);
@@ -1236,6 +1248,7 @@ Framebuffer FrameRenderer::run() {
             try {
                 renderTile(i, w);
                 returnDroppedMemory();
+                bordersDone(i, w);
             } catch (const TileDoesNotFit&) {
                 // What the tile counted is counted again when it is rendered alone.
                 w.stats = before;
@@ -1263,18 +1276,13 @@ Framebuffer FrameRenderer::run() {
         try {
             renderTile(i, w);
             returnDroppedMemory();
+            bordersDone(i, w);
         } catch (TileDoesNotFit& e) {
             e.tile = m_tiles[i];
             throw;
         }
     }
-    if (m_borders) {
-        auto tFilter = Clock::now();
-        m_borders->filterAll([&](int x, int y, const double* c, double a) { writeColor(x, y, c, a); });
-        m_borders->release();
-        m_borderCharges.clear();
-        m_stats.filterSeconds += secondsSince(tFilter);
-    }
+    if (m_borders && !m_borders->allFiltered()) throw std::logic_error("renderFrame: a tile's border pixels were not filtered");
     m_stats.tilesSeconds += secondsSince(tTiles);
     for (auto& wp : workers) {
         const Worker& w = *wp;

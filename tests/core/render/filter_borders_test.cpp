@@ -46,8 +46,9 @@ TEST(FilterBorders, BorderPixelsAndTheKeptBandFollowSharedEdgesOnly) {
         }
 }
 
-// Every border pixel is filtered once, from the surfaces of the pixels around it whichever tile
-// kept them, in the order a tile sums its own.
+// Every border pixel is filtered once, when the tiles around it are done, from the surfaces of the
+// pixels around it whichever tile kept them, in the order a tile sums its own; what a tile kept
+// is let go once.
 TEST(FilterBorders, FiltersEachBorderPixelOnceFromItsNeighboursSurfaces) {
     const PixelRect region{0, 0, 13, 11};
     const std::vector<PixelRect> tiles{{0, 0, 5, 4}, {5, 0, 13, 4}, {0, 4, 9, 11}, {9, 4, 13, 11}};
@@ -68,19 +69,29 @@ TEST(FilterBorders, FiltersEachBorderPixelOnceFromItsNeighboursSurfaces) {
         return out;
     };
     std::vector<FilterSurface> scratch;
-    for (size_t i = 0; i < tiles.size(); ++i)
+    std::map<std::pair<int, int>, int> written;
+    std::map<std::pair<int, int>, std::pair<double, double>> got;
+    std::map<size_t, int> released;
+    auto write = [&](int x, int y, const double* c, double a) {
+        ++written[std::make_pair(x, y)];
+        got[std::make_pair(x, y)] = {c[0], a};
+    };
+    // Tiles done in an order that is not the tiles' own; a pixel is filtered only once every tile
+    // its window meets is done.
+    for (size_t i : {size_t(2), size_t(0), size_t(3), size_t(1)}) {
         b.keep(i, [&](int x, int y) {
             scratch = surfacesOfPixel(x, y);
             return std::span<const FilterSurface>(scratch);
         });
-    std::map<std::pair<int, int>, int> written;
-    std::map<std::pair<int, int>, std::pair<double, double>> got;
-    std::mutex m;
-    b.filterAll([&](int x, int y, const double* c, double a) {
-        std::lock_guard<std::mutex> lock(m);
-        ++written[{x, y}];
-        got[{x, y}] = {c[0], a};
-    });
+        EXPECT_FALSE(b.allFiltered());
+        b.tileDone(i, write, [&](size_t t) { ++released[t]; });
+        if (i == 2) {
+            EXPECT_TRUE(written.empty()) << "tile 2 borders three tiles not done";
+        }
+    }
+    EXPECT_TRUE(b.allFiltered());
+    EXPECT_EQ(released.size(), tiles.size());
+    for (const auto& [t, n] : released) EXPECT_EQ(n, 1) << "tile " << t;
     size_t borders = 0;
     for (const PixelRect& t : tiles)
         for (int y = t.y0; y < t.y1; ++y)
