@@ -7,27 +7,8 @@
 namespace pushpin::render {
 
 FilterBorders::FilterBorders(const PixelFilter& filter, const PixelRect& region, std::span<const PixelRect> tiles)
-    : m_filter(filter), m_region(region), m_tiles(tiles.begin(), tiles.end()), m_kept(tiles.size()) {
-    int smallest = 64;
-    for (const PixelRect& t : m_tiles) smallest = std::min({smallest, std::max(1, t.width()), std::max(1, t.height())});
-    m_cell = smallest;
-    m_cellsX = (region.width() + m_cell - 1) / m_cell;
-    const int cellsY = (region.height() + m_cell - 1) / m_cell;
-    // The cells each tile overlaps, counted, then listed.
-    auto forEachCell = [&](const PixelRect& t, auto&& visit) {
-        if (t.empty()) return;
-        const int cx0 = (t.x0 - region.x0) / m_cell, cx1 = (t.x1 - 1 - region.x0) / m_cell;
-        const int cy0 = (t.y0 - region.y0) / m_cell, cy1 = (t.y1 - 1 - region.y0) / m_cell;
-        for (int cy = std::max(cy0, 0); cy <= std::min(cy1, cellsY - 1); ++cy)
-            for (int cx = std::max(cx0, 0); cx <= std::min(cx1, m_cellsX - 1); ++cx) visit(size_t(cy) * m_cellsX + cx);
-    };
-    m_cellStart.assign(size_t(m_cellsX) * size_t(cellsY) + 1, 0);
-    for (const PixelRect& t : m_tiles) forEachCell(t, [&](size_t c) { ++m_cellStart[c + 1]; });
-    for (size_t c = 1; c < m_cellStart.size(); ++c) m_cellStart[c] += m_cellStart[c - 1];
-    m_cellTiles.resize(m_cellStart.back());
-    std::vector<uint32_t> next(m_cellStart.begin(), m_cellStart.end() - 1);
-    for (uint32_t i = 0; i < m_tiles.size(); ++i) forEachCell(m_tiles[i], [&](size_t c) { m_cellTiles[next[c]++] = i; });
-
+    : m_filter(filter), m_region(region), m_tiles(tiles.begin(), tiles.end()), m_kept(tiles.size()),
+      m_index(region, tiles) {
     // Each tile's near tiles: those meeting it widened by the reach (a relation both ways).
     const int r = filter.reach;
     m_nearStart.assign(m_tiles.size() + 1, 0);
@@ -36,17 +17,7 @@ FilterBorders::FilterBorders(const PixelFilter& filter, const PixelRect& region,
     std::vector<uint32_t> found;
     for (uint32_t i = 0; i < m_tiles.size(); ++i) {
         const PixelRect& t = m_tiles[i];
-        const PixelRect wide{std::max(region.x0, t.x0 - r), std::max(region.y0, t.y0 - r), std::min(region.x1, t.x1 + r),
-                             std::min(region.y1, t.y1 + r)};
-        found.clear();
-        forEachCell(wide, [&](size_t c) {
-            for (uint32_t k = m_cellStart[c]; k < m_cellStart[c + 1]; ++k) {
-                const PixelRect& o = m_tiles[m_cellTiles[k]];
-                if (o.x0 < wide.x1 && wide.x0 < o.x1 && o.y0 < wide.y1 && wide.y0 < o.y1) found.push_back(m_cellTiles[k]);
-            }
-        });
-        std::sort(found.begin(), found.end());
-        found.erase(std::unique(found.begin(), found.end()), found.end());
+        m_index.tilesMeeting({t.x0 - r, t.y0 - r, t.x1 + r, t.y1 + r}, found);
         m_near.insert(m_near.end(), found.begin(), found.end());
         m_nearStart[i + 1] = uint32_t(m_near.size());
         m_waiting[i].store(uint32_t(found.size()), std::memory_order_relaxed);
@@ -54,15 +25,8 @@ FilterBorders::FilterBorders(const PixelFilter& filter, const PixelRect& region,
     }
 }
 
-uint32_t FilterBorders::tileAt(int x, int y) const {
-    const size_t c = size_t((y - m_region.y0) / m_cell) * m_cellsX + size_t((x - m_region.x0) / m_cell);
-    for (uint32_t k = m_cellStart[c]; k < m_cellStart[c + 1]; ++k)
-        if (m_tiles[m_cellTiles[k]].contains(x, y)) return m_cellTiles[k];
-    throw std::logic_error("FilterBorders: a pixel of the region in no tile");
-}
-
 std::span<const FilterSurface> FilterBorders::surfacesAt(int x, int y) const {
-    const uint32_t t = tileAt(x, y);
+    const uint32_t t = m_index.tileAt(x, y);
     const PixelRect& r = m_tiles[t];
     const Kept& k = m_kept[t];
     const size_t i = size_t(y - r.y0) * size_t(r.width()) + size_t(x - r.x0);

@@ -22,6 +22,7 @@
 
 #include "core/render/fragment.h"
 #include "core/render/pixel_filter.h"
+#include "core/render/tile_index.h"
 #include "core/render/visibility.h"
 
 #include <algorithm>
@@ -110,8 +111,6 @@ private:
         return std::max(x - r, m_region.x0) >= tile.x0 && std::min(x + r, m_region.x1 - 1) < tile.x1 &&
                std::max(y - r, m_region.y0) >= tile.y0 && std::min(y + r, m_region.y1 - 1) < tile.y1;
     }
-    // The tile holding pixel (x, y) of the region.
-    uint32_t tileAt(int x, int y) const;
     // Filters the pixels of tile `index` that are not complete in it.
     void filterBorders(size_t index, const Write& write) const;
     // The surfaces kept of pixel (x, y).
@@ -121,10 +120,7 @@ private:
     PixelRect m_region;
     std::vector<PixelRect> m_tiles;
     std::vector<Kept> m_kept;
-    // Tiles by cells of m_cell × m_cell pixels over the region: cell c's tiles are
-    // m_cellTiles[m_cellStart[c] .. m_cellStart[c + 1]).
-    int m_cell = 16, m_cellsX = 0;
-    std::vector<uint32_t> m_cellStart, m_cellTiles;
+    TileIndex m_index;
     // The tiles near tile t (within the reach of it, t included): m_near[m_nearStart[t] ..
     // m_nearStart[t + 1]). m_waiting[t]: near tiles not done yet; m_readers[t]: near tiles whose
     // border pixels are not filtered yet.

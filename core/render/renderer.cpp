@@ -2,6 +2,7 @@
 
 #include "core/geom/tessellation.h"
 #include "core/render/adaptive_shading.h"
+#include "core/render/contrast_borders.h"
 #include "core/render/filter_borders.h"
 #include "core/render/lazy_tessellation.h"
 #include "core/render/pixel_filter.h"
@@ -87,9 +88,9 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
         if (settings.edgeAntiAliasing == 0 && o.shadingSamplesOverride && o.maxShadingSamples > o.shadingSamples)
             l.adaptive = true;
     (void)filter;
-    l.marginLeft = l.adaptive ? 2 : 0;
-    l.marginRight = l.adaptive ? 1 : 0;
-    l.marginTop = l.adaptive ? 1 : 0;
+    l.marginLeft = l.adaptive ? ContrastBorders::kLeft : 0;
+    l.marginRight = l.adaptive ? ContrastBorders::kRight : 0;
+    l.marginTop = l.adaptive ? ContrastBorders::kTop : 0;
     l.marginBottom = 0;
     return l;
 }
@@ -311,7 +312,8 @@ private:
     void renderTile(size_t index, Worker& w);
     // Writes pixel (x, y)'s filtered colour sums (c premultiplied, a not clamped) over the background.
     void writeColor(int x, int y, const double* c, double a);
-    // Tile `index` is rendered: with a multi-pixel filter, the border pixels of the tiles around it
+    // Tile `index` is rendered: what it kept for its neighbours' contrast tests may be read
+    // (ContrastBorders), and with a multi-pixel filter the border pixels of the tiles around it
     // that are now ready are filtered (FilterBorders::tileDone) and what they no longer need given back.
     void bordersDone(size_t index, Worker& w);
     void returnDroppedMemory();
@@ -356,6 +358,8 @@ private:
     LazyTessellations m_lazy;               // the tessellations, made when a tile first needs them
     std::optional<FilterBorders> m_borders;  // with a multi-pixel filter: what tiles share for it
     std::vector<cache::MemoryCharge> m_borderCharges;  // per tile: what m_borders keeps of it
+    std::optional<ContrastBorders> m_contrast;  // with adaptive shading: what tiles share for it
+    std::vector<cache::MemoryCharge> m_contrastCharges;  // per tile: what m_contrast keeps of it
     uint64_t m_perThreadBytes = 0;          // the share of each worker's buffers charged up front
     cache::MemoryCharge* m_tileShares = nullptr;  // setTileShares
     int m_shareThreads = 1;
@@ -917,8 +921,12 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
     auto tRaster = Clock::now();
     const PixelRect& tile = m_tiles[index];
     // The base region: the tile and the neighbours the contrast test of its pixels reads.
-    PixelRect base{std::max(m_region.x0, tile.x0 - m_marginLeft), std::max(m_region.y0, tile.y0 - m_marginTop),
-                   std::min(m_region.x1, tile.x1 + m_marginRight), std::min(m_region.y1, tile.y1 + m_marginBottom)};
+    // The pixels whose base colours the contrast test reads, and the base region rendered: the
+    // tile, widened only where those pixels lie in tiles not done yet (the rest come from what
+    // the tiles around kept, ContrastBorders).
+    const PixelRect colorsRect{std::max(m_region.x0, tile.x0 - m_marginLeft), std::max(m_region.y0, tile.y0 - m_marginTop),
+                               std::min(m_region.x1, tile.x1 + m_marginRight), std::min(m_region.y1, tile.y1 + m_marginBottom)};
+    const PixelRect base = m_contrast ? m_contrast->baseFor(index) : colorsRect;
     const int bw = base.width(), bh = base.height();
     auto baseIndex = [&](int x, int y) { return size_t(y - base.y0) * bw + (x - base.x0); };
 
@@ -1047,16 +1055,32 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
     w.adaptive.assign(size_t(bw) * bh, 0);
     if (m_adaptive) {
         const glm::vec3 bg(m_camera.backgroundColor);
-        w.baseColor.assign(size_t(bw) * bh, glm::vec3(0.0f));
-        for (size_t pi = 0; pi < size_t(bw) * bh; ++pi) {
-            glm::vec3 c(0.0f);
-            float a = 0.0f;
-            for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
-                c += glm::vec3(w.contributions[gi].color[0], w.contributions[gi].color[1], w.contributions[gi].color[2]);
-                a += w.contributions[gi].alpha;
+        const int cw = colorsRect.width();
+        auto colorIndex = [&](int x, int y) { return size_t(y - colorsRect.y0) * size_t(cw) + size_t(x - colorsRect.x0); };
+        w.baseColor.assign(size_t(cw) * size_t(colorsRect.height()), glm::vec3(0.0f));
+        for (int y = colorsRect.y0; y < colorsRect.y1; ++y)
+            for (int x = colorsRect.x0; x < colorsRect.x1; ++x) {
+                if (!base.contains(x, y)) {
+                    w.baseColor[colorIndex(x, y)] = m_contrast->colorAt(x, y);
+                    continue;
+                }
+                const size_t pi = baseIndex(x, y);
+                glm::vec3 c(0.0f);
+                float a = 0.0f;
+                for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
+                    c += glm::vec3(w.contributions[gi].color[0], w.contributions[gi].color[1], w.contributions[gi].color[2]);
+                    a += w.contributions[gi].alpha;
+                }
+                if (!m_settings.composite) c += bg * std::max(0.0f, 1.0f - a);
+                w.baseColor[colorIndex(x, y)] = c;
             }
-            if (!m_settings.composite) c += bg * std::max(0.0f, 1.0f - a);
-            w.baseColor[pi] = c;
+        if (m_contrast) {
+            // The base colours the neighbours' contrast tests read, kept for them (charged first).
+            const uint64_t bytes = m_contrast->bytesFor(index);
+            cache::MemoryCharge& charge = m_contrastCharges[index];
+            if (bytes > charge.bytes() && !withRoom(w, bytes - charge.bytes(), [&] { return charge.tryResize(bytes); }))
+                throw TileDoesNotFit{std::string(), bytes - charge.bytes()};
+            m_contrast->keep(index, [&](int x, int y) { return w.baseColor[colorIndex(x, y)]; });
         }
         const double thr[3] = {m_settings.redThreshold, m_settings.greenThreshold, m_settings.blueThreshold};
         w.groupExtraStart.assign(groupCount + 1, 0);
@@ -1065,7 +1089,7 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
         for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
                 size_t pi = baseIndex(x, y);
-                const double f = contrastExcess(w.baseColor, base, m_region, x, y, thr);
+                const double f = contrastExcess(w.baseColor, colorsRect, m_region, x, y, thr);
                 if (f <= 0.0) continue;
                 bool any = false;
                 for (uint32_t gi = w.pixelGroupStart[pi]; gi < w.pixelGroupStart[pi + 1]; ++gi) {
@@ -1192,6 +1216,7 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
 }
 
 void FrameRenderer::bordersDone(size_t index, Worker& w) {
+    if (m_contrast) m_contrast->markDone(index);
     if (!m_borders) return;
     const auto tFilter = Clock::now();
     m_borders->tileDone(
@@ -1220,6 +1245,12 @@ Framebuffer FrameRenderer::run() {
     if (m_options.adaptiveMask) m_options.adaptiveMask->assign(size_t(m_camera.width) * m_camera.height, 0);
     prepare();
     m_stats.pixels = uint64_t(m_region.width()) * m_region.height();
+    if (m_adaptive) {
+        m_contrast.emplace(m_region, m_tiles);
+        m_contrastCharges.clear();
+        for (size_t i = 0; i < m_tiles.size(); ++i)
+            m_contrastCharges.emplace_back(&m_budget, cache::MemoryCategory::Fragments, 0);
+    }
     if (m_filter.reach > 0) {
         m_borders.emplace(m_filter, m_region, m_tiles);
         m_borderCharges.clear();

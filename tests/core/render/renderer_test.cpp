@@ -292,6 +292,42 @@ TEST(Renderer, AMultiPixelFilterRendersNoApron) {
     }
 }
 
+// At the Highest level a tile renders only the margins the contrast test reads that lie in tiles
+// not done yet: rendered row by row, only the right margin, and the image keeps every bit.
+TEST(Renderer, TheContrastTestReadsDoneNeighboursInsteadOfAnApron) {
+    Scene sc(std::string(scene::demoSceneText()), "softSpotlight.ma");
+    render::RenderSettings s = sc.settings;
+    s.width = 160;
+    s.height = 120;
+    s.edgeAntiAliasing = 0;
+    s.shadingSamples = 1;
+    s.maxShadingSamples = 8;
+    s.numCpusToUse = 1;
+    s.tileWidth = 160;
+    s.tileHeight = 120;
+    const Rendered whole = sc.render(s);
+    s.tileWidth = s.tileHeight = 16;
+    const Rendered rows = sc.render(s);
+    s.numCpusToUse = 2;
+    const Rendered two = sc.render(s);
+    ASSERT_EQ(whole.image.rgba.size(), rows.image.rgba.size());
+    EXPECT_EQ(0, std::memcmp(whole.image.rgba.data(), rows.image.rgba.data(), whole.image.rgba.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(whole.image.rgba.data(), two.image.rgba.data(), whole.image.rgba.size() * sizeof(float)));
+    EXPECT_GT(rows.stats.shadingSamplesAdaptive, 0u);
+    // The whole margins of the 10 × 8 tiles (two columns left, one right, one row above, within
+    // the image; the last row of tiles is 8 pixels high) against the right margins of the tiles
+    // left of the last column, one pixel a row.
+    uint64_t margins = 0;
+    for (int ty = 0; ty < 8; ++ty)
+        for (int tx = 0; tx < 10; ++tx) {
+            const int x0 = std::max(0, 16 * tx - 2), x1 = std::min(160, 16 * tx + 17), y0 = std::max(0, 16 * ty - 1);
+            const int y1 = std::min(120, 16 * ty + 16);
+            margins += uint64_t(x1 - x0) * uint64_t(y1 - y0) - uint64_t(16 * (y1 - 16 * ty));
+        }
+    EXPECT_EQ(rows.stats.apronPixels, 9u * 120u) << "of " << margins;
+    EXPECT_LT(two.stats.apronPixels, margins);
+}
+
 // ---------------------------------------------------------------- deferred primitives
 
 // A lit sphere from a polySphere, a cube from a polyCube, a torus and a cylinder with n-gon caps,
@@ -435,7 +471,7 @@ TEST(Renderer, ObjectsHiddenInAWholeTileAreNeverTessellatedAndTheImageKeepsEvery
         s.useMultiPixelFilter = tile == 16;
         s.pixelFilterType = 2;
         s.maxShadingSamples = 8;
-        s.numCpusToUse = tile == 0 ? 1 : 2;
+        s.numCpusToUse = tile == 16 ? 2 : 1;
         if (tile) s.tileWidth = s.tileHeight = tile;
         const Rendered all = sc.render(s, {}, false);
         const Rendered skipped = sc.render(s, {}, true);
@@ -448,7 +484,11 @@ TEST(Renderer, ObjectsHiddenInAWholeTileAreNeverTessellatedAndTheImageKeepsEvery
         // made; the ten balls wholly behind the wall never are.
         EXPECT_EQ(all.stats.tessellationsMade, 19u);
         EXPECT_EQ(skipped.stats.tessellationsMade, 9u) << "tile " << tile;
-        EXPECT_EQ(skipped.stats.objectTileVisits + skipped.stats.skippedOccluded, all.stats.objectTileVisits);
+        // On two threads the contrast margins a tile renders depend on which tiles around it are
+        // done, so the objects its base region reaches may differ from one render to the next.
+        if (s.numCpusToUse == 1) {
+            EXPECT_EQ(skipped.stats.objectTileVisits + skipped.stats.skippedOccluded, all.stats.objectTileVisits);
+        }
     }
 }
 
