@@ -236,6 +236,16 @@ TEST(Renderer, BoxFilteredAlphaOfAPolygonIsItsExactArea) {
 
 // ---------------------------------------------------------------- determinism
 
+// `settings` at 160×120 with adaptive shading at the Highest level, one to eight samples.
+render::RenderSettings adaptiveAt160x120(render::RenderSettings s) {
+    s.width = 160;
+    s.height = 120;
+    s.edgeAntiAliasing = 0;
+    s.shadingSamples = 1;
+    s.maxShadingSamples = 8;
+    return s;
+}
+
 TEST(Renderer, SameImageWithOneOrTwoThreadsAndAnyTileSize) {
     Scene sc(std::string(scene::demoSceneText()), "softSpotlight.ma");
     for (int filter : {6, 2}) {
@@ -296,12 +306,7 @@ TEST(Renderer, AMultiPixelFilterRendersNoApron) {
 // not done yet: rendered row by row, only the right margin, and the image keeps every bit.
 TEST(Renderer, TheContrastTestReadsDoneNeighboursInsteadOfAnApron) {
     Scene sc(std::string(scene::demoSceneText()), "softSpotlight.ma");
-    render::RenderSettings s = sc.settings;
-    s.width = 160;
-    s.height = 120;
-    s.edgeAntiAliasing = 0;
-    s.shadingSamples = 1;
-    s.maxShadingSamples = 8;
+    render::RenderSettings s = adaptiveAt160x120(sc.settings);
     s.numCpusToUse = 1;
     s.tileWidth = 160;
     s.tileHeight = 120;
@@ -496,12 +501,7 @@ TEST(Renderer, ObjectsHiddenInAWholeTileAreNeverTessellatedAndTheImageKeepsEvery
 
 TEST(Renderer, AdaptiveShadingChangesOnlyTheHighContrastPixels) {
     Scene sc(std::string(scene::demoSceneText()), "softSpotlight.ma");
-    render::RenderSettings s = sc.settings;
-    s.width = 160;
-    s.height = 120;
-    s.edgeAntiAliasing = 0;
-    s.shadingSamples = 1;
-    s.maxShadingSamples = 8;
+    render::RenderSettings s = adaptiveAt160x120(sc.settings);
     s.useMultiPixelFilter = false;
     Rendered on = sc.render(s);
     s.maxShadingSamples = 1;  // adaptive shading off
