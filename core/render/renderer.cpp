@@ -1270,9 +1270,15 @@ Framebuffer FrameRenderer::run() {
     // rendered again afterwards, one at a time, with the whole budget to themselves.
     std::mutex deferredMutex;
     std::vector<size_t> deferred;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, m_tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    // The threads take the tiles in the plan's order from one counter, so that at any time they
+    // render tiles next to one another (along the Hilbert curve under a cap) and share what those
+    // tiles pin and find cached, instead of each working through a distant part of the frame.
+    std::atomic<size_t> nextTile{0};
+    const int takers = std::max(1, tbb::this_task_arena::max_concurrency());
+    tbb::parallel_for(0, takers, [&](int) {
         Worker& w = *workers.local();
-        for (size_t i = r.begin(); i != r.end(); ++i) {
+        for (size_t i = nextTile.fetch_add(1, std::memory_order_relaxed); i < m_tiles.size();
+             i = nextTile.fetch_add(1, std::memory_order_relaxed)) {
             const RenderStats before = w.stats;
             const RasterStats rasterBefore = w.rasterizer.stats();
             const ResolveStats resolveBefore = w.resolver.stats();
