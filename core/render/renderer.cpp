@@ -1270,15 +1270,35 @@ Framebuffer FrameRenderer::run() {
     // rendered again afterwards, one at a time, with the whole budget to themselves.
     std::mutex deferredMutex;
     std::vector<size_t> deferred;
-    // The threads take the tiles in the plan's order from one counter, so that at any time they
-    // render tiles next to one another (along the Hilbert curve under a cap) and share what those
-    // tiles pin and find cached, instead of each working through a distant part of the frame.
+    // The threads take the tiles in the plan's order from one counter, in runs of `chunk` tiles.
+    // When the budget holds less than a quarter of the tessellations the kept objects need, the
+    // runs are single tiles: the threads render tiles next to one another (along the Hilbert
+    // curve) and share what those tiles pin and find cached. Otherwise little is dropped, and
+    // runs of up to 32 tiles (at least four runs a thread) keep the threads from waiting on the
+    // pieces the other is making.
     std::atomic<size_t> nextTile{0};
     const int takers = std::max(1, tbb::this_task_arena::max_concurrency());
+    size_t chunk = std::clamp<size_t>(m_tiles.size() / (4 * size_t(takers)), 1, 32);
+    if (m_budget.capBytes() > 0) {
+        std::unordered_set<PieceKey, PieceKeyHash> pieces;
+        uint64_t tessellations = 0;
+        for (const UnitView& u : m_units) {
+            const geom::GeometryHandle* h = m_scene.objects[u.object].geometry.get();
+            if (u.kept && pieces.insert(PieceKey{h, u.piece}).second) tessellations += h->pieceBytesEstimate(u.piece);
+        }
+        if (m_budget.availableBytes() < tessellations / 4) chunk = 1;
+    }
     tbb::parallel_for(0, takers, [&](int) {
         Worker& w = *workers.local();
-        for (size_t i = nextTile.fetch_add(1, std::memory_order_relaxed); i < m_tiles.size();
-             i = nextTile.fetch_add(1, std::memory_order_relaxed)) {
+        size_t next = 0, runEnd = 0;
+        auto take = [&]() -> size_t {
+            if (next == runEnd) {
+                next = nextTile.fetch_add(chunk, std::memory_order_relaxed);
+                runEnd = std::min(m_tiles.size(), next + chunk);
+            }
+            return next < runEnd ? next++ : m_tiles.size();
+        };
+        for (size_t i = take(); i < m_tiles.size(); i = take()) {
             const RenderStats before = w.stats;
             const RasterStats rasterBefore = w.rasterizer.stats();
             const ResolveStats resolveBefore = w.resolver.stats();
