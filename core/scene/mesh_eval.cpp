@@ -1326,6 +1326,22 @@ bool storedMeshMakesWindows(Evaluator& ev, NodeId shape) {
     return next > 0 && next <= kMaxElements;
 }
 
+namespace {
+
+// table[place] = convert(values, width) for each id of `ids` stored as an element of multi
+// attribute `a` with at least `minWidth` numbers (read run by run of consecutive ids); the entries
+// of ids not stored are left as they are.
+template <class T, class Convert>
+void readAtPlaces(const AttrData& a, const geom::WindowIds& ids, int minWidth, std::vector<T>& table, Convert&& convert) {
+    ids.forEachRun([&](size_t place, uint32_t first, uint64_t end) {
+        forEachNumericIn(a, first, end, [&](uint64_t k, const double* v, int width) {
+            if (width >= minWidth) table[place + (k - first)] = convert(v, width);
+        });
+    });
+}
+
+}  // namespace
+
 std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId shape, const geom::MeshPieces& pieces,
                                                        size_t piece, uint64_t faceVertexCount) {
     if (shape >= g.size() || piece >= pieces.pieces().size()) return std::nullopt;
@@ -1408,12 +1424,7 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
             ids[i] = cornerEdges[i] >= 0 ? uint32_t(cornerEdges[i]) : uint32_t(~cornerEdges[i]);
         const geom::WindowIds walked(std::move(ids));
         std::vector<geom::MeshEdge> byPlace(walked.size());
-        if (ed)
-            walked.forEachRun([&](size_t place, uint32_t first, uint64_t end) {
-                forEachNumericIn(*ed, first, end, [&](uint64_t i, const double* v, int width) {
-                    if (width >= 2) byPlace[place + (i - first)] = storedEdge(v, width);
-                });
-            });
+        if (ed) readAtPlaces(*ed, walked, 2, byPlace, storedEdge);
         mesh.faceVertices.resize(cornerEdges.size());
         for (size_t i = 0; i < cornerEdges.size(); ++i) {
             const int32_t e = cornerEdges[i];
@@ -1427,11 +1438,8 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
     const geom::WindowIds points(mesh.faceVertices);
     for (uint32_t& q : mesh.faceVertices) q = points.place(q);
     mesh.points.assign(points.size(), glm::vec3(0.0f));
-    points.forEachRun([&](size_t place, uint32_t first, uint64_t end) {
-        forEachNumericIn(*vt, first, end, [&](uint64_t k, const double* v, int width) {
-            if (width >= 3) mesh.points[place + (k - first)] = glm::vec3(float(v[0]), float(v[1]), float(v[2]));
-        });
-    });
+    readAtPlaces(*vt, points, 3, mesh.points,
+                 [](const double* v, int) { return glm::vec3(float(v[0]), float(v[1]), float(v[2])); });
 
     // The uvs they use, the same way.
     if (mapsUvs) {
@@ -1443,11 +1451,7 @@ std::optional<geom::MeshWindow> decodeStoredMeshWindow(const Graph& g, NodeId sh
             if (id >= 0) id = int32_t(uvs.place(uint32_t(id)));
         set.uvs.assign(uvs.size(), glm::vec2(0.0f));
         if (uvPoints)
-            uvs.forEachRun([&](size_t place, uint32_t first, uint64_t end) {
-                forEachNumericIn(*uvPoints, first, end, [&](uint64_t k, const double* v, int width) {
-                    if (width >= 2) set.uvs[place + (k - first)] = glm::vec2(float(v[0]), float(v[1]));
-                });
-            });
+            readAtPlaces(*uvPoints, uvs, 2, set.uvs, [](const double* v, int) { return glm::vec2(float(v[0]), float(v[1])); });
         mesh.uvSets.push_back(std::move(set));
         mesh.currentUvSet = 0;
     }

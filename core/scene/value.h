@@ -99,8 +99,8 @@ constexpr size_t kMinCompactNumbers = 64;
 // Keeps a run of `count` elements of a multi attribute smaller when it may be: as floats when
 // `singlePrecision` and every number is finite within float range (the attribute's own storage in
 // Maya), as packed 32-bit integers (PackedInts, predicted one element back) when `integral` and
-// every number is one. Runs of fewer than
-// kMinCompactNumbers numbers, of elements wider than kMaxCompactWidth, or not in doubles are left.
+// every number is one. Runs of fewer than kMinCompactNumbers numbers, of elements wider than
+// kMaxCompactWidth, or not in doubles are left.
 inline void compactNumbers(Numbers& n, size_t count, bool singlePrecision, bool integral) {
     const size_t size = n.values.size();
     if (size < kMinCompactNumbers || count == 0 || size % count != 0 || size / count > kMaxCompactWidth) return;
