@@ -5,9 +5,9 @@
 
 namespace pushpin::render {
 
-ContrastBorders::ContrastBorders(const PixelRect& region, std::span<const PixelRect> tiles)
-    : m_index(region, tiles), m_kept(tiles.size()), m_done(std::make_unique<std::atomic<uint8_t>[]>(tiles.size())) {
-    for (size_t i = 0; i < tiles.size(); ++i) m_done[i].store(0, std::memory_order_relaxed);
+ContrastBorders::ContrastBorders(const TileIndex& index)
+    : m_index(index), m_kept(index.tiles().size()), m_done(std::make_unique<std::atomic<uint8_t>[]>(index.tiles().size())) {
+    for (size_t i = 0; i < m_kept.size(); ++i) m_done[i].store(0, std::memory_order_relaxed);
 }
 
 PixelRect ContrastBorders::withMargins(const PixelRect& tile) const {

@@ -35,8 +35,8 @@ public:
     // The margins of a tile the contrast test reads: left, right, top (none below).
     static constexpr int kLeft = 2, kRight = 1, kTop = 1;
 
-    // For `tiles` (disjoint, covering `region`).
-    ContrastBorders(const PixelRect& region, std::span<const PixelRect> tiles);
+    // For the tiles of `index`, which must outlive this.
+    explicit ContrastBorders(const TileIndex& index);
 
     // `tile` widened by the margins, within the region.
     PixelRect withMargins(const PixelRect& tile) const;
@@ -72,7 +72,7 @@ private:
         return size_t(y - t.y0) * 3 + k;
     }
 
-    TileIndex m_index;
+    const TileIndex& m_index;
     std::vector<std::vector<glm::vec3>> m_kept;
     std::unique_ptr<std::atomic<uint8_t>[]> m_done;
 };

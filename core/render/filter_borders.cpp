@@ -6,17 +6,17 @@
 
 namespace pushpin::render {
 
-FilterBorders::FilterBorders(const PixelFilter& filter, const PixelRect& region, std::span<const PixelRect> tiles)
-    : m_filter(filter), m_region(region), m_tiles(tiles.begin(), tiles.end()), m_kept(tiles.size()),
-      m_index(region, tiles) {
+FilterBorders::FilterBorders(const PixelFilter& filter, const TileIndex& index)
+    : m_filter(filter), m_index(index), m_kept(index.tiles().size()) {
+    const std::vector<PixelRect>& tiles = m_index.tiles();
     // Each tile's near tiles: those meeting it widened by the reach (a relation both ways).
     const int r = filter.reach;
-    m_nearStart.assign(m_tiles.size() + 1, 0);
-    m_waiting = std::make_unique<std::atomic<uint32_t>[]>(m_tiles.size());
-    m_readers = std::make_unique<std::atomic<uint32_t>[]>(m_tiles.size());
+    m_nearStart.assign(tiles.size() + 1, 0);
+    m_waiting = std::make_unique<std::atomic<uint32_t>[]>(tiles.size());
+    m_readers = std::make_unique<std::atomic<uint32_t>[]>(tiles.size());
     std::vector<uint32_t> found;
-    for (uint32_t i = 0; i < m_tiles.size(); ++i) {
-        const PixelRect& t = m_tiles[i];
+    for (uint32_t i = 0; i < tiles.size(); ++i) {
+        const PixelRect& t = tiles[i];
         m_index.tilesMeeting({t.x0 - r, t.y0 - r, t.x1 + r, t.y1 + r}, found);
         m_near.insert(m_near.end(), found.begin(), found.end());
         m_nearStart[i + 1] = uint32_t(m_near.size());
@@ -27,7 +27,7 @@ FilterBorders::FilterBorders(const PixelFilter& filter, const PixelRect& region,
 
 std::span<const FilterSurface> FilterBorders::surfacesAt(int x, int y) const {
     const uint32_t t = m_index.tileAt(x, y);
-    const PixelRect& r = m_tiles[t];
+    const PixelRect& r = m_index.tiles()[t];
     const Kept& k = m_kept[t];
     const size_t i = size_t(y - r.y0) * size_t(r.width()) + size_t(x - r.x0);
     if (i + 1 >= k.start.size()) throw std::logic_error("FilterBorders: a tile's surfaces were not kept");
@@ -35,13 +35,13 @@ std::span<const FilterSurface> FilterBorders::surfacesAt(int x, int y) const {
 }
 
 void FilterBorders::filterBorders(size_t index, const Write& write) const {
-    const PixelRect& t = m_tiles[index];
+    const PixelRect& t = m_index.tiles()[index];
     for (int y = t.y0; y < t.y1; ++y)
         for (int x = t.x0; x < t.x1; ++x) {
             if (completeIn(t, x, y)) continue;
             double c[3] = {0, 0, 0}, a = 0.0;
             gatherFiltered(
-                m_filter, m_region, x, y,
+                m_filter, m_index.region(), x, y,
                 [&](int sx, int sy, auto&& visit) {
                     for (const FilterSurface& s : surfacesAt(sx, sy)) visit(s.contribution, s.norm);
                 },
@@ -68,7 +68,7 @@ void FilterBorders::tileDone(size_t index, const Write& write, const Released& r
 }
 
 bool FilterBorders::allFiltered() const {
-    for (size_t i = 0; i < m_tiles.size(); ++i)
+    for (size_t i = 0; i < m_index.tiles().size(); ++i)
         if (m_readers[i].load(std::memory_order_acquire) != 0) return false;
     return true;
 }

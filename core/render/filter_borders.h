@@ -62,8 +62,8 @@ void gatherFiltered(const PixelFilter& filter, const PixelRect& sources, int x, 
 
 class FilterBorders {
 public:
-    // For `tiles` (disjoint, covering `region`) under `filter` (reach > 0).
-    FilterBorders(const PixelFilter& filter, const PixelRect& region, std::span<const PixelRect> tiles);
+    // For the tiles of `index` (which must outlive this) under `filter` (reach > 0).
+    FilterBorders(const PixelFilter& filter, const TileIndex& index);
 
     // Whether pixel (x, y) of `tile` has its whole filter window inside the tile (within the region).
     bool completeIn(const PixelRect& tile, int x, int y) const { return within(tile, x, y, m_filter.reach); }
@@ -79,7 +79,7 @@ public:
     template <class SurfacesOf>
     void keep(size_t index, SurfacesOf&& surfacesOf) {
         Kept& k = m_kept.at(index);
-        const PixelRect& t = m_tiles[index];
+        const PixelRect& t = m_index.tiles()[index];
         k.start.assign(size_t(t.width()) * size_t(t.height()) + 1, 0);
         k.surfaces.clear();
         size_t i = 0;
@@ -108,8 +108,9 @@ private:
     };
     // Whether the pixels within `r` of (x, y), inside the region, all lie in `tile`.
     bool within(const PixelRect& tile, int x, int y, int r) const {
-        return std::max(x - r, m_region.x0) >= tile.x0 && std::min(x + r, m_region.x1 - 1) < tile.x1 &&
-               std::max(y - r, m_region.y0) >= tile.y0 && std::min(y + r, m_region.y1 - 1) < tile.y1;
+        const PixelRect& region = m_index.region();
+        return std::max(x - r, region.x0) >= tile.x0 && std::min(x + r, region.x1 - 1) < tile.x1 &&
+               std::max(y - r, region.y0) >= tile.y0 && std::min(y + r, region.y1 - 1) < tile.y1;
     }
     // Filters the pixels of tile `index` that are not complete in it.
     void filterBorders(size_t index, const Write& write) const;
@@ -117,10 +118,8 @@ private:
     std::span<const FilterSurface> surfacesAt(int x, int y) const;
 
     PixelFilter m_filter;
-    PixelRect m_region;
-    std::vector<PixelRect> m_tiles;
+    const TileIndex& m_index;
     std::vector<Kept> m_kept;
-    TileIndex m_index;
     // The tiles near tile t (within the reach of it, t included): m_near[m_nearStart[t] ..
     // m_nearStart[t + 1]). m_waiting[t]: near tiles not done yet; m_readers[t]: near tiles whose
     // border pixels are not filtered yet.

@@ -73,8 +73,7 @@ struct FrameLayout {
     int marginLeft = 0, marginRight = 0, marginTop = 0, marginBottom = 0;
 };
 
-FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
-                        const PixelFilter& filter) {
+FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings) {
     FrameLayout l;
     l.region = {0, 0, camera.width, camera.height};
     if (settings.useRenderRegion) {
@@ -87,7 +86,6 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
     for (const RenderObject& o : scene.objects)
         if (settings.edgeAntiAliasing == 0 && o.shadingSamplesOverride && o.maxShadingSamples > o.shadingSamples)
             l.adaptive = true;
-    (void)filter;
     l.marginLeft = l.adaptive ? ContrastBorders::kLeft : 0;
     l.marginRight = l.adaptive ? ContrastBorders::kRight : 0;
     l.marginTop = l.adaptive ? ContrastBorders::kTop : 0;
@@ -329,6 +327,7 @@ private:
     }
     template <class Take>
     bool withRoom(Worker& w, uint64_t bytes, Take&& take);
+    void holdCharge(Worker& w, cache::MemoryCharge& charge, uint64_t bytes);
     void chargeBuffers(Worker& w);
     // The tessellation (pinned by the tile) holding triangle id `triangle` of `object`, and the
     // triangle's index in it.
@@ -356,6 +355,7 @@ private:
     std::deque<UnitView> m_units;           // per piece of each object's shape, object by object
     std::vector<PixelRect> m_tiles;
     LazyTessellations m_lazy;               // the tessellations, made when a tile first needs them
+    std::optional<TileIndex> m_tileIndex;    // which tile holds a pixel, for m_borders and m_contrast
     std::optional<FilterBorders> m_borders;  // with a multi-pixel filter: what tiles share for it
     std::vector<cache::MemoryCharge> m_borderCharges;  // per tile: what m_borders keeps of it
     std::optional<ContrastBorders> m_contrast;  // with adaptive shading: what tiles share for it
@@ -554,17 +554,22 @@ bool FrameRenderer::withRoom(Worker& w, uint64_t bytes, Take&& take) {
     }
 }
 
-// Charges what the worker's tile buffers have grown to beyond the share frameMemory() charged up
-// front, as the tile goes (withRoom). Throws TileDoesNotFit (no object named) when the budget
-// cannot hold them.
-void FrameRenderer::chargeBuffers(Worker& w) {
-    const uint64_t held = w.bytes(), extra = held > m_perThreadBytes ? held - m_perThreadBytes : 0;
-    if (extra <= w.bufferCharge.bytes()) {
-        w.bufferCharge.resize(extra);
+// Resizes `charge` to `bytes`, making room (withRoom) for what it grows by. Throws TileDoesNotFit
+// (no object named) when the budget cannot hold it.
+void FrameRenderer::holdCharge(Worker& w, cache::MemoryCharge& charge, uint64_t bytes) {
+    if (bytes <= charge.bytes()) {
+        charge.resize(bytes);
         return;
     }
-    const uint64_t more = extra - w.bufferCharge.bytes();
-    if (!withRoom(w, more, [&] { return w.bufferCharge.tryResize(extra); })) throw TileDoesNotFit{std::string(), more};
+    const uint64_t more = bytes - charge.bytes();
+    if (!withRoom(w, more, [&] { return charge.tryResize(bytes); })) throw TileDoesNotFit{std::string(), more};
+}
+
+// Charges what the worker's tile buffers have grown to beyond the share frameMemory() charged up
+// front, as the tile goes.
+void FrameRenderer::chargeBuffers(Worker& w) {
+    const uint64_t held = w.bytes();
+    holdCharge(w, w.bufferCharge, held > m_perThreadBytes ? held - m_perThreadBytes : 0);
 }
 
 // Gives back the pins of the tile's units that a copy of the triangles they gave the rasterizer
@@ -920,7 +925,6 @@ void FrameRenderer::returnDroppedMemory() {
 void FrameRenderer::renderTile(size_t index, Worker& w) {
     auto tRaster = Clock::now();
     const PixelRect& tile = m_tiles[index];
-    // The base region: the tile and the neighbours the contrast test of its pixels reads.
     // The pixels whose base colours the contrast test reads, and the base region rendered: the
     // tile, widened only where those pixels lie in tiles not done yet (the rest come from what
     // the tiles around kept, ContrastBorders).
@@ -1076,10 +1080,7 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
             }
         if (m_contrast) {
             // The base colours the neighbours' contrast tests read, kept for them (charged first).
-            const uint64_t bytes = m_contrast->bytesFor(index);
-            cache::MemoryCharge& charge = m_contrastCharges[index];
-            if (bytes > charge.bytes() && !withRoom(w, bytes - charge.bytes(), [&] { return charge.tryResize(bytes); }))
-                throw TileDoesNotFit{std::string(), bytes - charge.bytes()};
+            holdCharge(w, m_contrastCharges[index], m_contrast->bytesFor(index));
             m_contrast->keep(index, [&](int x, int y) { return w.baseColor[colorIndex(x, y)]; });
         }
         const double thr[3] = {m_settings.redThreshold, m_settings.greenThreshold, m_settings.blueThreshold};
@@ -1194,10 +1195,7 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
                     const size_t pi = baseIndex(x, y);
                     kept += w.pixelGroupStart[pi + 1] - w.pixelGroupStart[pi];
                 }
-        const uint64_t bytes = FilterBorders::bytesFor(tile, kept);
-        cache::MemoryCharge& charge = m_borderCharges[index];
-        if (bytes > charge.bytes() && !withRoom(w, bytes - charge.bytes(), [&] { return charge.tryResize(bytes); }))
-            throw TileDoesNotFit{std::string(), bytes - charge.bytes()};
+        holdCharge(w, m_borderCharges[index], FilterBorders::bytesFor(tile, kept));
         m_borders->keep(index, [&](int x, int y) {
             const size_t pi = baseIndex(x, y);
             w.filterSurfaces.clear();
@@ -1205,7 +1203,6 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
                 w.filterSurfaces.push_back({w.contributions[gi], w.contributionNorm[gi]});
             return std::span<const FilterSurface>(w.filterSurfaces);
         });
-        charge.resize(bytes);
     }
     w.stats.filterSeconds += secondsSince(tFilter);
     w.stats.apronPixels += uint64_t(base.width()) * base.height() - uint64_t(tile.width()) * tile.height();
@@ -1234,7 +1231,7 @@ void FrameRenderer::writeColor(int x, int y, const double* c, double a) {
 }
 
 Framebuffer FrameRenderer::run() {
-    const FrameLayout layout = frameLayout(m_scene, m_camera, m_settings, m_filter);
+    const FrameLayout layout = frameLayout(m_scene, m_camera, m_settings);
     m_region = layout.region;
     m_adaptive = layout.adaptive;
     m_marginLeft = layout.marginLeft;
@@ -1245,17 +1242,21 @@ Framebuffer FrameRenderer::run() {
     if (m_options.adaptiveMask) m_options.adaptiveMask->assign(size_t(m_camera.width) * m_camera.height, 0);
     prepare();
     m_stats.pixels = uint64_t(m_region.width()) * m_region.height();
+    // What tiles keep for their neighbours, charged tile by tile as "fragments".
+    auto chargePerTile = [&] {
+        std::vector<cache::MemoryCharge> charges;
+        charges.reserve(m_tiles.size());
+        for (size_t i = 0; i < m_tiles.size(); ++i) charges.emplace_back(&m_budget, cache::MemoryCategory::Fragments, 0);
+        return charges;
+    };
+    if (m_adaptive || m_filter.reach > 0) m_tileIndex.emplace(m_region, m_tiles);
     if (m_adaptive) {
-        m_contrast.emplace(m_region, m_tiles);
-        m_contrastCharges.clear();
-        for (size_t i = 0; i < m_tiles.size(); ++i)
-            m_contrastCharges.emplace_back(&m_budget, cache::MemoryCategory::Fragments, 0);
+        m_contrast.emplace(*m_tileIndex);
+        m_contrastCharges = chargePerTile();
     }
     if (m_filter.reach > 0) {
-        m_borders.emplace(m_filter, m_region, m_tiles);
-        m_borderCharges.clear();
-        for (size_t i = 0; i < m_tiles.size(); ++i)
-            m_borderCharges.emplace_back(&m_budget, cache::MemoryCategory::Fragments, 0);
+        m_borders.emplace(m_filter, *m_tileIndex);
+        m_borderCharges = chargePerTile();
     }
 
     auto tTiles = Clock::now();
@@ -1420,7 +1421,7 @@ uint64_t imageOutputBytes(int width, int height) {
 FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
                         const RenderOptions& options, int threads) {
     FrameMemory m;
-    const FrameLayout layout = frameLayout(scene, camera, settings, makePixelFilter(settings));
+    const FrameLayout layout = frameLayout(scene, camera, settings);
     const uint64_t pixels = uint64_t(std::max(camera.width, 0)) * uint64_t(std::max(camera.height, 0));
     m.framebufferBytes = pixels * 4 * sizeof(float) + (settings.depth.value_or(false) ? pixels * sizeof(float) : 0) +
                          (options.adaptiveMask ? pixels : 0) + imageOutputBytes(camera.width, camera.height);

@@ -17,7 +17,8 @@ TEST(ContrastBorders, RendersOnlyTheMarginsOfTilesNotDone) {
     std::vector<PixelRect> tiles;
     for (int ty = 0; ty < 2; ++ty)
         for (int tx = 0; tx < 3; ++tx) tiles.push_back({8 * tx, 8 * ty, 8 * tx + 8, 8 * ty + 8});
-    ContrastBorders b(region, tiles);
+    const TileIndex index(region, tiles);
+    ContrastBorders b(index);
     EXPECT_EQ(b.withMargins(tiles[0]), (PixelRect{0, 0, 9, 8})) << "the region's edges cut the margins";
     EXPECT_EQ(b.withMargins(tiles[4]), (PixelRect{6, 7, 17, 16}));
     // Nothing done: every margin is rendered.

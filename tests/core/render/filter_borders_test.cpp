@@ -24,7 +24,8 @@ PixelFilter reachOf(int reach) {
 TEST(FilterBorders, BorderPixelsAndTheKeptBandFollowSharedEdgesOnly) {
     const PixelRect region{0, 0, 16, 16};
     const std::vector<PixelRect> tiles{{0, 0, 8, 8}, {8, 0, 16, 8}, {0, 8, 8, 16}, {8, 8, 16, 16}};
-    const FilterBorders b(reachOf(1), region, tiles);
+    const TileIndex index(region, tiles);
+    const FilterBorders b(reachOf(1), index);
     const PixelRect& t = tiles[0];
     EXPECT_TRUE(b.completeIn(t, 0, 0)) << "the region's corner";
     EXPECT_TRUE(b.completeIn(t, 6, 6));
@@ -38,7 +39,8 @@ TEST(FilterBorders, BorderPixelsAndTheKeptBandFollowSharedEdgesOnly) {
     EXPECT_FALSE(b.needed(t, 0, 0));
     // One tile over the region: every pixel is complete and none is kept.
     const std::vector<PixelRect> one{region};
-    const FilterBorders whole(reachOf(2), region, one);
+    const TileIndex wholeIndex(region, one);
+    const FilterBorders whole(reachOf(2), wholeIndex);
     for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 16; ++x) {
             EXPECT_TRUE(whole.completeIn(region, x, y));
@@ -53,7 +55,8 @@ TEST(FilterBorders, FiltersEachBorderPixelOnceFromItsNeighboursSurfaces) {
     const PixelRect region{0, 0, 13, 11};
     const std::vector<PixelRect> tiles{{0, 0, 5, 4}, {5, 0, 13, 4}, {0, 4, 9, 11}, {9, 4, 13, 11}};
     const PixelFilter filter = reachOf(1);
-    FilterBorders b(filter, region, tiles);
+    const TileIndex index(region, tiles);
+    FilterBorders b(filter, index);
     // Pixel (x, y) has (x + y) % 3 surfaces, each of its own colour.
     auto surfacesOfPixel = [&](int x, int y) {
         std::vector<FilterSurface> out;
