@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <optional>
 #include <unordered_map>
@@ -25,6 +26,27 @@ namespace pushpin::geom {
 namespace {
 
 glm::dvec3 toD(const glm::vec3& v) { return glm::dvec3(v); }
+
+// Whether bad(i) holds for some i < n, looked for on all threads in runs when n is large (isolated:
+// a thread waiting for the runs takes no other work of its caller's).
+template <class Bad>
+bool anyOf(size_t n, Bad&& bad) {
+    constexpr size_t kRun = 65536;
+    auto scan = [&](size_t lo, size_t hi) {
+        bool found = false;
+        for (size_t i = lo; i < hi; ++i) found |= bad(i);
+        return found;
+    };
+    if (n <= 2 * kRun) return scan(0, n);
+    std::atomic<bool> found{false};
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(size_t(0), (n + kRun - 1) / kRun, [&](size_t r) {
+            if (!found.load(std::memory_order_relaxed) && scan(r * kRun, std::min(n, (r + 1) * kRun)))
+                found.store(true, std::memory_order_relaxed);
+        });
+    });
+    return found.load();
+}
 
 // Newell's method over one loop: twice the signed area vector of the polygon.
 glm::dvec3 newell(const Mesh& mesh, std::span<const uint32_t> loop) {
@@ -134,27 +156,34 @@ MeshValidation Mesh::validate() const {
     if (loopStarts.back() != faceVertices.size())
         error("loopStarts ends at " + std::to_string(loopStarts.back()) + " but there are " +
               std::to_string(faceVertices.size()) + " face-vertices");
-    for (size_t i = 1; i < loopStarts.size(); ++i)
-        if (loopStarts[i] < loopStarts[i - 1]) error("loopStarts decreases at loop " + std::to_string(i - 1));
+    // Each check below looks for a fault on all threads first, and lists the faults in order only
+    // when there is one.
+    if (anyOf(loopStarts.size() - 1, [&](size_t i) { return loopStarts[i + 1] < loopStarts[i]; }))
+        for (size_t i = 1; i < loopStarts.size(); ++i)
+            if (loopStarts[i] < loopStarts[i - 1]) error("loopStarts decreases at loop " + std::to_string(i - 1));
     if (faceLoopStarts.back() != loopCount())
         error("faceLoopStarts ends at " + std::to_string(faceLoopStarts.back()) + " but there are " +
               std::to_string(loopCount()) + " loops");
-    for (size_t i = 1; i < faceLoopStarts.size(); ++i)
-        if (faceLoopStarts[i] <= faceLoopStarts[i - 1]) error("face " + std::to_string(i - 1) + " has no loop");
+    if (anyOf(faceLoopStarts.size() - 1, [&](size_t i) { return faceLoopStarts[i + 1] <= faceLoopStarts[i]; }))
+        for (size_t i = 1; i < faceLoopStarts.size(); ++i)
+            if (faceLoopStarts[i] <= faceLoopStarts[i - 1]) error("face " + std::to_string(i - 1) + " has no loop");
     if (!v.errors.empty()) return v;
 
     const size_t nPoints = points.size();
     if (nPoints >= kMaxMeshPoints)
         error(std::to_string(nPoints) + " points: a mesh holds fewer than " + std::to_string(kMaxMeshPoints));
-    for (size_t i = 0; i < nPoints; ++i) {
+    auto notFinite = [&](size_t i) {
         const glm::vec3& p = points[i];
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-            error("point " + std::to_string(i) + " is not finite");
-    }
-    for (size_t i = 0; i < faceVertices.size(); ++i)
-        if (faceVertices[i] >= nPoints)
-            error("face-vertex " + std::to_string(i) + " uses point " + std::to_string(faceVertices[i]) +
-                  " of " + std::to_string(nPoints));
+        return !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z);
+    };
+    if (anyOf(nPoints, notFinite))
+        for (size_t i = 0; i < nPoints; ++i)
+            if (notFinite(i)) error("point " + std::to_string(i) + " is not finite");
+    if (anyOf(faceVertices.size(), [&](size_t i) { return faceVertices[i] >= nPoints; }))
+        for (size_t i = 0; i < faceVertices.size(); ++i)
+            if (faceVertices[i] >= nPoints)
+                error("face-vertex " + std::to_string(i) + " uses point " + std::to_string(faceVertices[i]) +
+                      " of " + std::to_string(nPoints));
     const size_t fvCount = faceVertices.size();
     if (!normals.empty() && normals.size() != fvCount)
         error(std::to_string(normals.size()) + " normals for " + std::to_string(fvCount) + " face-vertices");
@@ -165,9 +194,14 @@ MeshValidation Mesh::validate() const {
                   std::to_string(fvCount) + " face-vertices");
             continue;
         }
+        auto badUv = [&](size_t i) {
+            const int32_t id = set.faceVertexUvs[i];
+            return id < -1 || (id >= 0 && size_t(id) >= set.uvs.size());
+        };
+        if (!anyOf(set.faceVertexUvs.size(), badUv)) continue;
         for (size_t i = 0; i < set.faceVertexUvs.size(); ++i) {
             const int32_t id = set.faceVertexUvs[i];
-            if (id < -1 || (id >= 0 && size_t(id) >= set.uvs.size()))
+            if (badUv(i))
                 error("uv set '" + set.name + "' face-vertex " + std::to_string(i) + " uses uv " +
                       std::to_string(id) + " of " + std::to_string(set.uvs.size()));
         }
@@ -180,16 +214,22 @@ MeshValidation Mesh::validate() const {
                   " ids for " + std::to_string(fvCount) + " face-vertices");
             continue;
         }
+        auto badColor = [&](size_t i) {
+            const int32_t id = set.faceVertexColors[i];
+            return id < -1 || (id >= 0 && size_t(id) >= set.colors.size());
+        };
+        if (!anyOf(set.faceVertexColors.size(), badColor)) continue;
         for (size_t i = 0; i < set.faceVertexColors.size(); ++i) {
             const int32_t id = set.faceVertexColors[i];
-            if (id < -1 || (id >= 0 && size_t(id) >= set.colors.size()))
+            if (badColor(i))
                 error("colour set '" + set.name + "' face-vertex " + std::to_string(i) + " uses colour " +
                       std::to_string(id) + " of " + std::to_string(set.colors.size()));
         }
     }
-    for (size_t e = 0; e < edges.size(); ++e)
-        if (edges[e].v0 >= nPoints || edges[e].v1 >= nPoints)
-            error("edge " + std::to_string(e) + " uses a point out of range");
+    auto badEdge = [&](size_t e) { return edges[e].v0 >= nPoints || edges[e].v1 >= nPoints; };
+    if (anyOf(edges.size(), badEdge))
+        for (size_t e = 0; e < edges.size(); ++e)
+            if (badEdge(e)) error("edge " + std::to_string(e) + " uses a point out of range");
     if (!v.errors.empty()) return v;
 
     // Degenerate faces: a loop with fewer than three distinct points, or (nearly) zero area

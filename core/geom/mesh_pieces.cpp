@@ -2,6 +2,10 @@
 
 #include "core/util/release.h"
 
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_sort.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -163,44 +167,75 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
     MeshPieces out;
     maxSlots = std::max<uint32_t>(maxSlots, 1);
     const size_t faces = mesh.faceCount(), points = mesh.points.size();
-    auto bound = [&](size_t f) { return faceTriangleBound(mesh, faceMaterial, degenerate, f); };
+    // Each face's triangle-id bound, worked out once on all threads (a byte a face; a face of 255
+    // or more is worked out again where it is read).
+    constexpr size_t kRun = 16384;
+    const size_t runCount = (faces + kRun - 1) / kRun;
+    auto eachRun = [&](auto&& body) {
+        tbb::this_task_arena::isolate([&] {
+            tbb::parallel_for(size_t(0), runCount, [&](size_t r) { body(r * kRun, std::min(faces, (r + 1) * kRun)); });
+        });
+    };
+    std::vector<uint8_t> boundOf(faces);
+    eachRun([&](size_t lo, size_t hi) {
+        for (size_t f = lo; f < hi; ++f)
+            boundOf[f] = uint8_t(std::min<uint32_t>(faceTriangleBound(mesh, faceMaterial, degenerate, f), 255));
+    });
+    auto bound = [&](size_t f) -> uint32_t {
+        return boundOf[f] < 255 ? boundOf[f] : faceTriangleBound(mesh, faceMaterial, degenerate, f);
+    };
 
     // Each kept face's piece.
     std::vector<uint32_t> pieceOf(faces, kNotLocal);
     auto inFaceOrder = [&](auto&& visit) {
         for (size_t f = 0; f < faces; ++f)
-            if (const uint32_t n = bound(f); n > 0) visit(uint32_t(f), n);
+            if (boundOf[f] > 0) visit(uint32_t(f), bound(f));
     };
     uint32_t pieceCount = 0;
     bool spatial = false;
     if (layout == Layout::Spatial) {
         // Face centres (the mean of the outer loop's points) on a 1024³ grid over the cube around
-        // them, ordered along the Morton curve, ties by face.
+        // them, ordered along the Morton curve, ties by face. Runs of faces on all threads: each
+        // run's box and count of kept faces, then each run's keys at its place.
         auto centre = [&](size_t f) {
             glm::dvec3 c(0.0);
             const std::span<const uint32_t> loop = mesh.faceOuterLoop(f);
             for (uint32_t q : loop) c += glm::dvec3(mesh.points[q]);
             return c / double(std::max<size_t>(loop.size(), 1));
         };
-        Bounds3 box;
-        size_t kept = 0;
-        inFaceOrder([&](uint32_t f, uint32_t) {
-            box.extend(centre(f));
-            ++kept;
+        std::vector<Bounds3> runBox(runCount);
+        std::vector<size_t> runKeys(runCount + 1, 0);
+        eachRun([&](size_t lo, size_t hi) {
+            const size_t r = lo / kRun;
+            for (size_t f = lo; f < hi; ++f)
+                if (boundOf[f] > 0) {
+                    runBox[r].extend(centre(f));
+                    ++runKeys[r + 1];
+                }
         });
+        Bounds3 box;
+        for (size_t r = 0; r < runCount; ++r) {
+            box.extend(runBox[r]);
+            runKeys[r + 1] += runKeys[r];
+        }
         double extent = 0.0;
         for (int a = 0; a < 3; ++a) extent = std::max(extent, box.hi[a] - box.lo[a]);
         const double scale = extent > 0.0 && std::isfinite(extent) ? 1024.0 / extent : 0.0;
-        std::vector<uint64_t> keys;
-        keys.reserve(kept);
-        inFaceOrder([&](uint32_t f, uint32_t) {
-            const glm::dvec3 c = (centre(f) - box.lo) * scale;
-            uint32_t code = 0;
-            for (int a = 0; a < 3; ++a)
-                code |= spreadBits(uint32_t(std::clamp(c[a], 0.0, 1023.0))) << a;
-            keys.push_back(uint64_t(code) << 32 | f);
+        std::vector<uint64_t> keys(runKeys[runCount]);
+        eachRun([&](size_t lo, size_t hi) {
+            size_t at = runKeys[lo / kRun];
+            for (size_t f = lo; f < hi; ++f) {
+                if (boundOf[f] == 0) continue;
+                const glm::dvec3 c = (centre(f) - box.lo) * scale;
+                uint32_t code = 0;
+                for (int a = 0; a < 3; ++a)
+                    code |= spreadBits(uint32_t(std::clamp(c[a], 0.0, 1023.0))) << a;
+                keys[at++] = uint64_t(code) << 32 | f;
+            }
         });
-        std::sort(keys.begin(), keys.end());
+        // The keys are distinct: any sort gives the same order.
+        tbb::this_task_arena::isolate([&] { tbb::parallel_sort(keys.begin(), keys.end()); });
+        const size_t kept = keys.size();
         pieceCount = cutCells(keys, pieceOf, maxSlots, bound);
         util::release(keys);
         // A mesh whose faces lie in no spatial order gives runs of a face or two: cut in face
