@@ -1271,12 +1271,13 @@ Framebuffer FrameRenderer::run() {
     // rendered again afterwards, one at a time, with the whole budget to themselves.
     std::mutex deferredMutex;
     std::vector<size_t> deferred;
-    // The threads take the tiles in the plan's order from one counter, in runs of `chunk` tiles.
-    // When the budget holds less than a quarter of the tessellations the kept objects need, the
-    // runs are single tiles: the threads render tiles next to one another (along the Hilbert
+    // The threads take the tiles in the plan's order from one counter, in runs of at most `chunk`
+    // tiles. When the budget holds less than a quarter of the tessellations the kept objects need,
+    // the runs are single tiles: the threads render tiles next to one another (along the Hilbert
     // curve) and share what those tiles pin and find cached. Otherwise little is dropped, and
-    // runs of up to 32 tiles (at least four runs a thread) keep the threads from waiting on the
-    // pieces the other is making.
+    // runs of up to 32 tiles keep the threads from waiting on the pieces the other is making. A
+    // run takes a quarter of a thread's share of the tiles left, so that the runs shrink towards
+    // the end of the frame and the threads finish together.
     std::atomic<size_t> nextTile{0};
     const int takers = std::max(1, tbb::this_task_arena::max_concurrency());
     size_t chunk = std::clamp<size_t>(m_tiles.size() / (4 * size_t(takers)), 1, 32);
@@ -1294,8 +1295,10 @@ Framebuffer FrameRenderer::run() {
         size_t next = 0, runEnd = 0;
         auto take = [&]() -> size_t {
             if (next == runEnd) {
-                next = nextTile.fetch_add(chunk, std::memory_order_relaxed);
-                runEnd = std::min(m_tiles.size(), next + chunk);
+                const size_t taken = std::min(m_tiles.size(), nextTile.load(std::memory_order_relaxed));
+                const size_t run = std::clamp<size_t>((m_tiles.size() - taken) / (4 * size_t(takers)), 1, chunk);
+                next = nextTile.fetch_add(run, std::memory_order_relaxed);
+                runEnd = std::min(m_tiles.size(), next + run);
             }
             return next < runEnd ? next++ : m_tiles.size();
         };
