@@ -22,6 +22,9 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -1196,87 +1199,134 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     const size_t missing = size_t(std::count(faceRun.begin(), faceRun.end(), kNoRun));
     if (missing) note(std::to_string(missing) + " face indices have no polyFaces record");
 
-    // The mesh's arrays are sized once from the records (no growth, no spare capacity): the
-    // corners, loops and faces, the uv ids of each set and the colour ids when there are colours.
-    size_t totalCorners = 0, totalLoops = 0, totalFaces = 0;
-    for (size_t f = 0; f < faceRun.size(); ++f) {
-        if (faceRun[f] == kNoRun) continue;
-        const PolyFaces& pf = *runs[faceRun[f]];
-        ++totalFaces;
-        for (size_t loop : pf.loops(size_t(f - runFirst[faceRun[f]]))) {
-            ++totalLoops;
-            totalCorners += pf.edgeCount(loop);
+    // The faces are read in runs of record faces on all threads (isolated: a thread waiting for the
+    // runs takes no other work of its caller's): first each run's count of faces, loops and
+    // corners, then each run writes its part of the mesh's arrays, sized once from the counts (no
+    // growth, no spare capacity), with the uv ids of each set and the colour ids when there are
+    // colours. What a run finds is added up, and the first run with a broken face names it.
+    constexpr size_t kRun = 8192;
+    const size_t runCount = (faceRun.size() + kRun - 1) / kRun;
+    auto eachRun = [&](auto&& body) {
+        tbb::this_task_arena::isolate([&] {
+            tbb::parallel_for(size_t(0), runCount, [&](size_t r) { body(r, r * kRun, std::min(faceRun.size(), (r + 1) * kRun)); });
+        });
+    };
+    struct RunCounts {
+        size_t faces = 0, loops = 0, corners = 0;
+    };
+    std::vector<RunCounts> runStart(runCount + 1);
+    eachRun([&](size_t r, size_t lo, size_t hi) {
+        RunCounts& c = runStart[r + 1];
+        for (size_t f = lo; f < hi; ++f) {
+            if (faceRun[f] == kNoRun) continue;
+            const PolyFaces& pf = *runs[faceRun[f]];
+            ++c.faces;
+            for (size_t loop : pf.loops(size_t(f - runFirst[faceRun[f]]))) {
+                ++c.loops;
+                c.corners += pf.edgeCount(loop);
+            }
         }
+    });
+    for (size_t r = 0; r < runCount; ++r) {
+        runStart[r + 1].faces += runStart[r].faces;
+        runStart[r + 1].loops += runStart[r].loops;
+        runStart[r + 1].corners += runStart[r].corners;
     }
-    mesh.faceVertices.reserve(totalCorners);
-    mesh.loopStarts.reserve(totalLoops + 1);
-    mesh.faceLoopStarts.reserve(totalFaces + 1);
+    const RunCounts total = runStart[runCount];
+    if (total.corners >= UINT32_MAX || total.loops >= UINT32_MAX)
+        return fail(who + std::to_string(total.corners) + " face-vertices: too many for one mesh");
+    mesh.faceVertices.resize(total.corners);
+    mesh.loopStarts.assign(total.loops + 1, 0);
+    mesh.faceLoopStarts.assign(total.faces + 1, 0);
     // A set without uvs can take no uv id: it gets no table.
     std::vector<std::vector<int32_t>> setIds(mesh.uvSets.size());
     for (size_t s = 0; s < mesh.uvSets.size(); ++s)
-        if (!mesh.uvSets[s].uvs.empty()) setIds[s].assign(totalCorners, -1);
-    std::vector<int32_t> colorIds(mesh.colorSets.empty() ? 0 : totalCorners, -1);
-    bool anyColor = false;
-    size_t brokenLoops = 0, badUvIds = 0, unknownUvSets = 0;
-    std::vector<uint32_t> verts;
-    std::vector<int32_t> edgeScratch, idScratch;
-    auto appendLoop = [&](const PolyFaces& pf, size_t loop, bool hole) -> bool {
-        const std::span<const int32_t> loopEdges = pf.edges(loop, edgeScratch);
-        verts.clear();
-        uint32_t previousEnd = 0;
-        bool meets = true;
-        for (size_t i = 0; i < loopEdges.size(); ++i) {
-            const int32_t e = loopEdges[i];
-            const uint32_t idx = e >= 0 ? uint32_t(e) : uint32_t(~e);
-            if (idx >= edges.size()) return false;
-            const uint32_t start = e >= 0 ? edges[idx].v0 : edges[idx].v1;
-            const uint32_t end = e >= 0 ? edges[idx].v1 : edges[idx].v0;
-            if (i > 0 && start != previousEnd) meets = false;
-            previousEnd = end;
-            verts.push_back(start);
-        }
-        if (!verts.empty() && previousEnd != verts.front()) meets = false;
-        if (!meets) ++brokenLoops;
-        const size_t base = mesh.faceVertices.size();
-        if (hole) mesh.addHole(verts);
-        else mesh.addFace(verts);
-        for (size_t k = 0; k < pf.uvCount(loop); ++k) {
-            const PolyFaces::Uv uv = pf.uv(loop, k, idScratch);
-            const auto it = uvSetByIndex.find(uint32_t(uv.set));
-            if (it == uvSetByIndex.end()) {
-                ++unknownUvSets;
-                continue;
+        if (!mesh.uvSets[s].uvs.empty()) setIds[s].assign(total.corners, -1);
+    std::vector<int32_t> colorIds(mesh.colorSets.empty() ? 0 : total.corners, -1);
+    struct RunFound {
+        size_t brokenLoops = 0, badUvIds = 0, unknownUvSets = 0;
+        bool anyColor = false;
+        std::string failure;  // the run's first face that uses an edge that does not exist
+    };
+    std::vector<RunFound> found(runCount);
+    eachRun([&](size_t r, size_t lo, size_t hi) {
+        RunFound& out = found[r];
+        std::vector<int32_t> edgeScratch, idScratch;
+        size_t corner = runStart[r].corners, loopAt = runStart[r].loops, faceAt = runStart[r].faces;
+        // Writes `loop`'s points at the next corners; false when it uses an edge that does not exist.
+        auto readLoop = [&](const PolyFaces& pf, size_t loop) -> bool {
+            const std::span<const int32_t> loopEdges = pf.edges(loop, edgeScratch);
+            const size_t base = corner;
+            uint32_t previousEnd = 0, first = 0;
+            bool meets = true;
+            for (size_t i = 0; i < loopEdges.size(); ++i) {
+                const int32_t e = loopEdges[i];
+                const uint32_t idx = e >= 0 ? uint32_t(e) : uint32_t(~e);
+                if (idx >= edges.size()) return false;
+                const uint32_t start = e >= 0 ? edges[idx].v0 : edges[idx].v1;
+                const uint32_t end = e >= 0 ? edges[idx].v1 : edges[idx].v0;
+                if (i == 0) first = start;
+                else if (start != previousEnd) meets = false;
+                previousEnd = end;
+                mesh.faceVertices[base + i] = start;
             }
-            const size_t s = it->second;
-            for (size_t i = 0; i < uv.ids.size() && i < verts.size(); ++i) {
-                const int32_t id = uv.ids[i];
-                if (id < 0 || size_t(id) >= mesh.uvSets[s].uvs.size()) {
-                    ++badUvIds;
+            if (!loopEdges.empty() && previousEnd != first) meets = false;
+            if (!meets) ++out.brokenLoops;
+            const size_t count = loopEdges.size();
+            corner += count;
+            mesh.loopStarts[++loopAt] = uint32_t(corner);
+            for (size_t k = 0; k < pf.uvCount(loop); ++k) {
+                const PolyFaces::Uv uv = pf.uv(loop, k, idScratch);
+                const auto it = uvSetByIndex.find(uint32_t(uv.set));
+                if (it == uvSetByIndex.end()) {
+                    ++out.unknownUvSets;
                     continue;
                 }
-                setIds[s][base + i] = id;
+                const size_t s = it->second;
+                for (size_t i = 0; i < uv.ids.size() && i < count; ++i) {
+                    const int32_t id = uv.ids[i];
+                    if (id < 0 || size_t(id) >= mesh.uvSets[s].uvs.size()) {
+                        ++out.badUvIds;
+                        continue;
+                    }
+                    setIds[s][base + i] = id;
+                }
             }
-        }
-        const std::span<const int32_t> colors = mesh.colorSets.empty() ? std::span<const int32_t>() : pf.colors(loop, idScratch);
-        for (size_t i = 0; i < colors.size() && i < verts.size(); ++i) {
-            const int32_t id = colors[i];
-            if (!mesh.colorSets.empty() && id >= 0 && size_t(id) < mesh.colorSets[0].colors.size()) {
-                colorIds[base + i] = id;
-                anyColor = true;
+            const std::span<const int32_t> colors = mesh.colorSets.empty() ? std::span<const int32_t>() : pf.colors(loop, idScratch);
+            for (size_t i = 0; i < colors.size() && i < count; ++i) {
+                const int32_t id = colors[i];
+                if (id >= 0 && size_t(id) < mesh.colorSets[0].colors.size()) {
+                    colorIds[base + i] = id;
+                    out.anyColor = true;
+                }
             }
+            return true;
+        };
+        for (size_t f = lo; f < hi; ++f) {
+            if (faceRun[f] == kNoRun) continue;
+            const PolyFaces& pf = *runs[faceRun[f]];
+            const auto loops = pf.loops(size_t(f - runFirst[faceRun[f]]));
+            if (!readLoop(pf, loops.front())) {
+                out.failure = "face " + std::to_string(f) + " uses an edge that does not exist (of " +
+                              std::to_string(edges.size()) + ")";
+                return;
+            }
+            for (size_t k = 1; k < loops.size(); ++k)
+                if (!readLoop(pf, loops[k])) {
+                    out.failure = "a hole of face " + std::to_string(f) + " uses an edge that does not exist";
+                    return;
+                }
+            mesh.faceLoopStarts[++faceAt] = uint32_t(loopAt);
         }
-        return true;
-    };
-    for (size_t f = 0; f < faceRun.size(); ++f) {
-        if (faceRun[f] == kNoRun) continue;
-        const PolyFaces& pf = *runs[faceRun[f]];
-        const auto loops = pf.loops(size_t(f - runFirst[faceRun[f]]));
-        if (!appendLoop(pf, loops.front(), false))
-            return fail(who + "face " + std::to_string(f) + " uses an edge that does not exist (of " +
-                        std::to_string(edges.size()) + ")");
-        for (size_t k = 1; k < loops.size(); ++k)
-            if (!appendLoop(pf, loops[k], true))
-                return fail(who + "a hole of face " + std::to_string(f) + " uses an edge that does not exist");
+    });
+    size_t brokenLoops = 0, badUvIds = 0, unknownUvSets = 0;
+    bool anyColor = false;
+    for (const RunFound& r : found) {
+        if (!r.failure.empty()) return fail(who + r.failure);
+        brokenLoops += r.brokenLoops;
+        badUvIds += r.badUvIds;
+        unknownUvSets += r.unknownUvSets;
+        anyColor |= r.anyColor;
     }
     if (brokenLoops) note(std::to_string(brokenLoops) + " face loops whose edges do not meet");
     if (badUvIds) note(std::to_string(badUvIds) + " uv ids out of range were dropped");
