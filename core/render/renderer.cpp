@@ -1,19 +1,12 @@
 #include "core/render/renderer.h"
 
 #include "core/geom/tessellation.h"
-#include "core/render/adaptive_shading.h"
+#include "core/render/camera_space.h"
 #include "core/render/contrast_borders.h"
-#include "core/render/filter_borders.h"
-#include "core/render/lazy_tessellation.h"
-#include "core/render/pixel_filter.h"
-#include "core/render/shading_points.h"
-#include "core/render/tile_objects.h"
+#include "core/render/detail/tile_worker.h"
+#include "core/render/tile_index.h"
 #include "core/render/tile_plan.h"
-#include "core/render/visibility.h"
-#include "core/render/visible_set.h"
-#include "core/util/json_writer.h"
 #include "core/util/process_memory.h"
-#include "core/util/release.h"
 
 #include "cache/error.h"
 #include "cache/lru_cache.h"
@@ -55,6 +48,13 @@ namespace pushpin::render {
 static_assert(kNoTriangle == geom::kNoNeighbor && kHardEdgeBit == geom::kHardNeighborBit,
               "ObjectTopology reads Tessellation::neighbors as they are");
 
+using detail::ObjectView;
+using detail::PendingBatch;
+using detail::SampleResult;
+using detail::TileCopy;
+using detail::TileWorker;
+using detail::UnitView;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -63,218 +63,11 @@ double secondsSince(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// ---------------------------------------------------------------- frame layout
-// The pixels rendered and the apron each tile needs around it for the contrast test, fixed before
-// anything is allocated (frameMemory() sizes the buffers from it). The multi-pixel filter needs
-// none: the pixels whose window reaches past their tile are filtered at the end (filter_borders.h).
-struct FrameLayout {
-    PixelRect region;   // the render region or the whole image
-    bool adaptive = false;
-    int marginLeft = 0, marginRight = 0, marginTop = 0, marginBottom = 0;
-};
-
-FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings) {
-    FrameLayout l;
-    l.region = {0, 0, camera.width, camera.height};
-    if (settings.useRenderRegion) {
-        // Maya's region counts rows from the bottom, inclusive.
-        PixelRect r{settings.left, camera.height - 1 - settings.top, settings.rght + 1, camera.height - settings.bot};
-        l.region = {std::clamp(r.x0, 0, camera.width), std::clamp(r.y0, 0, camera.height),
-                    std::clamp(r.x1, 0, camera.width), std::clamp(r.y1, 0, camera.height)};
-    }
-    l.adaptive = settings.edgeAntiAliasing == 0 && settings.maxShadingSamples > settings.shadingSamples;
-    for (const RenderObject& o : scene.objects)
-        if (settings.edgeAntiAliasing == 0 && o.shadingSamplesOverride && o.maxShadingSamples > o.shadingSamples)
-            l.adaptive = true;
-    l.marginLeft = l.adaptive ? ContrastBorders::kLeft : 0;
-    l.marginRight = l.adaptive ? ContrastBorders::kRight : 0;
-    l.marginTop = l.adaptive ? ContrastBorders::kTop : 0;
-    l.marginBottom = 0;
-    return l;
-}
-
-// ---------------------------------------------------------------- per-object view data
-// Where one object sits for this camera (visible_set.h), found once per frame without its
-// triangles, and the lights of each material slot in camera space. Each tile projects the
-// triangles it needs from the object's tessellation.
-struct ObjectView : ObjectPlacement {
-    std::vector<std::vector<shade::Light>> slotLights;  // per material slot, camera space
-    std::vector<uint8_t> slotTransparent;                // per material slot
-    bool mayOcclude = false;  // some material slot is opaque
-    uint32_t firstUnit = 0, unitCount = 0;  // its units: one per piece of its shape
-};
-
-// One piece of an object's shape (the whole shape when it is one piece), the thing a tile lists,
-// orders by depth, tests for occlusion and rasterizes: where its piece's bounds fall on the
-// screen, and the screen boxes of its tessellation's clusters.
-struct UnitView : ScreenBox {
-    uint32_t object = 0, piece = 0;
-    bool kept = false;
-    // Screen boxes of the tessellation's clusters, made by the first tile that needs them.
-    std::once_flag clustersMade;
-    std::vector<glm::dvec4> clusterBoxes;  // (x0, y0, x1, y1)
-};
-
-// The camera-space position of an object-space point, and the unit camera-space normal of an
-// object-space normal (zero when it has no direction), exactly as every stage computes them.
-// Both stay in double precision: GCC may keep a double rounded to float at double precision in
-// C++ (its excess precision), so a round trip through float would give whatever the optimizer
-// chose, and images that differ from one build to the next.
-glm::dvec3 cameraPoint(const glm::dmat4& cameraFromObject, const glm::vec3& p) {
-    return glm::dvec3(cameraFromObject * glm::dvec4(glm::dvec3(p), 1.0));
-}
-glm::dvec3 cameraNormal(const glm::dmat3& normalToCamera, const glm::vec3& n) {
-    const glm::dvec3 c = normalToCamera * glm::dvec3(n);
-    const double len = glm::length(c);
-    return len > 0.0 && std::isfinite(len) ? c / len : glm::dvec3(0.0);
-}
-
-// Near-plane clip of a camera-space triangle (keeps z <= -near). Returns 0, 3 or 4 vertices.
-int clipNear(const glm::dvec3 in[3], double nearZ, glm::dvec3 out[4]) {
-    int n = 0;
-    for (int i = 0; i < 3; ++i) {
-        const glm::dvec3& a = in[i];
-        const glm::dvec3& b = in[(i + 1) % 3];
-        bool aIn = a.z <= nearZ, bIn = b.z <= nearZ;
-        if (aIn) out[n++] = a;
-        if (aIn != bIn) {
-            double t = (nearZ - a.z) / (b.z - a.z);
-            out[n++] = a + (b - a) * t;
-        }
-    }
-    return n;
-}
-
-// ---------------------------------------------------------------- shading requests
-struct SampleResult {
-    float color[3];
-    float transparency[3];
-};
-
-struct PendingBatch {
-    uint32_t object = 0;
-    uint32_t slot = 0;
-    std::unique_ptr<shade::ShadingBatch> batch = std::make_unique<shade::ShadingBatch>();
-    std::array<uint32_t, shade::kBatchSize> target{};  // index into the tile's sample results
-};
-
 // A tile whose tessellations do not fit in the memory budget beside what other tiles hold.
 struct TileDoesNotFit {
     std::string object;  // the object whose tessellation found no room
     uint64_t bytes = 0;  // its estimated size
     PixelRect tile;
-};
-
-// A tile's own copy of the triangles one of its units gave the rasterizer, made under a cap when
-// the tessellations the tile pins leave no room for the next one it needs: the unit's pin is then
-// let go and the tile shades from the copy. Triangle i of `tessellation` (with its vertices,
-// face, material and neighbours as the unit's tessellation has them) is the unit's triangle
-// ids[i]; `ids` ascend.
-struct TileCopy {
-    geom::Tessellation tessellation;
-    std::vector<uint32_t> ids;
-    cache::MemoryCharge charge;
-};
-
-// One thread's reusable state.
-struct Worker {
-    Worker(const SubsamplePattern& pattern, size_t units, size_t objects)
-        : tessellation(units, nullptr), copiedIds(units, nullptr), topology(objects), pieceTopology(objects),
-          rasterizer(pattern), resolver(pattern, topology) {}
-    // The tile's units, front to back, with their tessellations pinned for the tile's life;
-    // `tessellation` is indexed by unit, `topology` by object, and both are set for the tile's
-    // units only. An object in pieces lists them in `pieceTopology` (one entry per piece, made on
-    // first use), which its `topology` entry points to.
-    std::vector<uint32_t> tileObjects;
-    std::vector<LazyTessellations::Pin> pins;
-    std::vector<uint32_t> pinnedUnits;  // the unit of each pin
-    std::vector<const geom::Tessellation*> tessellation;
-    // Under a cap: the triangles each unit gave the rasterizer in this tile (ascending offsets in
-    // its tessellation, one run per unit), and the tile's copies of units whose pins were let go
-    // (copiedIds, by unit: the copy's ids, null for a unit read from its pinned tessellation).
-    struct SubmittedRun {
-        uint32_t unit = 0, begin = 0, end = 0;
-    };
-    std::vector<uint32_t> submitted;
-    std::vector<SubmittedRun> submittedRuns;
-    std::vector<const std::vector<uint32_t>*> copiedIds;
-    std::vector<std::unique_ptr<TileCopy>> copies;
-    std::vector<ObjectTopology> topology;
-    std::vector<std::vector<TopologyPiece>> pieceTopology;
-    TileRasterizer rasterizer;
-    PixelResolver resolver;
-    shade::ShadingScratch scratch;
-    std::unique_ptr<shade::ShadingResult> result = std::make_unique<shade::ShadingResult>();
-    // Open batches, one per (object, material slot) met in the tile. Entries are reused across
-    // tiles (a batch is several kilobytes); `pendingCount` are in use.
-    std::vector<PendingBatch> pending;
-    size_t pendingCount = 0;
-    std::unordered_map<uint64_t, uint32_t> pendingIndex;  // (object << 32 | slot) → entry
-    // tile storage
-    std::vector<uint32_t> pixelGroupStart;   // base region pixel → first group (+1 end)
-    std::vector<SurfaceGroup> groups;        // memberBegin rebased into `members`
-    std::vector<Fragment> members;
-    std::vector<float> nearestDepth;         // per base-region pixel
-    std::vector<uint32_t> groupSampleStart;  // group → first base sample result (+1 end)
-    std::vector<SampleResult> samples;       // base samples, group by group, in order
-    std::vector<uint32_t> groupExtraStart;   // group → first adaptive sample result (+1 end)
-    std::vector<SampleResult> extraSamples;
-    std::vector<SurfaceShade> shades;        // per group
-    std::vector<SurfaceContribution> contributions;  // per group
-    std::vector<float> contributionNorm;     // per group: sum of filter weights over target pixels
-    std::vector<FilterSurface> filterSurfaces;  // one pixel's surfaces as the tile keeps them
-    std::vector<glm::vec3> baseColor;        // per base-region pixel, for the contrast test
-    std::vector<uint8_t> adaptive;           // per base-region pixel
-    // occlusion (rasterizeTile): objects waiting behind nearer ones, and per base-region pixel the
-    // depth behind which the fragments rasterized so far hide everything
-    std::vector<uint32_t> waiting;
-    NearOccluders occluders;
-    OcclusionMap occlusion;
-    RenderStats stats;
-    // What the buffers above hold beyond the fixed share frameMemory() charges per thread; they
-    // grow with the fragments of the busiest tile so far.
-    cache::MemoryCharge bufferCharge;
-
-    // Gives back what the tile buffers grew to (an idle thread's, while deferred tiles render).
-    void releaseBuffers(uint64_t fixedShare) {
-        rasterizer.releaseMemory();
-        resolver.releaseMemory();
-        util::release(pixelGroupStart);
-        util::release(groups);
-        util::release(members);
-        util::release(nearestDepth);
-        util::release(groupSampleStart);
-        util::release(samples);
-        util::release(groupExtraStart);
-        util::release(extraSamples);
-        util::release(shades);
-        util::release(contributions);
-        util::release(contributionNorm);
-        util::release(baseColor);
-        util::release(adaptive);
-        util::release(waiting);
-        util::release(submitted);
-        util::release(submittedRuns);
-        occlusion.release();
-        util::release(pending);
-        pendingCount = 0;
-        util::release(pendingIndex);
-        const uint64_t held = bytes();
-        bufferCharge.resize(held > fixedShare ? held - fixedShare : 0);
-    }
-
-    uint64_t bytes() const {
-        auto cap = [](const auto& v) { return uint64_t(v.capacity()) * sizeof(v[0]); };
-        uint64_t b = rasterizer.bytes() + resolver.bytes() + cap(pixelGroupStart) + cap(groups) + cap(members) +
-                     cap(nearestDepth) + cap(groupSampleStart) + cap(samples) + cap(groupExtraStart) + cap(extraSamples) +
-                     cap(shades) + cap(contributions) + cap(contributionNorm) + cap(baseColor) + cap(adaptive) +
-                     cap(tileObjects) + cap(pins) + cap(pinnedUnits) + cap(tessellation) + cap(topology) +
-                     cap(pieceTopology) + cap(submitted) + cap(submittedRuns) + cap(copiedIds) + cap(copies) +
-                     cap(waiting) + occlusion.bytes();
-        for (const std::vector<TopologyPiece>& p : pieceTopology) b += cap(p);
-        b += uint64_t(pending.size()) * (sizeof(shade::ShadingBatch) + sizeof(PendingBatch));
-        return b;
-    }
 };
 
 class FrameRenderer {
@@ -307,37 +100,37 @@ private:
         return {m_region.x0 - m_marginRight, m_region.y0 - m_marginBottom, m_region.x1 + m_marginLeft,
                 m_region.y1 + m_marginTop};
     }
-    void renderTile(size_t index, Worker& w);
+    void renderTile(size_t index, TileWorker& w);
     // Writes pixel (x, y)'s filtered colour sums (c premultiplied, a not clamped) over the background.
     void writeColor(int x, int y, const double* c, double a);
     // Tile `index` is rendered: what it kept for its neighbours' contrast tests may be read
     // (ContrastBorders), and with a multi-pixel filter the border pixels of the tiles around it
     // that are now ready are filtered (FilterBorders::tileDone) and what they no longer need given back.
-    void bordersDone(size_t index, Worker& w);
+    void bordersDone(size_t index, TileWorker& w);
     void returnDroppedMemory();
     void planFrameTiles();
-    void rasterizeTile(const PixelRect& base, Worker& w);
-    void addObjectTriangles(uint32_t unit, const PixelRect& base, Worker& w);
+    void rasterizeTile(const PixelRect& base, TileWorker& w);
+    void addObjectTriangles(uint32_t unit, const PixelRect& base, TileWorker& w);
     const std::vector<glm::dvec4>& clusterBoxes(uint32_t unit, const geom::Tessellation& g);
-    bool copyPinnedUnits(Worker& w);
+    bool copyPinnedUnits(TileWorker& w);
     // The topology of object `object` made in pieces, from the worker's table of its pieces.
     ObjectTopology piecesTopology(uint32_t object, const std::vector<TopologyPiece>& pieces) const {
         const std::span<const geom::SlotRun> runs = m_scene.objects[object].geometry->slotRuns();
         return ObjectTopology{nullptr, 0, pieces.data(), uint32_t(pieces.size()), runs.data(), uint32_t(runs.size())};
     }
     template <class Take>
-    bool withRoom(Worker& w, uint64_t bytes, Take&& take);
-    void holdCharge(Worker& w, cache::MemoryCharge& charge, uint64_t bytes);
-    void chargeBuffers(Worker& w);
+    bool withRoom(TileWorker& w, uint64_t bytes, Take&& take);
+    void holdCharge(TileWorker& w, cache::MemoryCharge& charge, uint64_t bytes);
+    void chargeBuffers(TileWorker& w);
     // The tessellation (pinned by the tile) holding triangle id `triangle` of `object`, and the
     // triangle's index in it.
-    std::pair<const geom::Tessellation*, uint32_t> triangleAt(const Worker& w, uint32_t object, uint32_t triangle) const;
-    void requestSamples(Worker& w, uint32_t groupIndex, int px, int py, int first, int last, bool extra,
+    std::pair<const geom::Tessellation*, uint32_t> triangleAt(const TileWorker& w, uint32_t object, uint32_t triangle) const;
+    void requestSamples(TileWorker& w, uint32_t groupIndex, int px, int py, int first, int last, bool extra,
                         uint32_t firstTarget);
-    void addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target);
-    void flush(Worker& w, PendingBatch& p);
-    void flushAll(Worker& w);
-    void fillSample(shade::ShadingBatch& b, int i, const Worker& w, uint32_t object, uint32_t triangle, double rx,
+    void addSample(TileWorker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target);
+    void flush(TileWorker& w, PendingBatch& p);
+    void flushAll(TileWorker& w);
+    void fillSample(shade::ShadingBatch& b, int i, const TileWorker& w, uint32_t object, uint32_t triangle, double rx,
                     double ry) const;
     int baseSamples(const RenderObject& o) const;
     int maxSamples(const RenderObject& o) const;
@@ -522,7 +315,7 @@ const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t unit, const 
     return u.clusterBoxes;
 }
 
-std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const Worker& w, uint32_t object,
+std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const TileWorker& w, uint32_t object,
                                                                         uint32_t triangle) const {
     const ObjectView& v = m_views[object];
     size_t unit = v.firstUnit;
@@ -542,7 +335,7 @@ std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const W
 // once more after copying the tile's pinned units (copyPinnedUnits) and dropping those too.
 // Returns whether it succeeded.
 template <class Take>
-bool FrameRenderer::withRoom(Worker& w, uint64_t bytes, Take&& take) {
+bool FrameRenderer::withRoom(TileWorker& w, uint64_t bytes, Take&& take) {
     for (bool copied = false;;) {
         if (take()) return true;
         if (m_lazy.reclaim(bytes)) {
@@ -556,7 +349,7 @@ bool FrameRenderer::withRoom(Worker& w, uint64_t bytes, Take&& take) {
 
 // Resizes `charge` to `bytes`, making room (withRoom) for what it grows by. Throws TileDoesNotFit
 // (no object named) when the budget cannot hold it.
-void FrameRenderer::holdCharge(Worker& w, cache::MemoryCharge& charge, uint64_t bytes) {
+void FrameRenderer::holdCharge(TileWorker& w, cache::MemoryCharge& charge, uint64_t bytes) {
     if (bytes <= charge.bytes()) {
         charge.resize(bytes);
         return;
@@ -567,7 +360,7 @@ void FrameRenderer::holdCharge(Worker& w, cache::MemoryCharge& charge, uint64_t 
 
 // Charges what the worker's tile buffers have grown to beyond the share frameMemory() charged up
 // front, as the tile goes.
-void FrameRenderer::chargeBuffers(Worker& w) {
+void FrameRenderer::chargeBuffers(TileWorker& w) {
     const uint64_t held = w.bytes();
     holdCharge(w, w.bufferCharge, held > m_perThreadBytes ? held - m_perThreadBytes : 0);
 }
@@ -578,14 +371,14 @@ void FrameRenderer::chargeBuffers(Worker& w) {
 // the triangles that reach the tile, not with the pieces they come from. Returns whether a pin
 // was given back. The image is the same: a copy holds the same numbers for every triangle that
 // can have a fragment.
-bool FrameRenderer::copyPinnedUnits(Worker& w) {
+bool FrameRenderer::copyPinnedUnits(TileWorker& w) {
     if (!m_options.copyPinnedTriangles) return false;
     bool released = false;
     for (size_t k = 0; k < w.pins.size();) {
         const uint32_t unit = w.pinnedUnits[k];
         const geom::Tessellation& g = *w.tessellation[unit];
         std::span<const uint32_t> kept;
-        for (const Worker::SubmittedRun& r : w.submittedRuns)
+        for (const TileWorker::SubmittedRun& r : w.submittedRuns)
             if (r.unit == unit) kept = std::span<const uint32_t>(w.submitted.data() + r.begin, r.end - r.begin);
         const size_t n = kept.size();
         // The vertices the kept triangles use (charged while they are found), then the copy.
@@ -636,7 +429,7 @@ bool FrameRenderer::copyPinnedUnits(Worker& w) {
 // tile's rasterizer: clusters whose screen box misses `base` are passed over, then each triangle
 // is culled (back faces of single-sided objects), clipped at the near plane and projected, the
 // same arithmetic whichever tile does it.
-void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Worker& w) {
+void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, TileWorker& w) {
     const uint32_t index = m_units[unit].object;
     const RenderObject& obj = m_scene.objects[index];
     const ObjectView& v = m_views[index];
@@ -720,7 +513,7 @@ void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Wor
 // (PixelResolver::occludingDepth); an object behind it in every one of them adds nothing to the
 // image and is neither tessellated nor rasterized (skippedOccluded). Any other waiting object is
 // rasterized as usual: the skip changes no bit, only the work done.
-void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
+void FrameRenderer::rasterizeTile(const PixelRect& base, TileWorker& w) {
     w.tileObjects.clear();
     for (uint32_t i = 0; i < m_units.size(); ++i)
         if (m_units[i].kept && reaches(m_units[i], base)) w.tileObjects.push_back(i);
@@ -803,7 +596,7 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, Worker& w) {
     if (!finished) w.rasterizer.finish();
 }
 
-void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, const Worker& w, uint32_t object, uint32_t triangle,
+void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, const TileWorker& w, uint32_t object, uint32_t triangle,
                                double rx, double ry) const {
     const RenderObject& obj = m_scene.objects[object];
     const ObjectView& co = m_views[object];
@@ -837,7 +630,7 @@ void FrameRenderer::fillSample(shade::ShadingBatch& b, int i, const Worker& w, u
     b.flipped[i] = s.flipped ? 1 : 0;
 }
 
-void FrameRenderer::flush(Worker& w, PendingBatch& p) {
+void FrameRenderer::flush(TileWorker& w, PendingBatch& p) {
     shade::ShadingBatch& b = *p.batch;
     if (b.count == 0) return;
     const RenderObject& obj = m_scene.objects[p.object];
@@ -854,11 +647,11 @@ void FrameRenderer::flush(Worker& w, PendingBatch& p) {
     b.count = 0;
 }
 
-void FrameRenderer::flushAll(Worker& w) {
+void FrameRenderer::flushAll(TileWorker& w) {
     for (size_t i = 0; i < w.pendingCount; ++i) flush(w, w.pending[i]);
 }
 
-void FrameRenderer::addSample(Worker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target) {
+void FrameRenderer::addSample(TileWorker& w, uint32_t object, uint32_t triangle, double rx, double ry, uint32_t target) {
     const auto [g, local] = triangleAt(w, object, triangle);
     uint32_t slot = local < g->material.size() ? g->material[local] : 0;
     auto [it, inserted] = w.pendingIndex.try_emplace((uint64_t(object) << 32) | slot, uint32_t(w.pendingCount));
@@ -880,7 +673,7 @@ void FrameRenderer::addSample(Worker& w, uint32_t object, uint32_t triangle, dou
 // Shading positions of a surface: its visible sub-samples in the pattern's stratified order,
 // samples [first, last); a surface with no visible sub-sample (a sliver between sub-samples)
 // is shaded once at its centroid.
-void FrameRenderer::requestSamples(Worker& w, uint32_t groupIndex, int px, int py, int first, int last, bool extra,
+void FrameRenderer::requestSamples(TileWorker& w, uint32_t groupIndex, int px, int py, int first, int last, bool extra,
                                    uint32_t firstTarget) {
     const SurfaceGroup& g = w.groups[groupIndex];
     int k = 0;
@@ -922,7 +715,7 @@ void FrameRenderer::returnDroppedMemory() {
 #endif
 }
 
-void FrameRenderer::renderTile(size_t index, Worker& w) {
+void FrameRenderer::renderTile(size_t index, TileWorker& w) {
     auto tRaster = Clock::now();
     const PixelRect& tile = m_tiles[index];
     // The pixels whose base colours the contrast test reads, and the base region rendered: the
@@ -936,7 +729,7 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
 
     // The tile's pins and per-object entries are given back however the tile ends.
     struct TileScope {
-        Worker& w;
+        TileWorker& w;
         const FrameRenderer& renderer;
         ~TileScope() { release(); }
         void release() {
@@ -1212,7 +1005,7 @@ void FrameRenderer::renderTile(size_t index, Worker& w) {
     chargeBuffers(w);
 }
 
-void FrameRenderer::bordersDone(size_t index, Worker& w) {
+void FrameRenderer::bordersDone(size_t index, TileWorker& w) {
     if (m_contrast) m_contrast->markDone(index);
     if (!m_borders) return;
     const auto tFilter = Clock::now();
@@ -1262,8 +1055,8 @@ Framebuffer FrameRenderer::run() {
     auto tTiles = Clock::now();
     const size_t objects = m_scene.objects.size();
     m_perThreadBytes = frameMemory(m_scene, m_camera, m_settings, m_options, 1).perThreadBytes;
-    tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers([&] {
-        auto w = std::make_unique<Worker>(m_pattern, m_units.size(), objects);
+    tbb::enumerable_thread_specific<std::unique_ptr<TileWorker>> workers([&] {
+        auto w = std::make_unique<TileWorker>(m_pattern, m_units.size(), objects);
         w->bufferCharge = cache::MemoryCharge(&m_budget, cache::MemoryCategory::Fragments, 0);
         return w;
     });
@@ -1291,7 +1084,7 @@ Framebuffer FrameRenderer::run() {
         if (m_budget.availableBytes() < tessellations / 4) chunk = 1;
     }
     tbb::parallel_for(0, takers, [&](int) {
-        Worker& w = *workers.local();
+        TileWorker& w = *workers.local();
         size_t next = 0, runEnd = 0;
         auto take = [&]() -> size_t {
             if (next == runEnd) {
@@ -1333,7 +1126,7 @@ Framebuffer FrameRenderer::run() {
         }
     }
     for (size_t i : deferred) {
-        Worker& w = *workers.local();
+        TileWorker& w = *workers.local();
         try {
             renderTile(i, w);
             returnDroppedMemory();
@@ -1346,7 +1139,7 @@ Framebuffer FrameRenderer::run() {
     if (m_borders && !m_borders->allFiltered()) throw std::logic_error("renderFrame: a tile's border pixels were not filtered");
     m_stats.tilesSeconds += secondsSince(tTiles);
     for (auto& wp : workers) {
-        const Worker& w = *wp;
+        const TileWorker& w = *wp;
         m_stats.rasterSeconds += w.stats.rasterSeconds;
         m_stats.resolveSeconds += w.stats.resolveSeconds;
         m_stats.shadeSeconds += w.stats.shadeSeconds;
@@ -1397,149 +1190,6 @@ void FrameRenderer::finishStats(const cache::MemoryBudget& budget) const {
 
 }  // namespace
 
-uint64_t tileBytesPerCrossing(const RenderSettings& settings) {
-    // The fragment of each crossing held four times (the rasterizer's list and its copy sorted by
-    // pixel, the tile's members, the resolver's scratch), its surface group, and a shading result
-    // per sample it may take (the adaptive maximum at the Highest level).
-    const bool adaptive = settings.edgeAntiAliasing == 0 && settings.maxShadingSamples > settings.shadingSamples;
-    const int samples = std::max(1, adaptive ? settings.maxShadingSamples : settings.shadingSamples);
-    uint64_t bytes = 4 * sizeof(Fragment) + sizeof(SurfaceGroup) + sizeof(SurfaceShade) + sizeof(SurfaceContribution) +
-                     uint64_t(samples) * sizeof(SampleResult);
-    // A multi-pixel filter keeps the surfaces of the pixels near the tile's edges for the end
-    // (FilterBorders); counted for every crossing, as if every pixel were near an edge.
-    if (makePixelFilter(settings).reach > 0) bytes += sizeof(FilterSurface);
-    return bytes;
-}
-
-double maxTileCost(uint64_t bytesPerTile, const RenderSettings& settings, int tallestTile) {
-    if (tallestTile < 1) return 0.0;
-    const double crossings = double(bytesPerTile) / double(tileBytesPerCrossing(settings));
-    return std::max(1.0, crossings / double(tallestTile));
-}
-
-uint64_t imageOutputBytes(int width, int height) {
-    return uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) * 5 * sizeof(float);
-}
-
-FrameMemory frameMemory(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
-                        const RenderOptions& options, int threads) {
-    FrameMemory m;
-    const FrameLayout layout = frameLayout(scene, camera, settings);
-    const uint64_t pixels = uint64_t(std::max(camera.width, 0)) * uint64_t(std::max(camera.height, 0));
-    m.framebufferBytes = pixels * 4 * sizeof(float) + (settings.depth.value_or(false) ? pixels * sizeof(float) : 0) +
-                         (options.adaptiveMask ? pixels : 0) + imageOutputBytes(camera.width, camera.height);
-
-    const int tw = std::max(1, settings.tileWidth), th = std::max(1, settings.tileHeight);
-    const PixelRect& region = layout.region;
-    const uint64_t tiles = uint64_t((region.width() + tw - 1) / tw) * uint64_t((region.height() + th - 1) / th);
-    m.tileBytes = tiles * (sizeof(PixelRect) + sizeof(std::vector<uint32_t>));
-    if (tiles > 0) {
-        // One tile's base region (renderTile): the tile and its apron, per thread.
-        const uint64_t basePixels = uint64_t(std::min(tw, region.width()) + layout.marginLeft + layout.marginRight) *
-                                    uint64_t(std::min(th, region.height()) + layout.marginTop + layout.marginBottom);
-        const uint64_t perBasePixel = sizeof(uint32_t) /* pixelGroupStart */ + sizeof(float) /* nearestDepth */ +
-                                      sizeof(glm::vec3) /* baseColor */ + sizeof(uint8_t) /* adaptive */ +
-                                      sizeof(uint32_t) /* the rasterizer's pixel starts */;
-        const uint64_t perThread = basePixels * perBasePixel + sizeof(Worker) + sizeof(shade::ShadingBatch) +
-                                   sizeof(shade::ShadingResult);
-        m.tileBytes += uint64_t(std::max(1, threads)) * perThread;
-        m.perThreadBytes = perThread;
-    }
-
-    // Kept sources once each. What making a tessellation needs beyond them is charged while it
-    // is made; the largest such need must fit beside the frame's buffers.
-    std::unordered_set<const void*> sources;
-    for (const RenderObject& o : scene.objects) {
-        const geom::GeometryHandle& h = *o.geometry;
-        const size_t pieces = h.pieceCount();
-        for (size_t k = 0; k < pieces; ++k) {
-            m.largestTransientBytes = std::max(m.largestTransientBytes, transientBytes(h, k));
-            m.largestTessellationBytes = std::max(m.largestTessellationBytes, h.pieceBytesEstimate(k));
-        }
-        if (h.keepsSource() && sources.insert(h.sourceId()).second) m.sourceBytes += h.sourceBytes();
-        // The object's view, its units, and their entries in every thread's tile tables.
-        m.geometryBytes += sizeof(ObjectView) + o.materials.size() * sizeof(std::vector<shade::Light>) +
-                           pieces * sizeof(UnitView) +
-                           uint64_t(std::max(1, threads)) *
-                               (pieces * (sizeof(const geom::Tessellation*) + sizeof(const std::vector<uint32_t>*)) +
-                                sizeof(ObjectTopology) + sizeof(std::vector<TopologyPiece>) +
-                                (pieces > 1 ? pieces * sizeof(TopologyPiece) : 0));
-    }
-    return m;
-}
-
-namespace {
-
-// "21.5 GB" / "310.2 MB" (binary units, as -mm and $SLURM_MEM_PER_NODE count them).
-std::string formatBytes(uint64_t bytes) {
-    char text[64];
-    if (bytes >= (uint64_t(1) << 30))
-        std::snprintf(text, sizeof text, "%.1f GB", double(bytes) / double(uint64_t(1) << 30));
-    else
-        std::snprintf(text, sizeof text, "%.1f MB", double(bytes) / double(uint64_t(1) << 20));
-    return text;
-}
-
-// A cap as -mm gives it ("2048 MB") when it is whole MiB, else formatBytes.
-std::string formatCap(uint64_t cap) {
-    return cap % (uint64_t(1) << 20) == 0 ? std::to_string(cap >> 20) + " MB" : formatBytes(cap);
-}
-
-// Charges a frame's buffers, by category, all or nothing: on refusal the charges made so far are
-// released (the vector's destructor) and MemoryCapError names the need and the cap.
-std::vector<cache::MemoryCharge> chargeFrame(cache::MemoryBudget& budget, const FrameMemory& need,
-                                             const RenderCamera& camera, const std::string& capSource) {
-    const uint64_t inUse = budget.usedBytes();
-    const std::pair<cache::MemoryCategory, uint64_t> parts[] = {
-        {cache::MemoryCategory::Framebuffer, need.framebufferBytes},
-        {cache::MemoryCategory::Fragments, need.tileBytes},
-        {cache::MemoryCategory::Tessellation, need.geometryBytes},
-        {cache::MemoryCategory::Geometry, need.sourceBytes},
-    };
-    std::vector<cache::MemoryCharge> charges;
-    for (const auto& [category, bytes] : parts) {
-        std::optional<cache::MemoryCharge> charge = cache::MemoryCharge::tryCharge(budget, category, bytes);
-        if (!charge) {
-            const uint64_t cap = budget.capBytes();
-            const std::string capText = formatCap(cap);
-            throw MemoryCapError("the " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
-                                     " frame needs " + formatBytes(need.totalBytes()) + " of buffers" +
-                                     (inUse > 0 ? " (with " + formatBytes(inUse) + " already in use)" : "") +
-                                     ", over the memory cap of " + capText +
-                                     (capSource.empty() ? "" : " (" + capSource + ")"),
-                                 need.totalBytes() + inUse, cap);
-        }
-        charges.push_back(std::move(*charge));
-    }
-    // The tessellation cache charges what it makes as tiles need it; the largest single shape
-    // must fit beside the buffers, or no tile that sees it can render.
-    if (budget.availableBytes() < need.largestTessellationBytes + need.largestTransientBytes) {
-        const uint64_t cap = budget.capBytes();
-        const std::string capText = formatCap(cap);
-        throw MemoryCapError("the " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " frame needs " +
-                                 formatBytes(need.totalBytes()) + " of buffers and " +
-                                 formatBytes(need.largestTessellationBytes + need.largestTransientBytes) +
-                                 " to make its largest shape's triangles" +
-                                 (inUse > 0 ? " (with " + formatBytes(inUse) + " already in use)" : "") +
-                                 ", over the memory cap of " + capText + (capSource.empty() ? "" : " (" + capSource + ")"),
-                             need.totalBytes() + need.largestTessellationBytes + need.largestTransientBytes + inUse, cap);
-    }
-    return charges;
-}
-
-}  // namespace
-
-cache::MemoryCharge chargeScene(cache::MemoryBudget& budget, uint64_t storedBytes, const RenderSettings& settings) {
-    std::optional<cache::MemoryCharge> charge =
-        cache::MemoryCharge::tryCharge(budget, cache::MemoryCategory::Scene, storedBytes);
-    if (charge) return std::move(*charge);
-    const MemoryCap cap = memoryCap(settings);
-    const std::string source = budget.capBytes() == cap.bytes ? cap.source : std::string();
-    throw MemoryCapError("the loaded scene holds " + formatBytes(storedBytes) + ", over the memory cap of " +
-                             formatCap(budget.capBytes()) + (source.empty() ? "" : " (" + source + ")"),
-                         storedBytes, budget.capBytes());
-}
-
 Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, const RenderSettings& settings,
                         RenderStats& stats, const RenderOptions& options) {
     int threads = settings.numCpusToUse > 0 ? settings.numCpusToUse : tbb::this_task_arena::max_concurrency();
@@ -1575,45 +1225,6 @@ Framebuffer renderFrame(const FrameScene& scene, const RenderCamera& camera, con
                              budget.usedBytes() + e.bytes, capBytes);
     }
     return out;
-}
-
-void writeRenderStats(util::JsonWriter& j, const RenderStats& s) {
-    j.beginObject();
-    j.key("seconds").beginObject();
-    j.field("prepare", s.prepareSeconds).field("tiles", s.tilesSeconds);
-    j.field("rasterThreadSum", s.rasterSeconds).field("resolveThreadSum", s.resolveSeconds);
-    j.field("shadeThreadSum", s.shadeSeconds).field("filterThreadSum", s.filterSeconds);
-    j.endObject();
-    j.key("tiles").beginObject();
-    j.field("count", s.tiles).field("minSize", uint64_t(s.tileMinSize)).field("maxSize", uint64_t(s.tileMaxSize));
-    j.field("maxTileCost", s.maxTileCost).field("deferred", s.tilesDeferred);
-    j.endObject();
-    j.key("tessellation").beginObject();
-    j.field("objects", s.tessellationShapes).field("instances", s.tessellationInstances);
-    j.field("skippedOccluded", s.skippedOccluded).field("skippedOffscreen", s.objectsCulledFrustum + s.objectsCulledFar);
-    j.field("trianglesMade", s.trianglesMade).field("made", s.tessellationsMade);
-    j.field("evicted", s.tessellationsEvicted).field("recomputed", s.tessellationsRecomputed);
-    j.field("tileCopies", s.tileCopies);
-    j.field("meshesMade", s.meshesMade).field("meshesEvicted", s.meshesEvicted);
-    j.field("tileVisits", s.objectTileVisits);
-    j.endObject();
-    j.key("memory").beginObject();
-    j.field("cap", s.memoryCapBytes).field("peakCharged", s.memoryPeakCharged).field("peakRss", s.peakRssBytes);
-    j.key("byCategory").beginObject();
-    for (size_t c = 0; c < cache::kMemoryCategoryCount; ++c)
-        j.field(cache::memoryCategoryName(cache::MemoryCategory(c)), s.memoryPeakByCategory[c]);
-    j.endObject();
-    j.endObject();
-    j.field("pixels", s.pixels).field("apronPixels", s.apronPixels);
-    j.field("objects", s.objects).field("objectsCulledFrustum", s.objectsCulledFrustum);
-    j.field("objectsCulledFar", s.objectsCulledFar);
-    j.field("triangles", s.triangles).field("trianglesBackfacing", s.trianglesBackfacing);
-    j.field("trianglesNearClipped", s.trianglesNearClipped).field("trianglesOutside", s.trianglesOutside);
-    j.field("trianglesRasterized", s.trianglesRasterized);
-    j.field("fragments", s.fragments).field("mergedFragments", s.mergedFragments).field("surfaces", s.surfaces);
-    j.field("shadingSamplesBase", s.shadingSamplesBase).field("shadingSamplesAdaptive", s.shadingSamplesAdaptive);
-    j.field("adaptivePixels", s.adaptivePixels);
-    j.endObject();
 }
 
 }  // namespace pushpin::render

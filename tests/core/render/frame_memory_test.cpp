@@ -2,6 +2,7 @@
 // render_settings.h memoryCap): the sizes charged, a frame the cap cannot hold refused before any
 // large allocation with pushpin::MemoryCapError, a cap that fits giving the same image as no cap,
 // and every byte charged released again.
+#include "core/render/frame_memory.h"
 #include "core/render/renderer.h"
 
 #include "cache/error.h"
@@ -87,6 +88,53 @@ private:
     const char* m_name;
     std::optional<std::string> m_old;
 };
+
+TEST(FrameMemory, LayoutIsTheRegionAndTheContrastMargins) {
+    Frame f(64, 48);
+    RenderSettings& s = f.settings;
+    FrameLayout l = frameLayout(f.frameScene, f.camera(), s);
+    EXPECT_EQ(l.region.x0, 0);
+    EXPECT_EQ(l.region.y0, 0);
+    EXPECT_EQ(l.region.x1, 64);
+    EXPECT_EQ(l.region.y1, 48);
+    // Maya's region counts rows from the bottom, inclusive; it is clamped to the frame.
+    s.useRenderRegion = true;
+    s.left = 10;
+    s.rght = 19;
+    s.bot = 5;
+    s.top = 14;
+    l = frameLayout(f.frameScene, f.camera(), s);
+    EXPECT_EQ(l.region.x0, 10);
+    EXPECT_EQ(l.region.x1, 20);
+    EXPECT_EQ(l.region.y0, 48 - 1 - 14);
+    EXPECT_EQ(l.region.y1, 48 - 5);
+    s.rght = 500;
+    EXPECT_EQ(frameLayout(f.frameScene, f.camera(), s).region.x1, 64);
+    s.useRenderRegion = false;
+    // Adaptive shading (and its margins) only at the Highest level with more maximum samples.
+    s.edgeAntiAliasing = 0;
+    s.shadingSamples = 1;
+    s.maxShadingSamples = 1;
+    EXPECT_FALSE(frameLayout(f.frameScene, f.camera(), s).adaptive);
+    s.maxShadingSamples = 8;
+    l = frameLayout(f.frameScene, f.camera(), s);
+    EXPECT_TRUE(l.adaptive);
+    EXPECT_EQ(l.marginLeft, 2);
+    EXPECT_EQ(l.marginRight, 1);
+    EXPECT_EQ(l.marginTop, 1);
+    EXPECT_EQ(l.marginBottom, 0);
+    s.edgeAntiAliasing = 1;
+    l = frameLayout(f.frameScene, f.camera(), s);
+    EXPECT_FALSE(l.adaptive);
+    EXPECT_EQ(l.marginLeft + l.marginRight + l.marginTop + l.marginBottom, 0);
+}
+
+TEST(FrameMemory, BytesAndCapsAreWrittenAsUsersGiveThem) {
+    EXPECT_EQ(formatBytes(uint64_t(310) << 20), "310.0 MB");
+    EXPECT_EQ(formatBytes((uint64_t(43) << 30) / 2), "21.5 GB");
+    EXPECT_EQ(formatCap(uint64_t(2048) << 20), "2048 MB");
+    EXPECT_EQ(formatCap((uint64_t(1) << 20) + (uint64_t(1) << 19)), "1.5 MB");
+}
 
 TEST(FrameMemory, CountsTheFramebufferAndTheWritersCopyPerPixel) {
     Frame f(32768, 32768);
