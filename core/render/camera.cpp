@@ -3,7 +3,9 @@
 // of the camera (projection, depth keys, primary rays) is a linear map of that window.
 #include "core/render/camera.h"
 
+#include "core/geom/finite.h"
 #include "core/util/format.h"
+
 
 #include "cache/error.h"
 
@@ -212,6 +214,16 @@ RenderCamera makeRenderCamera(scene::Evaluator& ev, const std::vector<scene::Nod
         throw Error("camera '" + rd.cameraLabel + "': world matrix is singular (scale 0 on the path)");
     cam.cameraFromWorld = glm::inverse(cam.worldFromCamera);
     return cam;
+}
+
+std::string worldMatrixProblem(const glm::dmat4& m) {
+    if (!geom::isFinite(m)) return "non-finite world matrix";
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (std::abs(m[c][r]) > kMaxSceneCoordinate)
+                return "world matrix entry " + util::formatNumber(m[c][r], 6) +
+                       " is beyond 1e18 scene units (a translate or scale on the path is too large)";
+    return {};
 }
 
 }  // namespace pushpin::render

@@ -36,6 +36,11 @@ namespace pushpin::render {
 // throws) instead of overflowing later.
 constexpr double kMaxSceneCoordinate = 1e18;
 
+// Why a world matrix cannot place anything the renderer can project, or empty when it can: an
+// entry that is not finite or beyond kMaxSceneCoordinate. Objects and lights with such a matrix
+// are skipped with this reason in a note.
+std::string worldMatrixProblem(const glm::dmat4& m);
+
 struct RenderCamera {
     std::string name;           // the camera transform's name ("persp")
     scene::NodeId shape = scene::kNoNode;

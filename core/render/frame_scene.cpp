@@ -1,15 +1,17 @@
 #include "core/render/frame_scene.h"
 
 #include "core/geom/finite.h"
-#include "core/render/camera.h"
-#include "core/util/format.h"
-#include "core/util/release.h"
-#include "cache/error.h"
-#include "core/geom/nurbs.h"
 #include "core/geom/geometry_handle.h"
+#include "core/geom/nurbs.h"
+#include "core/render/camera.h"
+#include "core/render/scene_lights.h"
+#include "core/render/shape_geometry.h"
 #include "core/scene/components.h"
 #include "core/scene/mesh_eval.h"
-#include "core/scene/nurbs_eval.h"
+#include "core/util/format.h"
+#include "core/util/release.h"
+
+#include "cache/error.h"
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -34,18 +36,6 @@ using scene::kNoNode;
 
 namespace {
 
-// Why a world matrix cannot place anything the renderer can project, or empty when it can: an
-// entry that is not finite or beyond kMaxSceneCoordinate (camera.h says why that limit).
-std::string matrixProblem(const glm::dmat4& m) {
-    if (!geom::isFinite(m)) return "non-finite world matrix";
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r)
-            if (std::abs(m[c][r]) > kMaxSceneCoordinate)
-                return "world matrix entry " + util::formatNumber(m[c][r], 6) +
-                       " is beyond 1e18 scene units (a translate or scale on the path is too large)";
-    return {};
-}
-
 // Why world-space bounds are beyond what the renderer can project, or empty when they are not.
 std::string boundsProblem(const geom::Bounds3& b) {
     for (int k = 0; k < 3; ++k) {
@@ -54,27 +44,6 @@ std::string boundsProblem(const geom::Bounds3& b) {
                 return "world-space bounds reach " + util::formatNumber(v, 6) + ", beyond 1e18 scene units";
     }
     return {};
-}
-
-// Per-span divisions for one direction: ceil(number · factor), at least 1 (reference/algorithms.md
-// §8: numberU/V isoparms per span, u/vDivisionsFactor). Capped so a wild value cannot exhaust memory.
-int spanDivisions(scene::Evaluator& ev, NodeId shape, const char* numberAttr, const char* factorAttr,
-                  const std::string& label, std::vector<std::string>& notes) {
-    constexpr int kMaxDivisions = 256;
-    double number = ev.getDouble(shape, numberAttr, 3.0);
-    double factor = ev.getDouble(shape, factorAttr, 1.5);
-    if (!std::isfinite(number) || !std::isfinite(factor)) {
-        notes.push_back(label + ": non-finite " + numberAttr + " or " + factorAttr + " replaced by the defaults");
-        number = 3.0;
-        factor = 1.5;
-    }
-    const double divisions = std::ceil(number * factor - 1e-9);
-    if (divisions > kMaxDivisions) {
-        notes.push_back(label + ": " + numberAttr + " × " + factorAttr + " capped at " + std::to_string(kMaxDivisions) +
-                        " divisions per span");
-        return kMaxDivisions;
-    }
-    return std::max(1, int(divisions));
 }
 
 // One shading-group membership of a shape instance.
@@ -127,247 +96,6 @@ scene::ComponentList memberComponents(scene::Evaluator& ev, const scene::SetMemb
     return {};
 }
 
-// Light linking (reference/nodes.md §5): a link side names a light or object directly, a DAG
-// ancestor of it, a set containing it (sets nest), or, on the object side, its shading group.
-class LinkResolver {
-public:
-    explicit LinkResolver(const Graph& g) : m_graph(g) {}
-
-    bool contains(NodeId side, const std::vector<NodeId>& path, NodeId shadingGroup, int depth = 0) {
-        if (side == kNoNode) return false;
-        if (side == shadingGroup) return true;
-        if (std::find(path.begin(), path.end(), side) != path.end()) return true;
-        if (depth > 16) return false;  // sets nested deeper than this are a cycle
-        for (NodeId m : members(side))
-            if (contains(m, path, shadingGroup, depth + 1)) return true;
-        return false;
-    }
-
-private:
-    const std::vector<NodeId>& members(NodeId set) {
-        auto it = m_members.find(set);
-        if (it != m_members.end()) return it->second;
-        std::vector<NodeId> out;
-        for (const scene::Connection* c : m_graph.inputs(set))
-            if (c->dst.path.rfind("dagSetMembers", 0) == 0 || c->dst.path.rfind("dnSetMembers", 0) == 0)
-                out.push_back(c->src.node);
-        return m_members.emplace(set, std::move(out)).first->second;
-    }
-
-    const Graph& m_graph;
-    std::unordered_map<NodeId, std::vector<NodeId>> m_members;
-};
-
-// The largest light value (intensity, angles, dropoff, colour × intensity) kept: shading holds
-// them in float, and sums and products of a few such values must stay within float's 3.4e38.
-constexpr double kMaxLightValue = 1e30;
-
-// A number read through the evaluator, `fallback` (with a note) when it is not finite or its
-// magnitude exceeds kMaxLightValue.
-double finiteValue(scene::Evaluator& ev, NodeId node, const char* attr, double fallback, const std::string& label,
-                   std::vector<std::string>& notes) {
-    const double v = ev.getDouble(node, attr, fallback);
-    if (std::isfinite(v) && std::abs(v) <= kMaxLightValue) return v;
-    notes.push_back(label + ": " + (std::isfinite(v) ? attr + std::string(" ") + util::formatNumber(v, 10) + " is beyond 1e30"
-                                                     : "non-finite " + std::string(attr)) +
-                    "; replaced by " + util::formatNumber(fallback, 6));
-    return fallback;
-}
-
-struct LightRecord {
-    std::vector<NodeId> path;
-};
-
-void readLights(scene::Evaluator& ev, const scene::RenderSetup& setup, FrameScene& out,
-                std::vector<LightRecord>& records) {
-    const Graph& g = ev.graph();
-    for (const scene::LightInfo& info : setup.lights) {
-        const std::string label = g.dagPathName(info.path);
-        shade::Light light;
-        if (info.type == "ambientLight") light.type = shade::LightType::Ambient;
-        else if (info.type == "directionalLight") light.type = shade::LightType::Directional;
-        else if (info.type == "pointLight") light.type = shade::LightType::Point;
-        else if (info.type == "spotLight") light.type = shade::LightType::Spot;
-        else {
-            out.notes.push_back(label + ": light type " + info.type + " is not supported; not rendered");
-            continue;
-        }
-        if (!info.supported) {
-            out.notes.push_back(label + ": light type " + info.type + " is not supported; not rendered");
-            continue;
-        }
-        if (std::string why = ev.hiddenReason(info.path); !why.empty()) {
-            out.notes.push_back(label + ": light " + why + "; not rendered");
-            continue;
-        }
-        const glm::dmat4 world = ev.worldMatrix(info.path);
-        if (std::string why = matrixProblem(world); !why.empty()) {
-            out.notes.push_back(label + ": " + why + "; light not rendered");
-            continue;
-        }
-        const glm::dvec3 position(world * glm::dvec4(0, 0, 0, 1));
-        const glm::dvec3 axis(world * glm::dvec4(0, 0, -1, 0));
-        const double axisLength = glm::length(axis);
-        if (!(axisLength > 0.0) || !std::isfinite(axisLength)) {
-            out.notes.push_back(label + ": degenerate world matrix (scale 0 on the path); light not rendered");
-            continue;
-        }
-        const NodeId n = info.shape;
-        light.name = label;
-        light.shape = n;
-        light.position = position;
-        light.direction = axis / axisLength;
-        glm::dvec3 color = ev.getDouble3(n, "color", glm::dvec3(1.0));
-        if (!geom::isFinite(color)) {
-            out.notes.push_back(label + ": non-finite color replaced by 1 1 1");
-            color = glm::dvec3(1.0);
-        }
-        const double intensity = finiteValue(ev, n, "intensity", 1.0, label, out.notes);
-        const glm::dvec3 emitted = color * intensity;
-        if (!(std::max({std::abs(emitted.x), std::abs(emitted.y), std::abs(emitted.z)}) <= kMaxLightValue)) {
-            out.notes.push_back(label + ": color × intensity is beyond 1e30; light not rendered");
-            continue;
-        }
-        light.color = glm::vec3(emitted);
-        light.decayRate = ev.getInt(n, "decayRate", 0);
-        if (light.decayRate < 0 || light.decayRate > 3) {
-            out.notes.push_back(label + ": decayRate " + std::to_string(light.decayRate) + " out of range, 0 (none) used");
-            light.decayRate = 0;
-        }
-        light.coneAngle = float(finiteValue(ev, n, "coneAngle", 40.0 * std::numbers::pi / 180.0, label, out.notes));
-        light.penumbraAngle = float(finiteValue(ev, n, "penumbraAngle", 0.0, label, out.notes));
-        light.dropoff = float(finiteValue(ev, n, "dropoff", 0.0, label, out.notes));
-        light.ambientShade = float(finiteValue(ev, n, "ambientShade", 0.45, label, out.notes));
-        light.emitDiffuse = ev.getBool(n, "emitDiffuse", true);
-        light.emitSpecular = ev.getBool(n, "emitSpecular", true);
-        out.lights.push_back(std::move(light));
-        records.push_back({info.path});
-    }
-}
-
-// One Evaluator per thread over the scene at the frame, for meshes evaluated again when a tile
-// needs their triangles (an Evaluator is not thread-safe; the Graph is only read).
-class EvaluatorPool {
-public:
-    EvaluatorPool(const Graph& graph, double frame) : m_graph(graph), m_frame(frame) {}
-    scene::Evaluator& local() {
-        std::unique_ptr<scene::Evaluator>& ev = m_evaluators.local();
-        if (!ev) ev = std::make_unique<scene::Evaluator>(m_graph, m_frame);
-        return *ev;
-    }
-
-private:
-    const Graph& m_graph;
-    double m_frame;
-    tbb::enumerable_thread_specific<std::unique_ptr<scene::Evaluator>> m_evaluators;
-};
-
-// A mesh shape evaluated again, on the calling thread's Evaluator, each time it is asked for.
-// A shape that is its stored mesh (scene::storedMeshMakesWindows) makes each piece's window from
-// the stored data alone.
-class EvaluatedMesh final : public geom::MeshSource {
-public:
-    EvaluatedMesh(std::shared_ptr<EvaluatorPool> pool, NodeId shape)
-        : m_pool(std::move(pool)), m_shape(shape), m_windows(scene::storedMeshMakesWindows(m_pool->local(), shape)) {}
-    std::shared_ptr<const geom::Mesh> mesh() const override {
-        scene::MeshEvaluation e = scene::evaluateMeshShape(m_pool->local(), m_shape);
-        return std::make_shared<const geom::Mesh>(e.mesh ? std::move(*e.mesh) : geom::Mesh{});
-    }
-    bool keepsMesh() const override { return false; }
-    bool makesWindows() const override { return m_windows; }
-    std::optional<geom::MeshWindow> window(const geom::MeshPieces& pieces, size_t piece,
-                                           uint64_t faceVertexCount) const override {
-        if (!m_windows) return std::nullopt;
-        return scene::decodeStoredMeshWindow(m_pool->local().graph(), m_shape, pieces, piece, faceVertexCount);
-    }
-
-private:
-    std::shared_ptr<EvaluatorPool> m_pool;
-    NodeId m_shape;
-    bool m_windows;
-};
-
-// Geometry of one shape, evaluated once whatever its number of instances.
-struct ShapeGeometry {
-    bool failed = false;
-    std::string skipReason;
-    scene::MeshEvaluation evaluation;                    // meshes: groups, face origins (mesh moved out)
-    std::shared_ptr<const geom::Mesh> mesh;              // meshes, validated
-    std::shared_ptr<const geom::MeshSource> source;      // meshes: where the handles get them again
-    std::shared_ptr<const std::vector<bool>> degenerate;  // meshes: faces to drop
-    std::shared_ptr<const geom::NurbsSurface> surface;   // NURBS surfaces (one material)
-    int divU = 1, divV = 1;
-    // The handle made for the last instance, reused by the next with the same face materials and
-    // smoothShading: instances share one tessellation.
-    std::shared_ptr<const geom::GeometryHandle> lastHandle;
-    std::vector<uint16_t> lastMaterials;
-    bool lastSmooth = true;
-    // Meshes straight from a primitive: its counts and bounds, so that an instance in one shading
-    // group as a whole gets a handle that makes the mesh only when a tile first needs it.
-    std::optional<geom::PrimitiveCounts> counts;
-    std::shared_ptr<const geom::GeometryHandle> deferredHandle;
-    bool deferredSmooth = true;
-};
-
-void evaluateShape(scene::Evaluator& ev, NodeId shape, const std::string& label, ShapeGeometry& out,
-                   std::vector<std::string>& notes) {
-    const Graph& g = ev.graph();
-    try {
-        if (g.node(shape).type == "mesh") {
-            out.evaluation = scene::evaluateMeshShape(ev, shape);
-            for (const std::string& note : out.evaluation.notes) notes.push_back(label + ": " + note);
-            if (!out.evaluation.mesh) {
-                out.failed = true;
-                out.skipReason =
-                    out.evaluation.skipReason.empty() ? "the mesh could not be evaluated" : out.evaluation.skipReason;
-                return;
-            }
-            // The evaluation has validated the mesh when nothing changed it afterwards.
-            geom::MeshValidation validation;
-            if (out.evaluation.degenerateFaces) validation.degenerateFaces = std::move(*out.evaluation.degenerateFaces);
-            else validation = out.evaluation.mesh->validate();
-            out.evaluation.degenerateFaces.reset();
-            auto mesh = std::make_shared<const geom::Mesh>(std::move(*out.evaluation.mesh));
-            out.evaluation.mesh.reset();
-            if (!validation.ok()) {
-                out.failed = true;
-                out.skipReason = "invalid mesh: " + validation.errors.front();
-                return;
-            }
-            if (mesh->empty()) {
-                out.failed = true;
-                out.skipReason = "mesh has no faces";
-                return;
-            }
-            if (!validation.degenerateFaces.empty()) {
-                auto degenerate = std::make_shared<std::vector<bool>>(mesh->faceCount(), false);
-                for (uint32_t f : validation.degenerateFaces) (*degenerate)[f] = true;
-                out.degenerate = std::move(degenerate);
-                notes.push_back(label + ": " + std::to_string(validation.degenerateFaces.size()) +
-                                " degenerate face(s) not rendered");
-            }
-            out.mesh = std::move(mesh);
-            return;
-        }
-        std::string reason, note;
-        auto surface = scene::evaluateNurbsSurface(ev, shape, &reason, &note);
-        if (!note.empty()) notes.push_back(label + ": " + note);
-        if (!surface) {
-            out.failed = true;
-            out.skipReason = reason.empty() ? "the surface could not be evaluated" : reason;
-            return;
-        }
-        out.divU = spanDivisions(ev, shape, "numberU", "uDivisionsFactor", label, notes);
-        out.divV = spanDivisions(ev, shape, "numberV", "vDivisionsFactor", label, notes);
-        out.surface = std::make_shared<const geom::NurbsSurface>(std::move(*surface));
-    } catch (const std::bad_alloc&) {
-        throw;
-    } catch (const std::exception& e) {
-        out.failed = true;
-        out.skipReason = e.what();
-    }
-}
-
 // Numbers at the door for objects: a world matrix with an entry beyond kMaxSceneCoordinate, or
 // world bounds that reach past it (finite entries can still carry float geometry out of range),
 // cannot be projected without overflow, so the object is skipped with a note instead of being
@@ -376,7 +104,7 @@ void dropUnplaceableObjects(FrameScene& scene, std::vector<std::vector<NodeId>>&
     size_t kept = 0;
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         RenderObject& o = scene.objects[i];
-        std::string why = matrixProblem(o.worldFromObject);
+        std::string why = worldMatrixProblem(o.worldFromObject);
         if (why.empty()) why = boundsProblem(o.worldBounds);
         if (!why.empty()) {
             scene.notes.push_back(o.name + ": " + why + "; not rendered");
@@ -678,47 +406,10 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
 
     dropUnplaceableObjects(scene, objectPaths);
 
-    std::vector<LightRecord> lightRecords;
-    readLights(ev, setup, scene, lightRecords);
+    SceneLights lights = readSceneLights(ev, setup, scene.notes);
+    scene.lights = std::move(lights.lights);
     scene.usesDefaultLight = scene.lights.empty() && settings.enableDefaultLight;
-
-    // Light linking: light L lights (object O, shading group S) when a "link" pairs a light side
-    // containing L with an object side containing O or S, and no "ignore" does. Without any
-    // "link" in the scene every light lights everything that is not explicitly ignored.
-    LinkResolver resolver(g);
-    std::vector<const scene::LightLink*> links, ignores;
-    for (const scene::LightLink& l : setup.lightLinks) {
-        if (l.kind == "link") links.push_back(&l);
-        else if (l.kind == "ignore") ignores.push_back(&l);
-    }
-    const bool linkedScene = !links.empty();
-    auto lightSides = [&](const std::vector<const scene::LightLink*>& list) {
-        std::vector<std::vector<char>> out(list.size(), std::vector<char>(scene.lights.size(), 0));
-        for (size_t k = 0; k < list.size(); ++k)
-            for (size_t l = 0; l < scene.lights.size(); ++l)
-                out[k][l] = resolver.contains(list[k]->light, lightRecords[l].path, kNoNode) ? 1 : 0;
-        return out;
-    };
-    const auto linkLights = lightSides(links), ignoreLights = lightSides(ignores);
-    for (size_t o = 0; o < scene.objects.size(); ++o) {
-        for (MaterialSlot& slot : scene.objects[o].materials) {
-            const NodeId sgNode = scene.shadingGroups[slot.shadingGroup].node;
-            std::vector<char> lit(scene.lights.size(), linkedScene ? 0 : 1);
-            for (size_t k = 0; k < links.size(); ++k) {
-                if (std::find(linkLights[k].begin(), linkLights[k].end(), 1) == linkLights[k].end()) continue;
-                if (!resolver.contains(links[k]->object, objectPaths[o], sgNode)) continue;
-                for (size_t l = 0; l < lit.size(); ++l) lit[l] |= linkLights[k][l];
-            }
-            for (size_t k = 0; k < ignores.size(); ++k) {
-                if (std::find(ignoreLights[k].begin(), ignoreLights[k].end(), 1) == ignoreLights[k].end()) continue;
-                if (!resolver.contains(ignores[k]->object, objectPaths[o], sgNode)) continue;
-                for (size_t l = 0; l < lit.size(); ++l)
-                    if (ignoreLights[k][l]) lit[l] = 0;
-            }
-            for (size_t l = 0; l < lit.size(); ++l)
-                if (lit[l]) slot.lights.push_back(uint32_t(l));
-        }
-    }
+    linkLights(g, setup, lights.paths, objectPaths, scene);
     return scene;
 }
 
