@@ -6,6 +6,8 @@
 #include "core/util/release.h"
 
 #include <algorithm>
+#include <array>
+#include <stdexcept>
 #include <bit>
 #include <cfloat>
 #include <cmath>
@@ -37,6 +39,7 @@ void PixelResolver::releaseMemory() {
     util::release(m_groups);
     util::release(m_members);
     util::release(m_parent);
+    util::release(m_triangleTable);
     util::release(m_visible);
     util::release(m_sorted);
     util::release(m_order);
@@ -46,7 +49,7 @@ void PixelResolver::releaseMemory() {
 }
 
 uint64_t PixelResolver::bytes() const {
-    return capacityBytes(m_groups) + capacityBytes(m_members) + capacityBytes(m_parent) + capacityBytes(m_visible) +
+    return capacityBytes(m_groups) + capacityBytes(m_members) + capacityBytes(m_parent) + capacityBytes(m_triangleTable) + capacityBytes(m_visible) +
            capacityBytes(m_sorted) + capacityBytes(m_order) + capacityBytes(m_far) + capacityBytes(m_groupFar) +
            capacityBytes(m_groupArea);
 }
@@ -401,9 +404,9 @@ void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
 }
 
 
-// Whether triangle `a` of an object names triangle `b` as a neighbour across a soft edge.
-bool softNeighbour(const ObjectTopology& topo, uint32_t a, uint32_t b) {
-    const uint32_t* nb = topo.neighborsOf(a);
+// Whether a triangle whose neighbour entries are `nb` (null: none at hand) names triangle `b` as a
+// neighbour across a soft edge.
+bool namesSoftNeighbour(const uint32_t* nb, uint32_t b) {
     if (!nb) return false;
     return (!(nb[0] & kHardEdgeBit) && nb[0] == b) || (!(nb[1] & kHardEdgeBit) && nb[1] == b) ||
            (!(nb[2] & kHardEdgeBit) && nb[2] == b);
@@ -412,29 +415,38 @@ bool softNeighbour(const ObjectTopology& topo, uint32_t a, uint32_t b) {
 // Joins the fragments of one object whose triangles are the same or soft-edge neighbours (either
 // naming the other). `sorted` says whether F is in fragmentLess order; unsorted input is joined
 // pair by pair (meant for a few fragments). Sorted input is taken one object's run at a time: a
-// short run pair by pair, a long one by a binary search of each soft neighbour within the run.
-// The partition is the same either way; unite() makes the smallest index each group's root.
+// short run pair by pair; in a long one the fragments of one triangle are joined in a row, and
+// each triangle's soft neighbours are looked up in a hash table of the run's triangles (`table`,
+// scratch), each giving the first fragment of its triangle. The partition is the same either way
+// (the fragments of a triangle are joined already); unite() makes the smallest index each group's
+// root, so the groups do not depend on the order of the joins.
 void joinSoftNeighbours(std::span<const Fragment> F, bool sorted, std::span<const ObjectTopology> topology,
-                        std::vector<uint32_t>& parent) {
+                        std::vector<uint32_t>& parent, std::vector<uint64_t>& table) {
     static const ObjectTopology kNoTopology{};
     auto topologyOf = [&](uint32_t object) -> const ObjectTopology& {
         return object < topology.size() ? topology[object] : kNoTopology;
     };
+    // Each fragment's neighbour entries are looked up once (an object in pieces finds them by two
+    // binary searches), then every pair is compared.
+    constexpr size_t kMostPairwise = 16;
     auto pairwise = [&](size_t a, size_t b, bool sameObject) {
-        for (size_t i = a; i < b; ++i) {
-            const ObjectTopology& topo = topologyOf(F[i].object);
+        std::array<const uint32_t*, kMostPairwise> nb;
+        for (size_t i = a; i < b; ++i) nb[i - a] = topologyOf(F[i].object).neighborsOf(F[i].triangle);
+        for (size_t i = a; i < b; ++i)
             for (size_t j = i + 1; j < b; ++j)
                 if ((sameObject || F[i].object == F[j].object) &&
-                    (F[i].triangle == F[j].triangle || softNeighbour(topo, F[i].triangle, F[j].triangle) ||
-                     softNeighbour(topo, F[j].triangle, F[i].triangle)))
+                    (F[i].triangle == F[j].triangle || namesSoftNeighbour(nb[i - a], F[j].triangle) ||
+                     namesSoftNeighbour(nb[j - a], F[i].triangle)))
                     unite(parent, uint32_t(i), uint32_t(j));
-        }
     };
     if (!sorted) {
+        if (F.size() > kMostPairwise) throw std::logic_error("joinSoftNeighbours: too many unsorted fragments");
         pairwise(0, F.size(), false);
         return;
     }
     constexpr size_t kPairwiseRun = 8;
+    static_assert(kPairwiseRun <= kMostPairwise);
+    constexpr uint64_t kEmpty = ~uint64_t(0);  // no triangle id is 2^32 − 1 (kNoTriangle)
     for (size_t a = 0, b = 0; a < F.size(); a = b) {
         const uint32_t object = F[a].object;
         b = a + 1;
@@ -443,18 +455,34 @@ void joinSoftNeighbours(std::span<const Fragment> F, bool sorted, std::span<cons
             pairwise(a, b, true);
             continue;
         }
-        const ObjectTopology& topo = topologyOf(object);
-        auto byTriangle = [](const Fragment& f, uint32_t t) { return f.triangle < t; };
+        // Open addressing, at most half full: triangle << 32 | its first fragment.
+        int bits = 4;
+        while ((size_t(1) << bits) < 2 * (b - a)) ++bits;
+        const size_t mask = (size_t(1) << bits) - 1;
+        auto home = [&](uint32_t t) { return size_t((uint64_t(t) * 0x9e3779b97f4a7c15ull) >> (64 - bits)); };
+        table.assign(mask + 1, kEmpty);
         for (size_t i = a; i < b; ++i) {
-            if (i > a && F[i - 1].triangle == F[i].triangle) unite(parent, uint32_t(i - 1), uint32_t(i));
+            if (i > a && F[i - 1].triangle == F[i].triangle) {
+                unite(parent, uint32_t(i - 1), uint32_t(i));
+                continue;
+            }
+            size_t h = home(F[i].triangle);
+            while (table[h] != kEmpty) h = (h + 1) & mask;
+            table[h] = uint64_t(F[i].triangle) << 32 | uint32_t(i);
+        }
+        const ObjectTopology& topo = topologyOf(object);
+        for (size_t i = a; i < b; ++i) {
+            if (i > a && F[i - 1].triangle == F[i].triangle) continue;
             const uint32_t* neighbors = topo.neighborsOf(F[i].triangle);
             if (!neighbors) continue;
             for (int k = 0; k < 3; ++k) {
                 const uint32_t nb = neighbors[k];
                 if (nb & kHardEdgeBit) continue;  // hard edge, or kNoTriangle
-                for (size_t j = size_t(std::lower_bound(F.begin() + a, F.begin() + b, nb, byTriangle) - F.begin());
-                     j < b && F[j].triangle == nb; ++j)
-                    unite(parent, uint32_t(i), uint32_t(j));
+                for (size_t h = home(nb); table[h] != kEmpty; h = (h + 1) & mask)
+                    if (uint32_t(table[h] >> 32) == nb) {
+                        unite(parent, uint32_t(i), uint32_t(table[h]));
+                        break;
+                    }
             }
         }
     }
@@ -524,7 +552,7 @@ void PixelResolver::resolve(std::span<const Fragment> input) {
     // b. Surface groups: union–find over soft-edge neighbours of one object (and duplicates).
     m_parent.resize(n);
     for (size_t i = 0; i < n; ++i) m_parent[i] = uint32_t(i);
-    joinSoftNeighbours(F, true, m_topology, m_parent);
+    joinSoftNeighbours(F, true, m_topology, m_parent, m_triangleTable);
     // Replace roots by group ids numbered in order of first member (roots are the smallest index).
     uint32_t groupCount = 0;
     for (size_t i = 0; i < n; ++i) m_parent[i] = findRoot(m_parent, uint32_t(i));
@@ -733,7 +761,7 @@ float PixelResolver::occludingDepth(std::span<const Fragment> input) {
     // a group resolve() forms, so its area is a lower bound of that group's.
     m_parent.resize(n);
     for (size_t i = 0; i < n; ++i) m_parent[i] = uint32_t(i);
-    joinSoftNeighbours(F, n > kPairwise, m_topology, m_parent);
+    joinSoftNeighbours(F, n > kPairwise, m_topology, m_parent, m_triangleTable);
     m_groupArea.assign(n, 0.0);
     m_groupFar.assign(n, -kInf);
     m_visible.assign(n, 0);  // the group's mask, at its root

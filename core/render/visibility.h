@@ -160,6 +160,7 @@ private:
     ResolveStats m_stats;
     // scratch
     std::vector<uint32_t> m_parent;
+    std::vector<uint64_t> m_triangleTable;  // joinSoftNeighbours' hash table of a run's triangles
     std::vector<uint64_t> m_visible;
     std::vector<Fragment> m_sorted;   // the input in canonical (object, triangle, …) order
     std::vector<uint32_t> m_order;    // m_sorted indices, grouped by surface group
