@@ -9,11 +9,18 @@
 // (PixelResolver::occludingDepth), which changes no bit of the image.
 // Thread safety: renderFrame() runs its own parallel loop; the FrameScene and camera are read-only.
 // Determinism: the image depends only on the scene, camera and settings — not on the thread
-// count, the tile size or the tile order. At the Highest level each tile renders an apron of the
-// neighbouring pixels the contrast test reads (two columns left, one right, one row above); a
-// multi-pixel filter needs none: pixels whose window reaches past their tile are filtered once all
-// tiles are done, from the surfaces the tiles kept near their edges (filter_borders.h), summed in
-// the same order as inside a tile.
+// count, the tile size or the tile order. At the Highest level the contrast test reads base
+// colours around each pixel (two columns left, one right, one row above): a tile reads those of
+// tiles already done from what they kept (contrast_borders.h) and renders only the part of that
+// margin lying in tiles not done yet. A multi-pixel filter renders no margin: a pixel whose window
+// reaches past its tile is filtered once the tiles around it are done, from the surfaces they kept
+// near their edges (filter_borders.h), summed in the same order as inside a tile.
+// Files: the frame's layout and up-front memory (frame_memory.h), the visible set
+// (visible_set.h), the tile plan (tile_plan.h), each tile's objects (tile_objects.h), lazy
+// tessellation (lazy_tessellation.h), camera space and the near clip (camera_space.h), Exact Area
+// Sampling (visibility.h), shading points (shading_points.h), adaptive shading
+// (adaptive_shading.h), the pixel filter (pixel_filter.h) and the stats (render_stats.h);
+// renderer.cpp runs the tiles through them.
 // Memory: before it allocates, renderFrame charges one MemoryBudget (RenderOptions::memoryBudget,
 // else its own with the cap of memoryCap(settings)) with every buffer whose size it knows
 // (frameMemory()): "framebuffer" for the frame, the image writer's copy and the adaptive mask,
