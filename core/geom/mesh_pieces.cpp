@@ -3,6 +3,7 @@
 #include "core/util/release.h"
 
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_invoke.h>
 #include <oneapi/tbb/parallel_sort.h>
 #include <oneapi/tbb/task_arena.h>
 
@@ -296,9 +297,11 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
     at.more.erase(std::unique(at.more.begin(), at.more.end()), at.more.end());
     at.more.shrink_to_fit();
 
-    // The faces around each piece: every face with a corner at one of its points.
+    // The faces around each piece (every face with a corner at one of its points), and the edges
+    // with an end at a point of each piece, side by side.
     std::vector<std::vector<FaceRun>> around(pieceCount);
-    {
+    std::vector<std::vector<EdgeRun>> edgesAround(pieceCount);
+    auto facesAround = [&] {
         uint64_t slot = 0;
         for (size_t f = 0; f < faces; ++f) {
             for (uint32_t c = mesh.faceVertexBegin(f); c < mesh.faceVertexEnd(f); ++c)
@@ -309,14 +312,19 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
                 });
             slot += bound(f);
         }
+    };
+    auto edgesAroundPieces = [&] {
+        for (size_t e = 0; e < mesh.edges.size(); ++e)
+            for (const uint32_t q : {uint32_t(mesh.edges[e].v0), uint32_t(mesh.edges[e].v1)})
+                at.forEach(q, [&](uint32_t p) {
+                    addToRuns(edgesAround[p], uint32_t(e), [&] { return EdgeRun{uint32_t(e), uint32_t(e) + 1}; });
+                });
+    };
+    if (runCount > 4) tbb::this_task_arena::isolate([&] { tbb::parallel_invoke(facesAround, edgesAroundPieces); });
+    else {
+        facesAround();
+        edgesAroundPieces();
     }
-    // The edges with an end at a point of each piece.
-    std::vector<std::vector<EdgeRun>> edgesAround(pieceCount);
-    for (size_t e = 0; e < mesh.edges.size(); ++e)
-        for (const uint32_t q : {uint32_t(mesh.edges[e].v0), uint32_t(mesh.edges[e].v1)})
-            at.forEach(q, [&](uint32_t p) {
-                addToRuns(edgesAround[p], uint32_t(e), [&] { return EdgeRun{uint32_t(e), uint32_t(e) + 1}; });
-            });
     util::release(at.more);
     util::release(at.shared);
 

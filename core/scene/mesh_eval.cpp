@@ -26,6 +26,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <map>
@@ -1090,6 +1091,23 @@ bool hasStoredMesh(const Graph& graph, NodeId meshShape) {
     return vt && !vt->multi.empty() && fc && (!fc->multi.empty() || fc->hasValue);
 }
 
+namespace {
+
+// forEachNumeric over elements [0, end) of `a` in runs of elements on all threads (isolated: a
+// thread waiting for the runs takes no other work of its caller's); fn must only write what its
+// element owns.
+template <class F>
+void forEachNumericOnThreads(const AttrData& a, uint64_t end, F&& fn) {
+    constexpr uint64_t kRun = 65536;
+    if (end <= 2 * kRun) return forEachNumericIn(a, 0, end, fn);
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(uint64_t(0), (end + kRun - 1) / kRun,
+                          [&](uint64_t r) { forEachNumericIn(a, r * kRun, std::min(end, (r + 1) * kRun), fn); });
+    });
+}
+
+}  // namespace
+
 std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::string* error,
                                            std::vector<std::string>* notes) {
     auto fail = [&](std::string message) -> std::optional<geom::Mesh> {
@@ -1109,7 +1127,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     if (!vt || vt->multi.empty()) return fail(who + "no vertices (.vt)");
     if (vt->multi.endIndex() > kMaxElements) return fail(who + "vertex index " + std::to_string(vt->multi.endIndex() - 1) + " is too large");
     mesh.points.assign(vt->multi.endIndex(), glm::vec3(0.0f));
-    forEachNumeric(*vt, [&](uint64_t i, const double* v, int w) {
+    forEachNumericOnThreads(*vt, mesh.points.size(), [&](uint64_t i, const double* v, int w) {
         if (w >= 3) mesh.points[i] = glm::vec3(float(v[0]), float(v[1]), float(v[2]));
     });
 
@@ -1118,14 +1136,14 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     if (const AttrData* ed = attrOf(g, shape, "edge")) {
         if (ed->multi.endIndex() > kMaxElements) return fail(who + "edge index too large");
         edges.assign(ed->multi.endIndex(), geom::MeshEdge{});
-        bool bad = false;
-        forEachNumeric(*ed, [&](uint64_t i, const double* v, int w) {
+        std::atomic<bool> bad{false};
+        forEachNumericOnThreads(*ed, edges.size(), [&](uint64_t i, const double* v, int w) {
             if (w < 2 || !(v[0] >= 0) || !(v[1] >= 0) || v[0] >= double(mesh.points.size()) ||
                 v[1] >= double(mesh.points.size()))
-                bad = true;
+                bad.store(true, std::memory_order_relaxed);
             else edges[i] = storedEdge(v, w);
         });
-        if (bad) return fail(who + "an edge (.ed) uses a vertex that does not exist");
+        if (bad.load()) return fail(who + "an edge (.ed) uses a vertex that does not exist");
     }
 
     // UV sets: uvSet[k].uvSetName / uvSetPoints, or the older uvpt.
@@ -1139,7 +1157,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
         if (const AttrData* pts = g.findAttr(shape, base + "uvSetPoints")) {
             if (pts->multi.endIndex() > kMaxElements) return fail(who + "uv index too large");
             set.uvs.assign(pts->multi.endIndex(), glm::vec2(0.0f));
-            forEachNumeric(*pts, [&](uint64_t i, const double* v, int w) {
+            forEachNumericOnThreads(*pts, set.uvs.size(), [&](uint64_t i, const double* v, int w) {
                 if (w >= 2) set.uvs[i] = glm::vec2(float(v[0]), float(v[1]));
             });
         }
@@ -1341,7 +1359,7 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     if (const AttrData* n = attrOf(g, shape, "normals"); n && !n->multi.empty()) {
         if (n->multi.endIndex() == mesh.faceVertices.size()) {
             mesh.normals.assign(mesh.faceVertices.size(), glm::vec3(0.0f));
-            forEachNumeric(*n, [&](uint64_t i, const double* v, int w) {
+            forEachNumericOnThreads(*n, mesh.normals.size(), [&](uint64_t i, const double* v, int w) {
                 if (w >= 3) mesh.normals[i] = storedNormal(v);
             });
         } else {
