@@ -59,6 +59,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Without a cap, the most a tile's buffers may be estimated to hold before the tile is split.
+constexpr uint64_t kUncappedTileBytes = uint64_t(256) << 20;
+
 double secondsSince(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -109,6 +112,8 @@ private:
     void bordersDone(size_t index, TileWorker& w);
     void returnDroppedMemory();
     void planFrameTiles();
+    // Each kept object's screen box and triangles per scanline, for the tile plan.
+    std::vector<ScreenCost> screenCosts() const;
     void rasterizeTile(const PixelRect& base, TileWorker& w);
     void addObjectTriangles(uint32_t unit, const PixelRect& base, TileWorker& w);
     const std::vector<glm::dvec4>& clusterBoxes(uint32_t unit, const geom::Tessellation& g);
@@ -246,16 +251,45 @@ void FrameRenderer::prepare() {
 // scanline is its triangle crossings weighed by the fragments each leaves (1 + the width of a
 // cell of the square grid its triangles make over its box).
 void FrameRenderer::planFrameTiles() {
-    const bool fixed = m_settings.forceTileSize || m_budget.capBytes() == 0;
-    // Under a cap, tiles are taken along the Hilbert curve, so that the next tile (or a thread's
-    // next) meets what the last one made while it is still cached.
-    const bool walk = m_budget.capBytes() != 0;
-    std::vector<PixelRect> rowMajor;
-    if (fixed) {
-        rowMajor = planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
-        m_tiles = walk ? alongHilbertCurve(rowMajor) : rowMajor;
+    // -tw/-th (forceTileSize): the fixed grid as asked. Under a cap, tiles are taken along the
+    // Hilbert curve, so that the next tile (or a thread's next) meets what the last one made while
+    // it is still cached.
+    const bool capped = m_budget.capBytes() != 0;
+    if (m_settings.forceTileSize) {
+        std::vector<PixelRect> rowMajor =
+            planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
+        m_tiles = capped ? alongHilbertCurve(rowMajor) : rowMajor;
         if (!m_options.tilePlan) return;
+        TilePlan& plan = *m_options.tilePlan;
+        plan = TilePlan{};
+        plan.tiles = std::move(rowMajor);
+        plan.maxTileCost = std::numeric_limits<double>::infinity();
+        const std::vector<ScreenCost> costs = screenCosts();
+        for (const PixelRect& t : plan.tiles) plan.cost.push_back(tileCost(t, costs));
+        return;
     }
+    const std::vector<ScreenCost> costs = screenCosts();
+    TilePlan plan;
+    if (!capped) {
+        // The fixed grid, with a tile whose buffers would pass kUncappedTileBytes split down to
+        // 16×16: a dense corner, or a small frame of a heavy scene, then spreads over tiles and
+        // threads instead of one tile's buffers holding all its fragments.
+        m_stats.maxTileCost = maxTileCost(kUncappedTileBytes, m_settings, std::max(1, m_settings.tileHeight));
+        const std::vector<PixelRect> grid =
+            planTiles(m_region, std::max(1, m_settings.tileWidth), std::max(1, m_settings.tileHeight));
+        plan = splitTiles(grid, costs, m_stats.maxTileCost, 16);
+        m_tiles = plan.tiles;
+    } else {
+        const int threads = std::max(1, tbb::this_task_arena::max_concurrency());
+        const uint64_t available = m_budget.availableBytes();
+        m_stats.maxTileCost = maxTileCost(available / 2 / uint64_t(threads), m_settings, (m_region.height() + 1) / 2);
+        plan = planAdaptiveTiles(m_region, costs, m_stats.maxTileCost, 16);
+        m_tiles = alongHilbertCurve(plan.tiles);
+    }
+    if (m_options.tilePlan) *m_options.tilePlan = std::move(plan);
+}
+
+std::vector<ScreenCost> FrameRenderer::screenCosts() const {
     std::vector<ScreenCost> costs;
     const double far = 1e7;  // boxes that reach everywhere (crossing the near plane) are clamped
     for (uint32_t i = 0; i < m_views.size(); ++i) {
@@ -272,20 +306,7 @@ void FrameRenderer::planFrameTiles() {
         c.trianglesPerScanline = h.trianglesPerScanline(c.y1 - c.y0) * (1.0 + std::max(0.0, width) / columns);
         costs.push_back(c);
     }
-    if (fixed) {
-        TilePlan& plan = *m_options.tilePlan;
-        plan = TilePlan{};
-        plan.tiles = std::move(rowMajor);
-        plan.maxTileCost = std::numeric_limits<double>::infinity();
-        for (const PixelRect& t : plan.tiles) plan.cost.push_back(tileCost(t, costs));
-        return;
-    }
-    const int threads = std::max(1, tbb::this_task_arena::max_concurrency());
-    const uint64_t available = m_budget.availableBytes();
-    m_stats.maxTileCost = maxTileCost(available / 2 / uint64_t(threads), m_settings, (m_region.height() + 1) / 2);
-    TilePlan plan = planAdaptiveTiles(m_region, costs, m_stats.maxTileCost, 16);
-    m_tiles = alongHilbertCurve(plan.tiles);
-    if (m_options.tilePlan) *m_options.tilePlan = std::move(plan);
+    return costs;
 }
 
 const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t unit, const geom::Tessellation& g) {

@@ -243,6 +243,38 @@ TilePlan planAdaptiveTiles(const PixelRect& region, std::span<const ScreenCost> 
     return result;
 }
 
+TilePlan splitTiles(std::span<const PixelRect> tiles, std::span<const ScreenCost> objects, double maxTileCost,
+                    int minTileSize) {
+    TilePlan result;
+    const bool limited = std::isfinite(maxTileCost) && maxTileCost > 0;
+    result.maxTileCost = limited ? maxTileCost : std::numeric_limits<double>::infinity();
+    const std::vector<Footprint> all = footprints(objects);
+    Planner planner{all, result.maxTileCost, std::max(minTileSize, 1), {}, {}, 0};
+    std::vector<uint32_t> ids;
+    ids.reserve(all.size());
+    for (const PixelRect& tile : tiles) {
+        if (tile.empty()) continue;
+        ids.clear();
+        for (size_t i = 0; i < all.size(); ++i)
+            if (reaches(all[i], tile)) ids.push_back(static_cast<uint32_t>(i));
+        planner.plan(tile, ids);
+    }
+    std::sort(planner.placed.begin(), planner.placed.end(), [](const auto& a, const auto& b) {
+        return a.first.y0 != b.first.y0 ? a.first.y0 < b.first.y0 : a.first.x0 < b.first.x0;
+    });
+    result.tiles.reserve(planner.placed.size());
+    result.cost.reserve(planner.placed.size());
+    result.minSize = planner.placed.empty() ? 0 : std::numeric_limits<int>::max();
+    for (const auto& [tile, cost] : planner.placed) {
+        result.tiles.push_back(tile);
+        result.cost.push_back(cost);
+        result.minSize = std::min({result.minSize, tile.width(), tile.height()});
+        result.maxSize = std::max({result.maxSize, tile.width(), tile.height()});
+    }
+    result.overCost = planner.overCost;
+    return result;
+}
+
 std::vector<uint8_t> tilePatternImage(const TilePlan& plan, int width, int height) {
     if (width < 1 || height < 1) return {};
     std::vector<uint8_t> image(size_t(width) * size_t(height) * 3, 128);

@@ -80,6 +80,13 @@ struct TilePlan {
 TilePlan planAdaptiveTiles(const PixelRect& region, std::span<const ScreenCost> objects, double maxTileCost,
                            int minTileSize = 16);
 
+// The same splitting applied to given disjoint `tiles` (the fixed grid of a render without a
+// cap): each tile that costs more than maxTileCost is halved as planAdaptiveTiles halves, down to
+// minTileSize; a tile within the limit stays as it is. The result is ordered by (y0, x0) and
+// covers exactly what `tiles` covered. maxTileCost <= 0, infinite or NaN: the tiles as given.
+TilePlan splitTiles(std::span<const PixelRect> tiles, std::span<const ScreenCost> objects, double maxTileCost,
+                    int minTileSize = 16);
+
 // Index of point (x, y) (each below 2^order) along the Hilbert curve through the 2^order ×
 // 2^order grid: consecutive indices are neighbouring cells.
 uint64_t hilbertIndex(uint32_t x, uint32_t y, int order);

@@ -277,6 +277,43 @@ struct GroundRender {
     }
 };
 
+TEST(OutOfCore, WithoutACapADenseTileOfTheGridIsSplit) {
+    // 480,000 triangles in a 48×32 frame: the one 64×64 tile of the grid would hold every
+    // fragment. Without a cap it is split (to 16×16 at most here), the threads share the pieces,
+    // and the image is the one the single forced tile gives.
+    const Grid g(3, 2, 200, 1.2, 48, 32);
+    RenderSettings one = g.settings;
+    one.tileWidth = one.tileHeight = 64;
+    RenderStats wholeStats;
+    const Framebuffer whole = g.render(one, wholeStats);
+    EXPECT_EQ(wholeStats.tiles, 1u);
+    EXPECT_EQ(wholeStats.maxTileCost, 0.0);
+    for (int threads : {1, 2}) {
+        RenderSettings s = one;
+        s.forceTileSize = false;
+        s.numCpusToUse = threads;
+        RenderStats st;
+        TilePlan plan;
+        RenderOptions options;
+        options.tilePlan = &plan;
+        const Framebuffer split = renderFrame(g.frameScene, g.camera, s, st, options);
+        EXPECT_TRUE(sameImage(split, whole)) << threads << " threads";
+        EXPECT_GT(st.tiles, 1u);
+        EXPECT_EQ(st.tiles, plan.tiles.size());
+        EXPECT_LE(st.tileMaxSize, 32);
+        EXPECT_GT(st.maxTileCost, 0.0);
+        EXPECT_DOUBLE_EQ(plan.maxTileCost, st.maxTileCost);
+    }
+    // A sparse frame keeps the grid: no 64×64 tile of it passes the limit.
+    const Grid sparse(3, 2, 12, 1.2, 160, 112);
+    RenderSettings s = sparse.settings;
+    s.forceTileSize = false;
+    s.tileWidth = s.tileHeight = 64;
+    RenderStats st;
+    sparse.render(s, st);
+    EXPECT_EQ(st.tiles, planTiles({0, 0, 160, 112}, 64, 64).size());
+}
+
 TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
     for (const bool onDemand : {false, true}) {
         SCOPED_TRACE(onDemand ? "meshes evaluated on demand" : "meshes kept");

@@ -455,6 +455,49 @@ TEST(TilePlan, FixedGridIsUnchanged) {
     EXPECT_EQ(tiles, expected);
 }
 
+TEST(TilePlan, SplitTilesKeepsCheapTilesAndSplitsDenseOnesToTheFloor) {
+    // The fixed 64×64 grid of a 128×100 region; 256 triangles a scanline over x in [0, 32), y in
+    // [0, 32): a tile w pixels wide inside it costs 8·w. Limit 200: the top-left tile (cost 256)
+    // splits into 32×32 tiles, whose top-left (256) splits into 16×16 ones (128 each); the others
+    // stay as they are.
+    const PixelRect region = {0, 0, 128, 100};
+    const std::vector<PixelRect> grid = planTiles(region, 64, 64);
+    const std::vector<ScreenCost> objects = {{0, 0, 32, 32, 256}};
+    const TilePlan plan = splitTiles(grid, objects, 200.0);
+    EXPECT_EQ(plan.tiles.size(), 4u + 3u + 3u);
+    EXPECT_EQ(tilesOfSize(plan, 16, 16), 4u);
+    EXPECT_EQ(tilesOfSize(plan, 32, 32), 3u);
+    EXPECT_EQ(tilesOfSize(plan, 64, 64), 1u);
+    EXPECT_EQ(tilesOfSize(plan, 64, 36), 2u);
+    EXPECT_EQ(plan.overCost, 0u);
+    EXPECT_EQ(plan.minSize, 16);
+    EXPECT_EQ(plan.maxSize, 64);
+    EXPECT_DOUBLE_EQ(plan.maxTileCost, 200.0);
+    for (size_t i = 1; i < plan.tiles.size(); ++i) {
+        const PixelRect& a = plan.tiles[i - 1];
+        const PixelRect& b = plan.tiles[i];
+        EXPECT_TRUE(a.y0 < b.y0 || (a.y0 == b.y0 && a.x0 < b.x0)) << "not in (y0, x0) order at " << b;
+    }
+    expectExactCover(plan, region);
+    // Unlimited, or a limit no tile passes: the grid itself.
+    for (double limit : {kInf, 0.0, kNaN, 1e9}) {
+        const TilePlan same = splitTiles(grid, objects, limit);
+        EXPECT_EQ(same.tiles, grid) << limit;
+    }
+}
+
+TEST(TilePlan, SplitTilesStopsAtTheFloorOfASmallFrame) {
+    // A 64×36 frame in one tile, far over any limit: 16×18 tiles (36 rows halve once), each still
+    // over the limit and counted.
+    const PixelRect region = {0, 0, 64, 36};
+    const std::vector<ScreenCost> objects = {{-10, -10, 80, 50, 1e6}};
+    const TilePlan plan = splitTiles(planTiles(region, 64, 64), objects, 100.0);
+    EXPECT_EQ(plan.tiles.size(), 8u);
+    EXPECT_EQ(tilesOfSize(plan, 16, 18), 8u);
+    EXPECT_EQ(plan.overCost, 8u);
+    expectExactCover(plan, region);
+}
+
 // ------------------------------------------------------------------------------- tile pattern
 
 struct Rgb {
