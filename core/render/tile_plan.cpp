@@ -174,6 +174,24 @@ struct Planner {
     }
 };
 
+// The planner's tiles into `plan`, ordered by (y0, x0) (tiles are disjoint, so that orders them
+// completely), with their costs, sizes and the count over the limit.
+void takePlaced(Planner& planner, TilePlan& plan) {
+    std::sort(planner.placed.begin(), planner.placed.end(), [](const auto& a, const auto& b) {
+        return a.first.y0 != b.first.y0 ? a.first.y0 < b.first.y0 : a.first.x0 < b.first.x0;
+    });
+    plan.tiles.reserve(planner.placed.size());
+    plan.cost.reserve(planner.placed.size());
+    plan.minSize = planner.placed.empty() ? 0 : std::numeric_limits<int>::max();
+    for (const auto& [tile, cost] : planner.placed) {
+        plan.tiles.push_back(tile);
+        plan.cost.push_back(cost);
+        plan.minSize = std::min({plan.minSize, tile.width(), tile.height()});
+        plan.maxSize = std::max({plan.maxSize, tile.width(), tile.height()});
+    }
+    plan.overCost = planner.overCost;
+}
+
 // Five key colours of matplotlib's "plasma" map (perceptually uniform, dark blue to yellow),
 // interpolated linearly; tiles over their limit are red, outside the map.
 std::array<uint8_t, 3> heat(double t) {
@@ -226,20 +244,7 @@ TilePlan planAdaptiveTiles(const PixelRect& region, std::span<const ScreenCost> 
         planner.plan(quadrants[q], ids);
     }
 
-    // Tiles are disjoint, so (y0, x0) orders them completely.
-    std::sort(planner.placed.begin(), planner.placed.end(), [](const auto& a, const auto& b) {
-        return a.first.y0 != b.first.y0 ? a.first.y0 < b.first.y0 : a.first.x0 < b.first.x0;
-    });
-    result.tiles.reserve(planner.placed.size());
-    result.cost.reserve(planner.placed.size());
-    result.minSize = std::numeric_limits<int>::max();
-    for (const auto& [tile, cost] : planner.placed) {
-        result.tiles.push_back(tile);
-        result.cost.push_back(cost);
-        result.minSize = std::min({result.minSize, tile.width(), tile.height()});
-        result.maxSize = std::max({result.maxSize, tile.width(), tile.height()});
-    }
-    result.overCost = planner.overCost;
+    takePlaced(planner, result);
     return result;
 }
 
@@ -259,19 +264,7 @@ TilePlan splitTiles(std::span<const PixelRect> tiles, std::span<const ScreenCost
             if (reaches(all[i], tile)) ids.push_back(static_cast<uint32_t>(i));
         planner.plan(tile, ids);
     }
-    std::sort(planner.placed.begin(), planner.placed.end(), [](const auto& a, const auto& b) {
-        return a.first.y0 != b.first.y0 ? a.first.y0 < b.first.y0 : a.first.x0 < b.first.x0;
-    });
-    result.tiles.reserve(planner.placed.size());
-    result.cost.reserve(planner.placed.size());
-    result.minSize = planner.placed.empty() ? 0 : std::numeric_limits<int>::max();
-    for (const auto& [tile, cost] : planner.placed) {
-        result.tiles.push_back(tile);
-        result.cost.push_back(cost);
-        result.minSize = std::min({result.minSize, tile.width(), tile.height()});
-        result.maxSize = std::max({result.maxSize, tile.width(), tile.height()});
-    }
-    result.overCost = planner.overCost;
+    takePlaced(planner, result);
     return result;
 }
 
