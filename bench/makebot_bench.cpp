@@ -9,7 +9,8 @@
 //
 // usage: makebot_bench [--quick] [--runs N] [--filter box|lanczos3] [--dir DIR]
 //                      [--makebot PATH] [--maketx PATH]
-//        makebot_bench --suite [--only TEXT] [--filter F] [--dir DIR] [--makebot PATH] [--maketx PATH]
+//        makebot_bench --suite [--only TEXT] [--bot-version N] [--filter F] [--dir DIR] [--makebot PATH]
+//                      [--maketx PATH]
 #include "bench/bench_support.h"
 #include "texture/bot_file.h"
 
@@ -197,8 +198,8 @@ std::string suiteName(const fs::path& p) {
     return s;
 }
 
-int runSuite(const std::string& only, const std::string& filter, const fs::path& dir, const fs::path& makebot,
-             const fs::path& maketx) {
+int runSuite(const std::string& only, const std::string& filter, const std::string& botVersion, const fs::path& dir,
+             const fs::path& makebot, const fs::path& maketx) {
     if (!fs::exists(maketx)) {
         std::fprintf(stderr, "maketx not found at %s (use --maketx)\n", maketx.c_str());
         return 1;
@@ -206,8 +207,9 @@ int runSuite(const std::string& only, const std::string& filter, const fs::path&
     std::vector<fs::path> images = suiteImages();
     if (!only.empty())
         std::erase_if(images, [&](const fs::path& p) { return suiteName(p).find(only) == std::string::npos; });
-    std::printf("makebot vs maketx on %zu real images, filter %s, one run each, %ld cores\n", images.size(),
-                filter.c_str(), sysconf(_SC_NPROCESSORS_ONLN));
+    std::printf("makebot vs maketx on %zu real images, filter %s, BOT version %s, one run each, %ld cores\n",
+                images.size(), filter.c_str(), botVersion.empty() ? "(makebot's default)" : botVersion.c_str(),
+                sysconf(_SC_NPROCESSORS_ONLN));
     std::printf("%-44s %11s %-9s %11s %11s %6s %7s %7s %8s %8s %7s\n", "image", "pixels", "type", "maketx B",
                 "makebot B", "size", "time", "tx s", "tx MB", "bot MB", "ns/page");
     struct Total {
@@ -227,13 +229,22 @@ int runSuite(const std::string& only, const std::string& filter, const fs::path&
         const OIIO::ImageSpec spec = in->spec();
         in.reset();
         const Summary t = measure({maketx.string(), "--filter", filter, "-o", txOut.string(), image.string()}, txOut, 1);
-        const Summary b = measure({makebot.string(), "--filter", filter, image.string(), botOut.string()}, botOut, 1);
+        std::vector<std::string> botArgs = {makebot.string(), "--filter", filter};
+        if (!botVersion.empty()) botArgs.insert(botArgs.end(), {"--bot-version", botVersion});
+        botArgs.insert(botArgs.end(), {image.string(), botOut.string()});
+        const Summary b = measure(botArgs, botOut, 1);
         if (!t.ok || !b.ok) {
             std::printf("%-44s %s failed, skipped\n", name.c_str(), t.ok ? "makebot" : "maketx");
             continue;
         }
         uint64_t pages = 0;
-        const double ns = pageDecodeNs(botOut, pages);
+        double ns = 0;
+        try {
+            ns = pageDecodeNs(botOut, pages);
+        } catch (const std::exception& e) {
+            std::printf("%-44s cannot read the BOT file back: %s\n", name.c_str(), e.what());
+            continue;
+        }
         const double sizeRatio = double(b.outBytes) / double(t.outBytes);
         const std::string pixels = std::to_string(spec.width) + "x" + std::to_string(spec.height);
         const std::string type = std::to_string(spec.nchannels) + " " + spec.format.c_str();
@@ -267,7 +278,7 @@ int runSuite(const std::string& only, const std::string& filter, const fs::path&
 
 int main(int argc, char** argv) {
     bool quick = false, suite = false;
-    std::string only;
+    std::string only, botVersion;
     int runs = 3;
     std::string filter = "box";
     fs::path dir = fs::temp_directory_path() / "pushpin_makebot_bench";
@@ -279,6 +290,7 @@ int main(int argc, char** argv) {
         if (a == "--quick") quick = true;
         else if (a == "--suite") suite = true;
         else if (a == "--only") only = next();
+        else if (a == "--bot-version") botVersion = next();
         else if (a == "--runs") runs = std::max(1, std::atoi(next().c_str()));
         else if (a == "--filter") filter = next();
         else if (a == "--dir") dir = next();
@@ -287,7 +299,8 @@ int main(int argc, char** argv) {
         else {
             std::fprintf(stderr,
                          "usage: makebot_bench [--quick] [--runs N] [--filter F] [--dir D] [--makebot P] [--maketx P]\n"
-                         "       makebot_bench --suite [--only TEXT] [--filter F] [--dir D] [--makebot P] [--maketx P]\n");
+                         "       makebot_bench --suite [--only TEXT] [--bot-version N] [--filter F] [--dir D] [--makebot P]\n"
+                         "                     [--maketx P]\n");
             return 2;
         }
     }
@@ -298,7 +311,7 @@ int main(int argc, char** argv) {
     }
     const bool haveMaketx = fs::exists(maketx);
     fs::create_directories(dir);
-    if (suite) return runSuite(only, filter, dir, makebot, maketx);
+    if (suite) return runSuite(only, filter, botVersion, dir, makebot, maketx);
 
     struct Case {
         std::string name;

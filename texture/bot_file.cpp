@@ -24,6 +24,7 @@
 #include "texture/detail/bot_checksum.h"
 #include "texture/detail/bot_layout.h"
 #include "texture/detail/bot_page.h"
+#include "texture/detail/bot_rans.h"
 #include "texture/detail/mapped_file.h"
 #include "texture/mipmap.h"
 
@@ -33,6 +34,8 @@ using detail::get16;
 using detail::get32;
 using detail::get64;
 using detail::kPageTexels;
+using detail::appendVarint;
+using detail::readVarint;
 
 uint32_t bytesPerSample(PixelType type) {
     switch (type) {
@@ -103,6 +106,8 @@ const char* pageKindName(BotPageKind kind) {
         case BotPageKind::Frame: return "frame";
         case BotPageKind::Block: return "block";
         case BotPageKind::Literals: return "literals";
+        case BotPageKind::Rans: return "rans";
+        case BotPageKind::Constant: return "constant";
     }
     return "?";
 }
@@ -117,6 +122,19 @@ std::string pageName(uint32_t level, uint32_t pageX, uint32_t pageY) {
 // naming the wrong kind, fails like damaged bytes.
 uint32_t pageChecksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex, BotPageKind kind) {
     return uint32_t(detail::xxh64(stored, bytes, pageIndex | uint64_t(kind) << 56));
+}
+
+// Version 3 stores the kind as 0 raw, 1 rANS, 2 constant, and keeps the low 16 bits of the checksum.
+detail::Bot3Kind bot3KindOf(BotPageKind kind) {
+    switch (kind) {
+        case BotPageKind::Rans: return detail::Bot3Kind::Rans;
+        case BotPageKind::Constant: return detail::Bot3Kind::Constant;
+        default: return detail::Bot3Kind::Raw;
+    }
+}
+
+uint32_t page3Checksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex, BotPageKind kind) {
+    return uint32_t(detail::xxh64(stored, bytes, pageIndex | uint64_t(bot3KindOf(kind)) << 56) & 0xffffu);
 }
 
 cache::ZstdForm zstdFormOf(BotPageKind kind) {
@@ -265,14 +283,16 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
         throw fail("truncated BOT header (" + std::to_string(fileBytes) + " bytes, need " +
                    std::to_string(kBotHeaderBytes) + ")");
     if (std::memcmp(h, kBotMagic, sizeof kBotMagic) != 0) throw fail("not a BOT file (bad magic)");
-    if (get32(h + kFieldVersion) != kBotVersion)
-        throw fail("unsupported BOT version " + std::to_string(get32(h + kFieldVersion)));
+    const uint32_t version = get32(h + kFieldVersion);
+    if (version != kBotVersion2 && version != kBotVersion3)
+        throw fail("unsupported BOT version " + std::to_string(version));
     if (get32(h + kFieldHeaderBytes) != kBotHeaderBytes)
         throw fail("bad header size " + std::to_string(get32(h + kFieldHeaderBytes)));
 
     std::shared_ptr<BotFile> file(new BotFile());
     file->m_path = path;
     file->m_fileBytes = fileBytes;
+    file->m_version = version;
     BotHeader& hd = file->m_header;
     hd.width = get32(h + kFieldWidth);
     hd.height = get32(h + kFieldHeight);
@@ -300,6 +320,10 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
     if (levelCount != hd.levels.size())
         throw fail("bad level count " + std::to_string(levelCount) + " (a " + std::to_string(hd.width) + "x" +
                    std::to_string(hd.height) + " image has " + std::to_string(hd.levels.size()) + ")");
+    if (version == kBotVersion3) {
+        parseVersion3(*file, h, source);
+        return file;
+    }
 
     uint64_t pageCount = 0, rowCount = 0;
     for (const BotLevel& l : hd.levels) {
@@ -385,6 +409,118 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
     return file;
 }
 
+// Version 3 (BOT_FORMAT.md "Version 3"): the tables follow the page data as one trailer. Every count
+// that sizes an allocation is checked against the trailer's size first: a page entry takes at
+// least 3 bytes and a band at least one byte per context, so nothing allocated here outgrows a
+// small multiple of the file.
+void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& source) {
+    using namespace detail;
+    const std::filesystem::path& path = file.m_path;
+    auto fail = [&](const std::string& msg) -> FormatError { return FormatError(path, msg); };
+    const uint64_t fileBytes = source.size;
+    BotHeader& hd = file.m_header;
+    const uint32_t levelCount = uint32_t(hd.levels.size());
+    if (h[kFieldPageFilter] != 0) throw fail("bad page filter field " + std::to_string(h[kFieldPageFilter]) +
+                                             " (version 3 names the filter per band)");
+    if (get16(h + kFieldReserved0) != 0 || get64(h + kField3Reserved) != 0 || get64(h + kField3Reserved + 8) != 0)
+        throw fail("reserved header fields not zero");
+    const uint32_t rawBytes = file.m_pageRawBytes;
+    const uint32_t prefixBytes = pagePrefixBytes(hd.channels, hd.pixelType);
+    const uint32_t contexts = ransContextCount(hd.pixelType);
+    uint64_t pageCount = 0, rowCount = 0, bandCount = 0;
+    for (const BotLevel& l : hd.levels) {
+        file.m_levelFirstPage.push_back(pageCount);
+        file.m_levelFirstBand.push_back(uint32_t(bandCount));
+        const uint32_t bandRows = bot3BandRows(l.pagesX, rawBytes);
+        file.m_levelBandRows.push_back(bandRows);
+        pageCount += uint64_t(l.pagesX) * l.pagesY;
+        rowCount += l.pagesY;
+        bandCount += (l.pagesY + bandRows - 1) / bandRows;
+    }
+    if (get64(h + kFieldPageCount) != pageCount)
+        throw fail("bad page count " + std::to_string(get64(h + kFieldPageCount)) + " (expected " +
+                   std::to_string(pageCount) + ")");
+    if (get64(h + kField3BandCount) != bandCount)
+        throw fail("bad band count " + std::to_string(get64(h + kField3BandCount)) + " (expected " +
+                   std::to_string(bandCount) + ")");
+    const uint64_t trailerOffset = get64(h + kField3TrailerOffset);
+    const uint64_t trailerBytes = get64(h + kField3TrailerBytes);
+    if (trailerOffset < kBotHeaderBytes || trailerOffset > fileBytes || trailerBytes != fileBytes - trailerOffset)
+        throw fail("bad trailer offset " + std::to_string(trailerOffset) + " or size " + std::to_string(trailerBytes) +
+                   " (file has " + std::to_string(fileBytes) + " bytes)");
+    const uint64_t leastTrailer = uint64_t(levelCount) * kBotLevelEntryBytes + rowCount * kBotRowEntryBytes +
+                                  bandCount * (1 + contexts) + pageCount * kBot3MinPageEntryBytes;
+    if (trailerBytes < leastTrailer)
+        throw fail("trailer of " + std::to_string(trailerBytes) + " bytes cannot hold the tables of " +
+                   std::to_string(pageCount) + " pages (at least " + std::to_string(leastTrailer) + " bytes)");
+
+    // Bounded by the file size (checked above).
+    std::vector<uint8_t> trailer{};
+    trailer.resize(size_t(trailerBytes));
+    if (!source.read(trailer.data(), trailer.size(), trailerOffset, path)) throw fail("truncated trailer");
+    if (xxh64(trailer.data(), trailer.size(), xxh64(h, kFieldMetaChecksum, 0)) != get64(h + kFieldMetaChecksum))
+        throw fail("header/trailer checksum mismatch");
+
+    const uint8_t* at = trailer.data();
+    const uint8_t* const end = trailer.data() + trailer.size();
+    for (uint32_t l = 0; l < levelCount; ++l, at += kBotLevelEntryBytes)
+        if (get32(at) != hd.levels[l].width || get32(at + 4) != hd.levels[l].height)
+            throw fail("level table entry " + std::to_string(l) + " does not match the image size");
+    const uint8_t* rowTable = at;
+    at += rowCount * kBotRowEntryBytes;
+    file.m_bands.resize(size_t(bandCount));
+    for (uint32_t l = 0, b = 0; l < levelCount; ++l) {
+        const uint32_t bands = (hd.levels[l].pagesY + file.m_levelBandRows[l] - 1) / file.m_levelBandRows[l];
+        for (uint32_t k = 0; k < bands; ++k, ++b) {
+            const std::string name = "band " + std::to_string(k) + " of level " + std::to_string(l);
+            if (at == end || *at > 2) throw fail("bad page filter of " + name);
+            file.m_bands[b].filter = PageFilter(*at++);
+            file.m_bands[b].tables = RansTableSet::parse(at, end, contexts);
+            if (!file.m_bands[b].tables) throw fail("corrupt coding tables of " + name);
+        }
+    }
+    file.m_pages.resize(size_t(pageCount));
+    const uint32_t least = ransPrefixInState(prefixBytes);
+    uint64_t row = 0, index = 0;
+    for (uint32_t l = 0; l < levelCount; ++l) {
+        const BotLevel& lv = hd.levels[l];
+        for (uint32_t py = 0; py < lv.pagesY; ++py, ++row) {
+            uint64_t offset = get64(rowTable + row * kBotRowEntryBytes);
+            for (uint32_t px = 0; px < lv.pagesX; ++px, ++index) {
+                BotPageEntry& e = file.m_pages[index];
+                uint32_t field = 0;
+                if (!readVarint(at, end, field) || end - at < 2) throw fail("truncated page table at " + pageName(l, px, py));
+                e.checksum = get16(at);
+                at += 2;
+                const uint32_t kind = field & ((1u << kBot3KindBits) - 1);
+                const uint32_t stored = field >> kBot3KindBits;
+                bool sizeOk = false;
+                switch (Bot3Kind(kind)) {
+                    case Bot3Kind::Raw: e.kind = BotPageKind::Raw; sizeOk = stored == rawBytes; break;
+                    case Bot3Kind::Rans:
+                        e.kind = BotPageKind::Rans;
+                        sizeOk = stored >= prefixBytes - least + kRansStateBytes && stored < rawBytes;
+                        break;
+                    case Bot3Kind::Constant: e.kind = BotPageKind::Constant; sizeOk = stored == prefixBytes; break;
+                    default: throw fail("bad page kind " + std::to_string(kind) + " of " + pageName(l, px, py));
+                }
+                if (!sizeOk)
+                    throw fail("bad stored size " + std::to_string(stored) + " of " + pageKindName(e.kind) + " " +
+                               pageName(l, px, py));
+                e.storedBytes = uint16_t(stored);
+                e.offsetBytes = offset;
+                if (offset < kBotHeaderBytes || offset > trailerOffset || stored > trailerOffset - offset)
+                    throw fail(pageName(l, px, py) + " lies outside the page data (offset " + std::to_string(offset) +
+                               ", " + std::to_string(stored) + " bytes, page data ends at " +
+                               std::to_string(trailerOffset) + ")");
+                offset += stored;
+            }
+        }
+    }
+    if (at != end) throw fail(std::to_string(end - at) + " unexpected bytes at the end of the trailer");
+    file.m_pageFilter = file.m_bands.empty() ? PageFilter::None : file.m_bands[0].filter;
+}
+
 uint64_t BotFile::pageIndex(uint32_t level, uint32_t pageX, uint32_t pageY) const {
     if (level >= m_header.levels.size() || pageX >= m_header.levels[level].pagesX ||
         pageY >= m_header.levels[level].pagesY)
@@ -429,17 +565,38 @@ uint64_t BotFile::readPageFromMapping(const uint8_t* bytes, size_t byteCount, ui
 }
 
 size_t BotFile::memoryBytes() const {
+    size_t bandBytes = m_bands.capacity() * sizeof(Band) +
+                       (m_levelFirstBand.capacity() + m_levelBandRows.capacity()) * sizeof(uint32_t);
+    for (const Band& b : m_bands) bandBytes += b.tables ? b.tables->memoryBytes() : 0;
     return sizeof(BotFile) + m_path.native().capacity() + m_header.levels.capacity() * sizeof(BotLevel) +
            m_levelFirstPage.capacity() * sizeof(uint64_t) + m_pages.capacity() * sizeof(BotPageEntry) +
-           (m_dictionary ? m_dictionary->memoryBytes() : 0);
+           (m_dictionary ? m_dictionary->memoryBytes() : 0) + bandBytes;
 }
 
 uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uint32_t pageY, const uint8_t* stored,
                              float* dst) const {
     const BotPageEntry& e = m_pages[index];
+    PageScratch& scratch = pageScratch();
+    if (m_version == detail::kBotVersion3) {
+        if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum)
+            throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
+        const Band& band = m_bands[m_levelFirstBand[level] + pageY / m_levelBandRows[level]];
+        const uint8_t* packed = stored;
+        if (e.kind == BotPageKind::Constant) {
+            std::memcpy(scratch.packed.data(), stored, e.storedBytes);
+            std::memset(scratch.packed.data() + e.storedBytes, 0, m_pageRawBytes - e.storedBytes);
+            packed = scratch.packed.data();
+        } else if (e.kind == BotPageKind::Rans) {
+            if (!band.tables->decode(stored, e.storedBytes, m_header.channels, m_header.pixelType,
+                                     scratch.packed.data()))
+                throw FormatError(m_path, "corrupt rANS data in " + pageName(level, pageX, pageY));
+            packed = scratch.packed.data();
+        }
+        detail::unpackPageToFloat(packed, m_header.channels, m_header.pixelType, band.filter, dst);
+        return e.storedBytes;
+    }
     if (pageChecksum(stored, e.storedBytes, index, e.kind) != e.checksum)
         throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
-    PageScratch& scratch = pageScratch();
     const uint8_t* packed = stored;
     if (e.kind != BotPageKind::Raw) {
         // The prefix (texel 0 of every channel) is stored as it is; zstd codes the rest.
@@ -585,7 +742,166 @@ struct BotWriter::Impl {
         cursor += packedEnd;
     }
 
+    // ------------------------------------------------------------------------------ version 3
+
+    // Each level's band being gathered: its page rows as quantised samples, until the band's last
+    // row arrives; then the band is coded and written (encodeBand).
+    std::vector<uint32_t> levelFirstBand, levelBandRows;
+    std::vector<std::vector<uint8_t>> bandSamples;  // per level
+    std::vector<std::vector<uint8_t>> bandTables;   // per band: filter byte and stored tables
+    uint32_t contexts = 0;
+
+    void emitPageRow3(uint32_t level, uint32_t pageY, const float* rows, uint32_t nRows, bool linear) {
+        const BotLevel& lv = header.levels[level];
+        const uint32_t bandRows = levelBandRows[level];
+        const uint32_t rowInBand = pageY % bandRows;
+        const uint32_t rowsInBand = std::min(bandRows, lv.pagesY - (pageY - rowInBand));
+        std::vector<uint8_t>& samples = bandSamples[level];
+        if (rowInBand == 0) samples.resize(size_t(rowsInBand) * lv.pagesX * rawBytes);
+        uint8_t* row = samples.data() + size_t(rowInBand) * lv.pagesX * rawBytes;
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, lv.pagesX, 8), [&](const tbb::blocked_range<uint32_t>& rg) {
+            for (uint32_t px = rg.begin(); px != rg.end(); ++px)
+                quantizePage(level, rows, nRows, px, linear, row + size_t(px) * rawBytes);
+        });
+        if (rowInBand + 1 == rowsInBand) encodeBand(level, pageY - rowInBand, rowsInBand);
+        if (pageY + 1 == lv.pagesY) {
+            samples.clear();
+            samples.shrink_to_fit();
+        }
+    }
+
+    // Symbol counts of the band's pages (every `step`-th) packed with `filter`. Integer sums, so the
+    // result does not depend on how the pages were split among threads.
+    detail::RansHistogram bandHistogram(const uint8_t* samples, uint64_t pages, uint64_t step, PageFilter filter,
+                                        uint8_t* packedOut) const {
+        tbb::enumerable_thread_specific<detail::RansHistogram> partial(detail::RansHistogram{contexts});
+        const uint64_t count = (pages + step - 1) / step;
+        tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 64), [&](const tbb::blocked_range<uint64_t>& rg) {
+            detail::RansHistogram& hist = partial.local();
+            alignas(16) uint8_t local[kPageTexels * kMaxChannels * 4];
+            for (uint64_t k = rg.begin(); k != rg.end(); ++k) {
+                uint8_t* packed = packedOut ? packedOut + k * step * rawBytes : local;
+                detail::packPage(samples + k * step * rawBytes, header.channels, header.pixelType, filter, packed);
+                detail::ransCount(packed, header.channels, header.pixelType, hist);
+            }
+        });
+        detail::RansHistogram total(contexts);
+        for (const detail::RansHistogram& h : partial) total.add(h);
+        return total;
+    }
+
+    // Codes the band of `rows` page rows of `level` from `firstRow` (its samples in bandSamples):
+    // picks the filter whose residuals code smaller (measured on every fourth page of large bands),
+    // fits the band's tables to all its pages, codes every page (constant, rANS or raw, whichever
+    // is smallest) and writes them row by row.
+    void encodeBand(uint32_t level, uint32_t firstRow, uint32_t rows) {
+        const BotLevel& lv = header.levels[level];
+        const uint64_t pages = uint64_t(rows) * lv.pagesX;
+        const uint8_t* samples = bandSamples[level].data();
+        PageFilter filter = options.pageFilter.value_or(PageFilter::Med);
+        if (!options.pageFilter) {
+            const uint64_t step = pages >= 1024 ? 4 : 1;
+            double best = HUGE_VAL;
+            for (PageFilter f : {PageFilter::Med, PageFilter::Mean}) {
+                const double bits = bandHistogram(samples, pages, step, f, nullptr).codedBits();
+                if (bits < best) {
+                    best = bits;
+                    filter = f;
+                }
+            }
+        }
+        std::vector<uint8_t> packed(size_t(pages) * rawBytes);
+        const auto tables = detail::RansTableSet::fit(bandHistogram(samples, pages, 1, filter, packed.data()));
+        std::vector<uint8_t>& stored = bandTables[levelFirstBand[level] + firstRow / levelBandRows[level]];
+        stored.push_back(uint8_t(filter));
+        tables->serialize(stored);
+
+        rowBuffer.resize(size_t(pages) * rawBytes);
+        rowSizes.resize(size_t(pages));
+        tbb::parallel_for(tbb::blocked_range<uint64_t>(0, pages, 16), [&](const tbb::blocked_range<uint64_t>& rg) {
+            for (uint64_t k = rg.begin(); k != rg.end(); ++k) {
+                const uint8_t* page = packed.data() + k * rawBytes;
+                uint8_t* dst = rowBuffer.data() + k * rawBytes;
+                BotPageKind kind = BotPageKind::Rans;
+                size_t n = 0;
+                if (std::all_of(page + prefixBytes, page + rawBytes, [](uint8_t b) { return b == 0; })) {
+                    kind = BotPageKind::Constant;
+                    n = prefixBytes;
+                    std::memcpy(dst, page, n);
+                } else {
+                    n = tables->encode(page, header.channels, header.pixelType, dst, rawBytes - 1);
+                    if (n == 0) {
+                        kind = BotPageKind::Raw;
+                        n = rawBytes;
+                        std::memcpy(dst, page, n);
+                    }
+                }
+                const uint32_t pageY = firstRow + uint32_t(k / lv.pagesX), px = uint32_t(k % lv.pagesX);
+                const uint64_t index = levelFirstPage[level] + uint64_t(pageY) * lv.pagesX + px;
+                rowSizes[k] = uint32_t(n);
+                pageSizes[index] = uint32_t(n) << detail::kBot3KindBits | uint32_t(bot3KindOf(kind));
+                pageChecksums[index] = page3Checksum(dst, n, index, kind);
+            }
+        });
+        size_t packedEnd = 0;
+        for (uint32_t r = 0; r < rows; ++r) {
+            rowOffsets[levelFirstRow[level] + firstRow + r] = cursor + packedEnd;
+            for (uint64_t k = uint64_t(r) * lv.pagesX; k < uint64_t(r + 1) * lv.pagesX; ++k) {
+                std::memmove(rowBuffer.data() + packedEnd, rowBuffer.data() + k * rawBytes, rowSizes[k]);
+                packedEnd += rowSizes[k];
+            }
+        }
+        pwriteAll(fd, rowBuffer.data(), packedEnd, cursor, target);
+        cursor += packedEnd;
+    }
+
+    // The trailer (level, row, band and page tables) after the page data, then the header.
+    void writeTables3() {
+        using namespace detail;
+        std::vector<uint8_t> trailer;
+        uint8_t word[8];
+        for (const BotLevel& l : header.levels) {
+            put32(word, l.width);
+            put32(word + 4, l.height);
+            trailer.insert(trailer.end(), word, word + 8);
+        }
+        for (uint64_t offset : rowOffsets) {
+            put64(word, offset);
+            trailer.insert(trailer.end(), word, word + 8);
+        }
+        for (const std::vector<uint8_t>& band : bandTables) trailer.insert(trailer.end(), band.begin(), band.end());
+        for (size_t p = 0; p < pageSizes.size(); ++p) {
+            appendVarint(trailer, pageSizes[p]);
+            put16(word, uint16_t(pageChecksums[p]));
+            trailer.insert(trailer.end(), word, word + 2);
+        }
+        uint8_t h[kBotHeaderBytes] = {};
+        std::memcpy(h, kBotMagic, sizeof kBotMagic);
+        put32(h + kFieldVersion, kBotVersion3);
+        put32(h + kFieldHeaderBytes, kBotHeaderBytes);
+        put32(h + kFieldWidth, header.width);
+        put32(h + kFieldHeight, header.height);
+        put32(h + kFieldChannels, header.channels);
+        h[kFieldPixelType] = uint8_t(header.pixelType);
+        h[kFieldColorSpace] = uint8_t(header.colorSpace);
+        h[kFieldWrapS] = uint8_t(header.wrapS);
+        h[kFieldWrapT] = uint8_t(header.wrapT);
+        h[kFieldMipFilter] = uint8_t(mipFilter);
+        put32(h + kFieldLevelCount, uint32_t(header.levels.size()));
+        put64(h + kField3TrailerOffset, cursor);
+        put64(h + kField3TrailerBytes, trailer.size());
+        put64(h + kField3BandCount, bandTables.size());
+        put64(h + kFieldPageCount, pageSizes.size());
+        put64(h + kFieldMetaChecksum, xxh64(trailer.data(), trailer.size(), xxh64(h, kFieldMetaChecksum, 0)));
+        pwriteAll(fd, trailer.data(), trailer.size(), cursor, target);
+        cursor += trailer.size();
+        pwriteAll(fd, h, kBotHeaderBytes, 0, target);
+    }
+
+    // ------------------------------------------------------------------------------ version 2
+
     void emitPageRow(uint32_t level, uint32_t pageY, const float* rows, uint32_t nRows, bool linear) {
+        if (options.version == detail::kBotVersion3) return emitPageRow3(level, pageY, rows, nRows, linear);
         const uint32_t pagesX = header.levels[level].pagesX;
         std::vector<uint8_t> buffer(size_t(pagesX) * rawBytes);
         if (!codingDecided) {
@@ -771,7 +1087,7 @@ struct BotWriter::Impl {
 
         uint8_t h[kBotHeaderBytes] = {};
         std::memcpy(h, kBotMagic, sizeof kBotMagic);
-        put32(h + kFieldVersion, kBotVersion);
+        put32(h + kFieldVersion, kBotVersion2);
         put32(h + kFieldHeaderBytes, kBotHeaderBytes);
         put32(h + kFieldWidth, header.width);
         put32(h + kFieldHeight, header.height);
@@ -807,6 +1123,8 @@ BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t
         throw std::invalid_argument(path.string() + ": unsupported channel count " + std::to_string(channels));
     const auto filter = parseMipFilter(options.filter);
     if (!filter) throw std::invalid_argument("unknown mip filter '" + options.filter + "'");
+    if (options.version != detail::kBotVersion2 && options.version != detail::kBotVersion3)
+        throw std::invalid_argument("cannot write BOT version " + std::to_string(options.version));
     if (options.alphaChannel < -2 || options.alphaChannel >= int(channels))
         throw std::invalid_argument("bad alpha channel " + std::to_string(options.alphaChannel));
     m.target = path;
@@ -837,6 +1155,20 @@ BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t
     m.pageTableOffset = m.rowTableOffset + rows * detail::kBotRowEntryBytes;
     m.dictOffset = m.pageTableOffset + pages * detail::kBotPageEntryBytes;
     m.cursor = m.dictOffset;
+    if (options.version == detail::kBotVersion3) {
+        // Page data follows the header; the tables go after it (writeTables3).
+        m.cursor = detail::kBotHeaderBytes;
+        m.contexts = detail::ransContextCount(options.pixelType);
+        uint32_t bands = 0;
+        for (const BotLevel& l : m.header.levels) {
+            m.levelFirstBand.push_back(bands);
+            m.levelBandRows.push_back(detail::bot3BandRows(l.pagesX, m.rawBytes));
+            bands += (l.pagesY + m.levelBandRows.back() - 1) / m.levelBandRows.back();
+        }
+        m.bandTables.resize(bands);
+        m.bandSamples.resize(m.header.levels.size());
+        m.codingDecided = true;
+    }
 
     // A random, exclusively created temporary name in the target's folder, so the final rename is
     // atomic and SIGINT or SIGTERM remove it (cache/output_file.h).
@@ -893,8 +1225,12 @@ BotWriteStats BotWriter::finish() {
             throw std::logic_error("BotWriter::finish: level " + std::to_string(l) + " has " +
                                    std::to_string(m.levels[l].nextRow) + " of " +
                                    std::to_string(m.header.levels[l].height) + " rows");
-    if (!m.codingDecided) m.decideCoding();
-    m.writeTables();
+    if (m.options.version == detail::kBotVersion3) {
+        m.writeTables3();
+    } else {
+        if (!m.codingDecided) m.decideCoding();
+        m.writeTables();
+    }
     m.fd = -1;
     m.out->commit();  // fsync, close, rename, each checked: throws OutputError
     m.out.reset();
@@ -906,7 +1242,15 @@ BotWriteStats BotWriter::finish() {
     stats.dictionaryBytes = m.dictionary ? uint32_t(m.dictionary->bytes().size()) : 0;
     stats.pageFilter = m.pageFilter;
     stats.dictionary = m.dictionaryKind;
-    for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[field >> detail::kBotPageKindShift];
+    stats.version = m.options.version;
+    if (m.options.version == detail::kBotVersion3) {
+        constexpr BotPageKind kinds[] = {BotPageKind::Raw, BotPageKind::Rans, BotPageKind::Constant};
+        for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[unsigned(kinds[field & 3])];
+        stats.bands = m.bandTables.size();
+        stats.pageFilter = m.bandTables.empty() ? PageFilter::None : PageFilter(m.bandTables[0][0]);
+    } else {
+        for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[field >> detail::kBotPageKindShift];
+    }
     return stats;
 }
 

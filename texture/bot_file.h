@@ -20,6 +20,9 @@
 namespace pushpin::cache {
 class ZstdDictionary;
 }
+namespace pushpin::texture::detail {
+class RansTableSet;
+}
 
 namespace pushpin::texture {
 
@@ -40,7 +43,11 @@ enum class BotPageKind : uint8_t {
     Frame = 1,     // prefix, then a whole compact zstd frame
     Block = 2,     // prefix, then the body of the frame's one compressed block
     Literals = 3,  // prefix, then the Huffman stream of a literals-only block
+    // Version 3:
+    Rans = 4,      // the band's rANS coding of the page (prefix bytes past the third, state, bytes)
+    Constant = 5,  // the prefix alone: every residual of the page is zero
 };
+constexpr uint32_t kBotPageKinds = 6;
 
 constexpr uint32_t kPageSizeTexels = 8;  // pages are 8x8 texels
 constexpr uint32_t kMaxChannels = 64;
@@ -73,7 +80,7 @@ std::optional<PageFilter> parsePageFilter(const std::string& name);  // none, me
 // million pages, and every registered texture keeps its table in memory.
 struct BotPageEntry {
     uint64_t offsetBytes = 0;
-    uint32_t checksum = 0;     // low 32 bits of XXH64(stored bytes, seed = page index | kind << 56)
+    uint32_t checksum = 0;     // low 32 (version 3: 16) bits of XXH64(stored bytes, seed = page index | kind << 56)
     uint16_t storedBytes = 0;  // bytes on disk (at most 16384)
     BotPageKind kind = BotPageKind::Raw;
 };
@@ -120,12 +127,16 @@ public:
     const BotPageEntry& pageEntry(uint64_t index) const { return m_pages[index]; }
     uint32_t pageRawBytes() const { return m_pageRawBytes; }  // decompressed bytes of one page
     uint32_t dictionaryBytes() const { return m_dictionaryBytes; }
+    // The page filter (version 3: of the first band of level 0).
     PageFilter pageFilter() const { return m_pageFilter; }
+    uint32_t version() const { return m_version; }  // 2 or 3
+    uint64_t bandCount() const { return m_bands.size(); }  // version 3; 0 for version 2
 
 private:
     struct Source;  // where parseImpl reads from: a file descriptor or a memory buffer
     BotFile() = default;
     static std::shared_ptr<const BotFile> parseImpl(const std::filesystem::path& path, const Source& source);
+    static void parseVersion3(BotFile& file, const uint8_t* header, const Source& source);
     // The entry of page `index`, checked to lie within the first `byteCount` bytes of the file;
     // throws FormatError naming the page otherwise.
     const BotPageEntry& entryWithin(uint64_t index, size_t byteCount, uint32_t level, uint32_t pageX,
@@ -142,6 +153,14 @@ private:
     std::vector<uint64_t> m_levelFirstPage;
     std::vector<BotPageEntry> m_pages;
     std::shared_ptr<const cache::ZstdDictionary> m_dictionary;
+    // Version 3: bands of page rows, each with its filter and coding tables.
+    struct Band {
+        PageFilter filter = PageFilter::None;
+        std::shared_ptr<const detail::RansTableSet> tables;
+    };
+    uint32_t m_version = 0;
+    std::vector<Band> m_bands;
+    std::vector<uint32_t> m_levelFirstBand, m_levelBandRows;
 };
 
 // How a BOT file is written. Fields after `threads` are tuning knobs with sensible defaults.
@@ -158,8 +177,12 @@ struct BotWriteOptions {
     // The per-file zstd dictionary: auto (the smallest of none, trained and literal on the first
     // pages), none, trained (zstd's trainer) or literal (a literal table fitted to the residuals).
     BotDictionary dictionary = BotDictionary::Auto;
-    // Page prediction; unset: the filter whose residuals of the first pages have the lower entropy.
+    // Page prediction; unset: version 2, the filter whose residuals of the first pages have the lower
+    // entropy; version 3, the one whose residuals of each band code smaller.
     std::optional<PageFilter> pageFilter;
+    // The file version: 3 (rANS-coded pages in bands; the default) or 2 (zstd pages, BOT_FORMAT.md
+    // "Version 2"). compressionLevel and dictionary apply to version 2 only.
+    uint32_t version = 3;
 };
 
 // Figures about one written file.
@@ -170,7 +193,9 @@ struct BotWriteStats {
     uint32_t dictionaryBytes = 0;
     PageFilter pageFilter = PageFilter::None;
     BotDictionary dictionary = BotDictionary::None;  // the kind used: None, Trained or Literal
-    uint64_t pagesOfKind[4] = {};         // indexed by BotPageKind
+    uint64_t pagesOfKind[kBotPageKinds] = {};  // indexed by BotPageKind
+    uint32_t version = 0;
+    uint64_t bands = 0;                        // version 3
 };
 
 // Writes a BOT file from a float image already in memory (used by tests and by makebot's
