@@ -473,8 +473,10 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
         const uint32_t bands = (hd.levels[l].pagesY + file.m_levelBandRows[l] - 1) / file.m_levelBandRows[l];
         for (uint32_t k = 0; k < bands; ++k, ++b) {
             const std::string name = "band " + std::to_string(k) + " of level " + std::to_string(l);
-            if (at == end || *at > 2) throw fail("bad page filter of " + name);
-            file.m_bands[b].filter = PageFilter(*at++);
+            // Bits 0-1: the page filter; bit 2: channels decorrelated.
+            if (at == end || (*at & 3) > 2 || *at > 7) throw fail("bad coding byte of " + name);
+            file.m_bands[b].filter = PageFilter(*at & 3);
+            file.m_bands[b].decorrelate = (*at++ >> 2) != 0;
             file.m_bands[b].tables = RansTableSet::parse(at, end, contexts);
             if (!file.m_bands[b].tables) throw fail("corrupt coding tables of " + name);
         }
@@ -591,6 +593,13 @@ uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uin
                                      scratch.packed.data()))
                 throw FormatError(m_path, "corrupt rANS data in " + pageName(level, pageX, pageY));
             packed = scratch.packed.data();
+        }
+        if (band.decorrelate && e.kind != BotPageKind::Constant) {  // a constant page has no residuals
+            if (packed != scratch.packed.data()) {
+                std::memcpy(scratch.packed.data(), packed, m_pageRawBytes);
+                packed = scratch.packed.data();
+            }
+            detail::recorrelateChannels(scratch.packed.data(), m_header.channels, m_header.pixelType);
         }
         detail::unpackPageToFloat(packed, m_header.channels, m_header.pixelType, band.filter, dst);
         return e.storedBytes;
@@ -773,7 +782,7 @@ struct BotWriter::Impl {
     // Symbol counts of the band's pages (every `step`-th) packed with `filter`. Integer sums, so the
     // result does not depend on how the pages were split among threads.
     detail::RansHistogram bandHistogram(const uint8_t* samples, uint64_t pages, uint64_t step, PageFilter filter,
-                                        uint8_t* packedOut) const {
+                                        bool decorrelate, uint8_t* packedOut) const {
         tbb::enumerable_thread_specific<detail::RansHistogram> partial(detail::RansHistogram{contexts});
         const uint64_t count = (pages + step - 1) / step;
         tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 64), [&](const tbb::blocked_range<uint64_t>& rg) {
@@ -782,6 +791,7 @@ struct BotWriter::Impl {
             for (uint64_t k = rg.begin(); k != rg.end(); ++k) {
                 uint8_t* packed = packedOut ? packedOut + k * step * rawBytes : local;
                 detail::packPage(samples + k * step * rawBytes, header.channels, header.pixelType, filter, packed);
+                if (decorrelate) detail::decorrelateChannels(packed, header.channels, header.pixelType);
                 detail::ransCount(packed, header.channels, header.pixelType, hist);
             }
         });
@@ -799,21 +809,29 @@ struct BotWriter::Impl {
         const uint64_t pages = uint64_t(rows) * lv.pagesX;
         const uint8_t* samples = bandSamples[level].data();
         PageFilter filter = options.pageFilter.value_or(PageFilter::Med);
-        if (!options.pageFilter) {
+        bool decorrelate = false;
+        std::vector<PageFilter> filters = {PageFilter::Med, PageFilter::Mean};
+        if (options.pageFilter) filters = {*options.pageFilter};
+        std::vector<bool> modes = {false};
+        if (header.channels >= 3) modes.push_back(true);
+        if (filters.size() * modes.size() > 1) {
             const uint64_t step = pages >= 1024 ? 4 : 1;
             double best = HUGE_VAL;
-            for (PageFilter f : {PageFilter::Med, PageFilter::Mean}) {
-                const double bits = bandHistogram(samples, pages, step, f, nullptr).codedBits();
-                if (bits < best) {
-                    best = bits;
-                    filter = f;
+            for (PageFilter f : filters)
+                for (bool d : modes) {
+                    const double bits = bandHistogram(samples, pages, step, f, d, nullptr).codedBits();
+                    if (bits < best) {
+                        best = bits;
+                        filter = f;
+                        decorrelate = d;
+                    }
                 }
-            }
         }
         std::vector<uint8_t> packed(size_t(pages) * rawBytes);
-        const auto tables = detail::RansTableSet::fit(bandHistogram(samples, pages, 1, filter, packed.data()));
+        const auto tables =
+            detail::RansTableSet::fit(bandHistogram(samples, pages, 1, filter, decorrelate, packed.data()));
         std::vector<uint8_t>& stored = bandTables[levelFirstBand[level] + firstRow / levelBandRows[level]];
-        stored.push_back(uint8_t(filter));
+        stored.push_back(uint8_t(uint32_t(filter) | uint32_t(decorrelate) << 2));
         tables->serialize(stored);
 
         rowBuffer.resize(size_t(pages) * rawBytes);
@@ -1247,7 +1265,7 @@ BotWriteStats BotWriter::finish() {
         constexpr BotPageKind kinds[] = {BotPageKind::Raw, BotPageKind::Rans, BotPageKind::Constant};
         for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[unsigned(kinds[field & 3])];
         stats.bands = m.bandTables.size();
-        stats.pageFilter = m.bandTables.empty() ? PageFilter::None : PageFilter(m.bandTables[0][0]);
+        stats.pageFilter = m.bandTables.empty() ? PageFilter::None : PageFilter(m.bandTables[0][0] & 3);
     } else {
         for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[field >> detail::kBotPageKindShift];
     }

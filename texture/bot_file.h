@@ -156,6 +156,7 @@ private:
     // Version 3: bands of page rows, each with its filter and coding tables.
     struct Band {
         PageFilter filter = PageFilter::None;
+        bool decorrelate = false;  // channels 1 and 2 coded as differences (detail::decorrelateChannels)
         std::shared_ptr<const detail::RansTableSet> tables;
     };
     uint32_t m_version = 0;

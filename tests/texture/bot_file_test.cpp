@@ -934,6 +934,25 @@ TEST(Bot3File, SmoothContentIsSmallerThanVersion2) {
     EXPECT_LT(double(bytes[1]), 0.6 * double(bytes[0])) << bytes[1] << " against " << bytes[0];
 }
 
+// A grey image stored as RGB: coding channels 1 and 2 as differences from the channel before makes
+// them all zero, so the file costs little more than the one-channel file of the same image.
+TEST(Bot3File, GreyImageAsRgbCostsLittleMoreThanOneChannel) {
+    const uint32_t w = 256, h = 192;
+    const std::vector<float> grey = noisyImage(w, h, 1, 8);
+    std::vector<float> rgb(grey.size() * 3);
+    for (size_t i = 0; i < grey.size(); ++i) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = grey[i];
+    uint64_t bytes[2] = {};
+    for (uint32_t ch : {1u, 3u}) {
+        const fs::path path = tempDir() / ("grey" + std::to_string(ch) + ".bot");
+        writeBot(path, ch == 1 ? grey.data() : rgb.data(), w, h, ch, BotWriteOptions{});
+        const auto file = BotFile::open(path);
+        EXPECT_EQ(readLevel(*file, 0), ch == 1 ? grey : rgb);
+        for (uint32_t l = 1; l < file->header().levels.size(); ++l) EXPECT_NO_THROW(readLevel(*file, l));
+        bytes[ch / 2] = file->fileBytes();
+    }
+    EXPECT_LT(double(bytes[1]), 1.3 * double(bytes[0])) << bytes[1] << " against " << bytes[0];
+}
+
 // Where the page table of a version-3 file starts: after the level, row and band tables.
 uint64_t bot3PageTable(const std::vector<uint8_t>& b, const BotFile& file) {
     using namespace detail;
@@ -1036,7 +1055,8 @@ TEST(Bot3FileErrors, BadFieldsAndTablesAreRejectedNamingWhat) {
         EXPECT_NE(openError(b, path).find("cannot hold the tables of"), std::string::npos);
     }
     EXPECT_NE(with([&](auto& b) { put64(&b[kField3Reserved], 1); }).find("reserved header fields"), std::string::npos);
-    EXPECT_NE(with([&](auto& b) { b[bandTable] = 7; }).find("bad page filter of band 0 of level 0"), std::string::npos);
+    EXPECT_NE(with([&](auto& b) { b[bandTable] = 3; }).find("bad coding byte of band 0 of level 0"), std::string::npos);
+    EXPECT_NE(with([&](auto& b) { b[bandTable] = 9; }).find("bad coding byte of band 0 of level 0"), std::string::npos);
     // The first frequency of the first table in use grows by one: they no longer sum to 4096.
     EXPECT_NE(with([&](auto& b) {
                   const uint8_t* at = &b[bandTable + 1];

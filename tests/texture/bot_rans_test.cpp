@@ -94,8 +94,8 @@ TEST(RansTableSet, RareSymbolsKeepAFrequencyAndUnusedContextsCostOneByte) {
     const auto set = RansTableSet::fit(histogram);
     std::vector<uint8_t> stored;
     set->serialize(stored);
-    // context 0: 2 symbols (0 with 4095, 255 with 1); context 1: none; context 2: symbol 7 alone.
-    const std::vector<uint8_t> expected = {2, 0, 0xfe, 0x1f, 0xfe, 0x01, 0, 0, 1, 7, 0xff, 0x1f};
+    // context 0: 2 symbols (0 with 2047, 255 with 1); context 1: none; context 2: symbol 7 alone.
+    const std::vector<uint8_t> expected = {2, 0, 0xfe, 0x0f, 0xfe, 0x01, 0, 0, 1, 7, 0xff, 0x0f};
     EXPECT_EQ(stored, expected);
 }
 
@@ -104,12 +104,13 @@ TEST(RansTableSet, MalformedTablesAreRefused) {
         const uint8_t* at = bytes.data();
         return RansTableSet::parse(at, bytes.data() + bytes.size(), contexts) != nullptr;
     };
-    EXPECT_TRUE(parses({1, 7, 0xff, 0x1f}, 1));        // symbol 7 with frequency 4096
-    EXPECT_FALSE(parses({1, 7, 0xfe, 0x1f}, 1));       // 4095: does not sum to 4096
+    EXPECT_TRUE(parses({1, 7, 0xff, 0x0f}, 1));        // symbol 7 with frequency 2048
+    EXPECT_FALSE(parses({1, 7, 0xfe, 0x0f}, 1));       // 2047: does not sum to 2048
+    EXPECT_FALSE(parses({1, 7, 0xff, 0x1f}, 1));       // 4096: more than 2048
     EXPECT_FALSE(parses({1, 7, 0xff}, 1));             // truncated varint
-    EXPECT_FALSE(parses({1, 7, 0xff, 0x1f}, 2));       // second context missing
+    EXPECT_FALSE(parses({1, 7, 0xff, 0x0f}, 2));       // second context missing
     EXPECT_FALSE(parses({2, 200, 0, 60, 0}, 1));       // second symbol past 255
-    EXPECT_TRUE(parses({2, 0, 0xff, 0x0f, 0, 0xff, 0x0f}, 1));   // symbols 0 and 1, 2048 each
+    EXPECT_TRUE(parses({2, 0, 0xff, 0x07, 0, 0xff, 0x07}, 1));   // symbols 0 and 1, 1024 each
     EXPECT_FALSE(parses({0xff, 0xff, 0xff, 0xff, 0x7f}, 1));  // more than 256 symbols
     EXPECT_FALSE(parses({1, 0, 0xff, 0xff, 0xff, 0xff, 0x7f}, 1));  // frequency past 32 bits
 }

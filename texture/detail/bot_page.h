@@ -47,3 +47,15 @@ void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, Pag
 void samplesToFloat(const void* samples, uint32_t channels, PixelType type, float* texels);
 
 }  // namespace pushpin::texture::detail
+
+namespace pushpin::texture::detail {
+
+// Version 3's channel decorrelation (BOT_FORMAT.md "Version 3"): in a packed page of 3 or more
+// channels, the residuals of channels 1 and 2 are replaced by their difference from the residual of
+// the channel before (modulo 2^bits, zigzagged), which is zero where the channels move together, as
+// in grey images stored as RGB and along the edges of colour images. Texel 0 (the prefix) is kept.
+// In place; pages of fewer than 3 channels are left as they are. recorrelateChannels undoes it.
+void decorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type);
+void recorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type);
+
+}  // namespace pushpin::texture::detail

@@ -1,10 +1,10 @@
 // texture/detail/bot_rans.h: the entropy coder of BOT version 3 pages (texture/BOT_FORMAT.md,
-// "Version 3"): a static rANS coder with 12-bit frequencies, one table per context, the contexts
+// "Version 3"): a static rANS coder with 11-bit frequencies, one table per context, the contexts
 // taken from the magnitudes of the residuals already coded around each sample (LOCO-I and CALIC
 // choose their contexts from the local gradient the same way).
 // A RansTableSet is immutable once built and may be read by any number of threads; the page
 // functions work on caller-owned buffers and never allocate.
-// Memory: a RansTableSet holds RansTableSet::memoryBytes() (about 1.3 KiB per context in use).
+// Memory: a RansTableSet holds RansTableSet::memoryBytes() (about 3 KiB per context in use).
 #pragma once
 
 #include <cstddef>
@@ -16,7 +16,7 @@
 
 namespace pushpin::texture::detail {
 
-constexpr uint32_t kRansScaleBits = 12;                // frequencies sum to 4096
+constexpr uint32_t kRansScaleBits = 11;                // frequencies sum to 2048
 constexpr uint32_t kRansScale = 1u << kRansScaleBits;
 constexpr uint32_t kRansLow = 1u << 24;                // the state lies in [2^24, 2^32) between symbols
 constexpr uint32_t kRansStateBytes = 4;                // the final encoder state, stored first
@@ -93,6 +93,8 @@ private:
     std::vector<int32_t> m_tableOf;  // per context: index into m_tables, or -1 when unused
     std::vector<Table> m_tables;
     std::vector<uint64_t> m_reciprocals;  // fit() only: 256 per table, for encoding
+    std::vector<const Table*> m_decodeTables;  // per context: its table, or one that marks misuse
+    void index();                              // fills m_decodeTables
 public:
     ~RansTableSet();
     RansTableSet(RansTableSet&&) noexcept;
