@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -449,7 +450,7 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
         throw fail("bad trailer offset " + std::to_string(trailerOffset) + " or size " + std::to_string(trailerBytes) +
                    " (file has " + std::to_string(fileBytes) + " bytes)");
     const uint64_t leastTrailer = uint64_t(levelCount) * kBotLevelEntryBytes + rowCount * kBotRowEntryBytes +
-                                  bandCount * (1 + contexts) + pageCount * kBot3MinPageEntryBytes;
+                                  bandCount * (2 + contexts) + pageCount * kBot3MinPageEntryBytes;
     if (trailerBytes < leastTrailer)
         throw fail("trailer of " + std::to_string(trailerBytes) + " bytes cannot hold the tables of " +
                    std::to_string(pageCount) + " pages (at least " + std::to_string(leastTrailer) + " bytes)");
@@ -479,6 +480,12 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
             file.m_bands[b].decorrelate = (*at++ >> 2) != 0;
             file.m_bands[b].tables = RansTableSet::parse(at, end, contexts);
             if (!file.m_bands[b].tables) throw fail("corrupt coding tables of " + name);
+            // The band's constant colours: a count, then each colour's prefix bytes.
+            uint32_t colours = 0;
+            if (!readVarint(at, end, colours) || uint64_t(colours) * prefixBytes > uint64_t(end - at))
+                throw fail("bad constant colours of " + name);
+            file.m_bands[b].palette.assign(at, at + size_t(colours) * prefixBytes);
+            at += size_t(colours) * prefixBytes;
         }
     }
     file.m_pages.resize(size_t(pageCount));
@@ -491,11 +498,24 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
             for (uint32_t px = 0; px < lv.pagesX; ++px, ++index) {
                 BotPageEntry& e = file.m_pages[index];
                 uint32_t field = 0;
-                if (!readVarint(at, end, field) || end - at < 2) throw fail("truncated page table at " + pageName(l, px, py));
-                e.checksum = get16(at);
-                at += 2;
+                if (!readVarint(at, end, field)) throw fail("truncated page table at " + pageName(l, px, py));
                 const uint32_t kind = field & ((1u << kBot3KindBits) - 1);
                 const uint32_t stored = field >> kBot3KindBits;
+                if (Bot3Kind(kind) == Bot3Kind::Constant) {
+                    // No stored bytes: the entry names one of the band's constant colours, which the
+                    // trailer's checksum covers.
+                    const Band& band = file.m_bands[file.m_levelFirstBand[l] + py / file.m_levelBandRows[l]];
+                    if (uint64_t(stored) * prefixBytes >= band.palette.size())
+                        throw fail("bad constant colour " + std::to_string(stored) + " of " + pageName(l, px, py));
+                    e.kind = BotPageKind::Constant;
+                    e.checksum = stored;  // the colour's index
+                    e.storedBytes = 0;
+                    e.offsetBytes = offset;
+                    continue;
+                }
+                if (end - at < 2) throw fail("truncated page table at " + pageName(l, px, py));
+                e.checksum = get16(at);
+                at += 2;
                 bool sizeOk = false;
                 switch (Bot3Kind(kind)) {
                     case Bot3Kind::Raw: e.kind = BotPageKind::Raw; sizeOk = stored == rawBytes; break;
@@ -503,7 +523,6 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
                         e.kind = BotPageKind::Rans;
                         sizeOk = stored >= prefixBytes - least + kRansStateBytes && stored < rawBytes;
                         break;
-                    case Bot3Kind::Constant: e.kind = BotPageKind::Constant; sizeOk = stored == prefixBytes; break;
                     default: throw fail("bad page kind " + std::to_string(kind) + " of " + pageName(l, px, py));
                 }
                 if (!sizeOk)
@@ -569,7 +588,7 @@ uint64_t BotFile::readPageFromMapping(const uint8_t* bytes, size_t byteCount, ui
 size_t BotFile::memoryBytes() const {
     size_t bandBytes = m_bands.capacity() * sizeof(Band) +
                        (m_levelFirstBand.capacity() + m_levelBandRows.capacity()) * sizeof(uint32_t);
-    for (const Band& b : m_bands) bandBytes += b.tables ? b.tables->memoryBytes() : 0;
+    for (const Band& b : m_bands) bandBytes += (b.tables ? b.tables->memoryBytes() : 0) + b.palette.capacity();
     return sizeof(BotFile) + m_path.native().capacity() + m_header.levels.capacity() * sizeof(BotLevel) +
            m_levelFirstPage.capacity() * sizeof(uint64_t) + m_pages.capacity() * sizeof(BotPageEntry) +
            (m_dictionary ? m_dictionary->memoryBytes() : 0) + bandBytes;
@@ -580,21 +599,24 @@ uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uin
     const BotPageEntry& e = m_pages[index];
     PageScratch& scratch = pageScratch();
     if (m_version == detail::kBotVersion3) {
-        if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum)
-            throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
         const Band& band = m_bands[m_levelFirstBand[level] + pageY / m_levelBandRows[level]];
         const uint8_t* packed = stored;
         if (e.kind == BotPageKind::Constant) {
-            std::memcpy(scratch.packed.data(), stored, e.storedBytes);
-            std::memset(scratch.packed.data() + e.storedBytes, 0, m_pageRawBytes - e.storedBytes);
-            packed = scratch.packed.data();
-        } else if (e.kind == BotPageKind::Rans) {
+            const uint32_t prefix = detail::pagePrefixBytes(m_header.channels, m_header.pixelType);
+            std::memcpy(scratch.packed.data(), band.palette.data() + size_t(e.checksum) * prefix, prefix);
+            std::memset(scratch.packed.data() + prefix, 0, m_pageRawBytes - prefix);
+            detail::unpackPageToFloat(scratch.packed.data(), m_header.channels, m_header.pixelType, band.filter, dst);
+            return 0;
+        }
+        if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum)
+            throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
+        if (e.kind == BotPageKind::Rans) {
             if (!band.tables->decode(stored, e.storedBytes, m_header.channels, m_header.pixelType,
                                      scratch.packed.data()))
                 throw FormatError(m_path, "corrupt rANS data in " + pageName(level, pageX, pageY));
             packed = scratch.packed.data();
         }
-        if (band.decorrelate && e.kind != BotPageKind::Constant) {  // a constant page has no residuals
+        if (band.decorrelate) {
             if (packed != scratch.packed.data()) {
                 std::memcpy(scratch.packed.data(), packed, m_pageRawBytes);
                 packed = scratch.packed.data();
@@ -843,9 +865,8 @@ struct BotWriter::Impl {
                 BotPageKind kind = BotPageKind::Rans;
                 size_t n = 0;
                 if (std::all_of(page + prefixBytes, page + rawBytes, [](uint8_t b) { return b == 0; })) {
-                    kind = BotPageKind::Constant;
-                    n = prefixBytes;
-                    std::memcpy(dst, page, n);
+                    kind = BotPageKind::Constant;  // its colour goes to the band's palette below
+                    n = 0;
                 } else {
                     n = tables->encode(page, header.channels, header.pixelType, dst, rawBytes - 1);
                     if (n == 0) {
@@ -858,9 +879,25 @@ struct BotWriter::Impl {
                 const uint64_t index = levelFirstPage[level] + uint64_t(pageY) * lv.pagesX + px;
                 rowSizes[k] = uint32_t(n);
                 pageSizes[index] = uint32_t(n) << detail::kBot3KindBits | uint32_t(bot3KindOf(kind));
-                pageChecksums[index] = page3Checksum(dst, n, index, kind);
+                pageChecksums[index] = kind == BotPageKind::Constant ? 0 : page3Checksum(dst, n, index, kind);
             }
         });
+        // The band's constant colours in the order their first page comes, each stored once; a
+        // constant page's entry names its colour.
+        std::map<std::vector<uint8_t>, uint32_t> colours;
+        std::vector<uint8_t> palette;
+        for (uint64_t k = 0; k < pages; ++k) {
+            const uint32_t pageY = firstRow + uint32_t(k / lv.pagesX), px = uint32_t(k % lv.pagesX);
+            const uint64_t index = levelFirstPage[level] + uint64_t(pageY) * lv.pagesX + px;
+            if ((pageSizes[index] & 3) != uint32_t(detail::Bot3Kind::Constant)) continue;
+            const uint8_t* page = packed.data() + k * rawBytes;
+            const auto [it, added] =
+                colours.try_emplace(std::vector<uint8_t>(page, page + prefixBytes), uint32_t(colours.size()));
+            if (added) palette.insert(palette.end(), page, page + prefixBytes);
+            pageSizes[index] = it->second << detail::kBot3KindBits | uint32_t(detail::Bot3Kind::Constant);
+        }
+        appendVarint(stored, uint32_t(colours.size()));
+        stored.insert(stored.end(), palette.begin(), palette.end());
         size_t packedEnd = 0;
         for (uint32_t r = 0; r < rows; ++r) {
             rowOffsets[levelFirstRow[level] + firstRow + r] = cursor + packedEnd;
@@ -890,6 +927,7 @@ struct BotWriter::Impl {
         for (const std::vector<uint8_t>& band : bandTables) trailer.insert(trailer.end(), band.begin(), band.end());
         for (size_t p = 0; p < pageSizes.size(); ++p) {
             appendVarint(trailer, pageSizes[p]);
+            if ((pageSizes[p] & 3) == uint32_t(Bot3Kind::Constant)) continue;  // no bytes, no checksum
             put16(word, uint16_t(pageChecksums[p]));
             trailer.insert(trailer.end(), word, word + 2);
         }

@@ -45,7 +45,7 @@ enum class BotPageKind : uint8_t {
     Literals = 3,  // prefix, then the Huffman stream of a literals-only block
     // Version 3:
     Rans = 4,      // the band's rANS coding of the page (prefix bytes past the third, state, bytes)
-    Constant = 5,  // the prefix alone: every residual of the page is zero
+    Constant = 5,  // no stored bytes: every residual is zero, texel 0 is a colour of the band's palette
 };
 constexpr uint32_t kBotPageKinds = 6;
 
@@ -80,7 +80,9 @@ std::optional<PageFilter> parsePageFilter(const std::string& name);  // none, me
 // million pages, and every registered texture keeps its table in memory.
 struct BotPageEntry {
     uint64_t offsetBytes = 0;
-    uint32_t checksum = 0;     // low 32 (version 3: 16) bits of XXH64(stored bytes, seed = page index | kind << 56)
+    // Low 32 (version 3: 16) bits of XXH64(stored bytes, seed = page index | kind << 56); for a
+    // version-3 constant page, the index of its colour in its band's palette.
+    uint32_t checksum = 0;
     uint16_t storedBytes = 0;  // bytes on disk (at most 16384)
     BotPageKind kind = BotPageKind::Raw;
 };
@@ -157,6 +159,7 @@ private:
     struct Band {
         PageFilter filter = PageFilter::None;
         bool decorrelate = false;  // channels 1 and 2 coded as differences (detail::decorrelateChannels)
+        std::vector<uint8_t> palette;  // the band's constant colours, each a page prefix
         std::shared_ptr<const detail::RansTableSet> tables;
     };
     uint32_t m_version = 0;

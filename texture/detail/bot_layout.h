@@ -20,9 +20,9 @@ constexpr uint32_t kBotMaxStoredBytes = (1u << kBotPageKindShift) - 1;
 constexpr uint32_t kBotMaxDictionaryBytes = 1u << 20;
 
 // Version 3 (BOT_FORMAT.md "Version 3"): page entries are varint(stored size << 2 | kind) and a u16
-// checksum; pages are grouped into bands of whole page rows, each with its own filter and tables.
+// checksum (a constant page: varint(colour << 2 | 2) alone); pages are grouped into bands of whole page rows, each with its own filter and tables.
 constexpr uint32_t kBot3KindBits = 2;
-constexpr uint32_t kBot3MinPageEntryBytes = 3;       // one varint byte and the checksum
+constexpr uint32_t kBot3MinPageEntryBytes = 1;       // a constant page's varint
 constexpr uint32_t kBot3BandMaxPages = 16384;        // a band holds at most this many pages...
 constexpr uint32_t kBot3BandMaxRawBytes = 8u << 20;  // ...and at most this many raw page bytes
 enum class Bot3Kind : uint8_t { Raw = 0, Rans = 1, Constant = 2 };
