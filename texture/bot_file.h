@@ -158,7 +158,7 @@ private:
     // Version 3: bands of page rows, each with its filter and coding tables.
     struct Band {
         PageFilter filter = PageFilter::None;
-        bool decorrelate = false;  // channels 1 and 2 coded as differences (detail::decorrelateChannels)
+        uint32_t decorrelateTo = 0;  // channels 1 to this one coded as differences (0: none; 2 or 3)
         std::vector<uint8_t> palette;  // the band's constant colours, each a page prefix
         std::shared_ptr<const detail::RansTableSet> tables;
     };

@@ -934,23 +934,26 @@ TEST(Bot3File, SmoothContentIsSmallerThanVersion2) {
     EXPECT_LT(double(bytes[1]), 0.6 * double(bytes[0])) << bytes[1] << " against " << bytes[0];
 }
 
-// A grey image stored as RGB: coding channels 1 and 2 as differences from the channel before makes
-// them all zero, so the file costs little more than the one-channel file of the same image.
-TEST(Bot3File, GreyImageAsRgbCostsLittleMoreThanOneChannel) {
+// A grey image stored as RGB, or as RGBA with an alpha that follows it (a mask): coding channels 1
+// to 3 as differences from the channel before makes them all zero, so the file costs little more
+// than the one-channel file of the same image.
+TEST(Bot3File, GreyImageAsRgbOrRgbaCostsLittleMoreThanOneChannel) {
     const uint32_t w = 256, h = 192;
     const std::vector<float> grey = noisyImage(w, h, 1, 8);
-    std::vector<float> rgb(grey.size() * 3);
-    for (size_t i = 0; i < grey.size(); ++i) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = grey[i];
-    uint64_t bytes[2] = {};
-    for (uint32_t ch : {1u, 3u}) {
+    uint64_t oneChannel = 0;
+    for (uint32_t ch : {1u, 3u, 4u}) {
+        std::vector<float> src(grey.size() * ch);
+        for (size_t i = 0; i < src.size(); ++i) src[i] = grey[i / ch];
         const fs::path path = tempDir() / ("grey" + std::to_string(ch) + ".bot");
-        writeBot(path, ch == 1 ? grey.data() : rgb.data(), w, h, ch, BotWriteOptions{});
+        BotWriteOptions opt;
+        opt.alphaChannel = ch == 4 ? 3 : -1;
+        writeBot(path, src.data(), w, h, ch, opt);
         const auto file = BotFile::open(path);
-        EXPECT_EQ(readLevel(*file, 0), ch == 1 ? grey : rgb);
+        EXPECT_EQ(readLevel(*file, 0), src);
         for (uint32_t l = 1; l < file->header().levels.size(); ++l) EXPECT_NO_THROW(readLevel(*file, l));
-        bytes[ch / 2] = file->fileBytes();
+        if (ch == 1) oneChannel = file->fileBytes();
+        else EXPECT_LT(double(file->fileBytes()), 1.3 * double(oneChannel)) << file->fileBytes() << " against " << oneChannel;
     }
-    EXPECT_LT(double(bytes[1]), 1.3 * double(bytes[0])) << bytes[1] << " against " << bytes[0];
 }
 
 // Flat areas: a page whose residuals are all zero stores nothing; its entry (one byte) names a colour
@@ -1079,6 +1082,8 @@ TEST(Bot3FileErrors, BadFieldsAndTablesAreRejectedNamingWhat) {
     }
     EXPECT_NE(with([&](auto& b) { put64(&b[kField3Reserved], 1); }).find("reserved header fields"), std::string::npos);
     EXPECT_NE(with([&](auto& b) { b[bandTable] = 3; }).find("bad coding byte of band 0 of level 0"), std::string::npos);
+    EXPECT_NE(with([&](auto& b) { b[bandTable] = 13; }).find("bad coding byte of band 0 of level 0"), std::string::npos);
+    // Channel 3 coded as a difference in an RGB file.
     EXPECT_NE(with([&](auto& b) { b[bandTable] = 9; }).find("bad coding byte of band 0 of level 0"), std::string::npos);
     // The first frequency of the first table in use grows by one: they no longer sum to 4096.
     EXPECT_NE(with([&](auto& b) {

@@ -604,28 +604,49 @@ inline uint32_t zig(uint32_t v, uint32_t bits, uint32_t mask) {
 inline uint32_t unzig(uint32_t z, uint32_t mask) { return ((z >> 1) ^ (0u - (z & 1))) & mask; }
 
 template <bool kForward>
-void correlate(uint8_t* packed, uint32_t channels, PixelType type) {
-    if (channels < 3) return;
+void correlate(uint8_t* packed, uint32_t channels, PixelType type, uint32_t lastChannel) {
+    if (lastChannel == 0 || channels <= lastChannel) return;
+    uint32_t r[4];
+    if (type == PixelType::U8) {  // the common case, one byte a residual: no plane assembly
+        uint8_t* planes = packed + channels;
+        for (uint32_t i = 0; i < kResiduals; ++i) {
+            for (uint32_t c = 0; c <= lastChannel; ++c) r[c] = unzig(planes[c * kResiduals + i], 0xff);
+            if (kForward) {
+                for (uint32_t c = lastChannel; c >= 1; --c)
+                    planes[c * kResiduals + i] = uint8_t(zig((r[c] - r[c - 1]) & 0xff, 8, 0xff));
+            } else {
+                for (uint32_t c = 1; c <= lastChannel; ++c) {
+                    r[c] = (r[c] + r[c - 1]) & 0xff;
+                    planes[c * kResiduals + i] = uint8_t(zig(r[c], 8, 0xff));
+                }
+            }
+        }
+        return;
+    }
     const uint32_t bytes = bytesPerSample(type), bits = 8 * bytes;
     const uint32_t mask = bits == 32 ? ~0u : (1u << bits) - 1;
     uint8_t* planes = packed + pagePrefixBytes(channels, type);
     for (uint32_t i = 0; i < kResiduals; ++i) {
-        uint32_t r[3];
-        for (uint32_t c = 0; c < 3; ++c) r[c] = unzig(planeValue(planes, c, bytes, i), mask);
+        for (uint32_t c = 0; c <= lastChannel; ++c) r[c] = unzig(planeValue(planes, c, bytes, i), mask);
         if (kForward) {
-            setPlaneValue(planes, 2, bytes, i, zig((r[2] - r[1]) & mask, bits, mask));
-            setPlaneValue(planes, 1, bytes, i, zig((r[1] - r[0]) & mask, bits, mask));
+            for (uint32_t c = lastChannel; c >= 1; --c)
+                setPlaneValue(planes, c, bytes, i, zig((r[c] - r[c - 1]) & mask, bits, mask));
         } else {
-            const uint32_t r1 = (r[1] + r[0]) & mask;
-            setPlaneValue(planes, 1, bytes, i, zig(r1, bits, mask));
-            setPlaneValue(planes, 2, bytes, i, zig((r[2] + r1) & mask, bits, mask));
+            for (uint32_t c = 1; c <= lastChannel; ++c) {
+                r[c] = (r[c] + r[c - 1]) & mask;
+                setPlaneValue(planes, c, bytes, i, zig(r[c], bits, mask));
+            }
         }
     }
 }
 
 }  // namespace
 
-void decorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type) { correlate<true>(packed, channels, type); }
-void recorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type) { correlate<false>(packed, channels, type); }
+void decorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type, uint32_t lastChannel) {
+    correlate<true>(packed, channels, type, lastChannel);
+}
+void recorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type, uint32_t lastChannel) {
+    correlate<false>(packed, channels, type, lastChannel);
+}
 
 }  // namespace pushpin::texture::detail
