@@ -431,13 +431,13 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
     uint64_t pageCount = 0, rowCount = 0, bandCount = 0;
     for (const BotLevel& l : hd.levels) {
         file.m_levelFirstPage.push_back(pageCount);
-        file.m_levelFirstBand.push_back(uint32_t(bandCount));
-        const uint32_t bandRows = bot3BandRows(l.pagesX, rawBytes);
-        file.m_levelBandRows.push_back(bandRows);
         pageCount += uint64_t(l.pagesX) * l.pagesY;
         rowCount += l.pagesY;
-        bandCount += (l.pagesY + bandRows - 1) / bandRows;
     }
+    Bot3Bands layout = bot3Bands(hd.levels, rawBytes);
+    file.m_levelFirstBand = std::move(layout.levelFirstBand);
+    file.m_levelBandRows = std::move(layout.levelBandRows);
+    bandCount = layout.count;
     if (get64(h + kFieldPageCount) != pageCount)
         throw fail("bad page count " + std::to_string(get64(h + kFieldPageCount)) + " (expected " +
                    std::to_string(pageCount) + ")");
@@ -470,10 +470,13 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
     const uint8_t* rowTable = at;
     at += rowCount * kBotRowEntryBytes;
     file.m_bands.resize(size_t(bandCount));
-    for (uint32_t l = 0, b = 0; l < levelCount; ++l) {
-        const uint32_t bands = (hd.levels[l].pagesY + file.m_levelBandRows[l] - 1) / file.m_levelBandRows[l];
-        for (uint32_t k = 0; k < bands; ++k, ++b) {
-            const std::string name = "band " + std::to_string(k) + " of level " + std::to_string(l);
+    for (uint32_t b = 0; b < bandCount; ++b) {
+        {
+            std::string name = "the tail band (levels " + std::to_string(layout.tailLevel) + " to " +
+                               std::to_string(levelCount - 1) + ")";
+            for (uint32_t l = 0; l < layout.tailLevel; ++l)
+                if (b >= file.m_levelFirstBand[l] && (l + 1 == layout.tailLevel || b < file.m_levelFirstBand[l + 1]))
+                    name = "band " + std::to_string(b - file.m_levelFirstBand[l]) + " of level " + std::to_string(l);
             // Bits 0-1: the page filter; bits 2-3: the last channel coded as a difference (0: none,
             // 1: channel 2, 2: channel 3), which the image must have.
             const uint32_t mode = at == end ? 0 : uint32_t(*at >> 2);
@@ -782,11 +785,23 @@ struct BotWriter::Impl {
     // row arrives; then the band is coded and written (encodeBand).
     std::vector<uint32_t> levelFirstBand, levelBandRows;
     std::vector<std::vector<uint8_t>> bandSamples;  // per level
+    // The tail band (the small levels, BOT_FORMAT.md "Bands"): all their pages, level after level,
+    // coded in finish().
+    uint32_t tailLevel = 0;
+    std::vector<size_t> tailLevelOffset;  // where each tail level's pages start in tailSamples
+    std::vector<uint8_t> tailSamples;
     std::vector<std::vector<uint8_t>> bandTables;   // per band: filter byte and stored tables
     uint32_t contexts = 0;
 
     void emitPageRow3(uint32_t level, uint32_t pageY, const float* rows, uint32_t nRows, bool linear) {
         const BotLevel& lv = header.levels[level];
+        if (level >= tailLevel) {
+            if (tailSamples.empty()) tailSamples.resize(tailLevelOffset.back());
+            uint8_t* row = tailSamples.data() + tailLevelOffset[level - tailLevel] + size_t(pageY) * lv.pagesX * rawBytes;
+            for (uint32_t px = 0; px < lv.pagesX; ++px)
+                quantizePage(level, rows, nRows, px, linear, row + size_t(px) * rawBytes);
+            return;
+        }
         const uint32_t bandRows = levelBandRows[level];
         const uint32_t rowInBand = pageY % bandRows;
         const uint32_t rowsInBand = std::min(bandRows, lv.pagesY - (pageY - rowInBand));
@@ -797,7 +812,8 @@ struct BotWriter::Impl {
             for (uint32_t px = rg.begin(); px != rg.end(); ++px)
                 quantizePage(level, rows, nRows, px, linear, row + size_t(px) * rawBytes);
         });
-        if (rowInBand + 1 == rowsInBand) encodeBand(level, pageY - rowInBand, rowsInBand);
+        if (rowInBand + 1 == rowsInBand)
+            encodeBand(levelFirstBand[level] + pageY / bandRows, {{level, pageY - rowInBand, rowsInBand}}, samples.data());
         if (pageY + 1 == lv.pagesY) {
             samples.clear();
             samples.shrink_to_fit();
@@ -825,15 +841,28 @@ struct BotWriter::Impl {
         return total;
     }
 
-    // Codes the band of `rows` page rows of `level` from `firstRow` (its samples in bandSamples):
+    // Page rows [firstRow, firstRow + rows) of a level.
+    struct Segment {
+        uint32_t level, firstRow, rows;
+    };
+
+    // Codes band `band`, the page rows of `segments` whose samples lie back to back in `samples`:
     // picks the filter and channel coding whose residuals code smaller (measured on a sample of the
-    // pages of large bands),
-    // fits the band's tables to all its pages, codes every page (constant, rANS or raw, whichever
-    // is smallest) and writes them row by row.
-    void encodeBand(uint32_t level, uint32_t firstRow, uint32_t rows) {
-        const BotLevel& lv = header.levels[level];
-        const uint64_t pages = uint64_t(rows) * lv.pagesX;
-        const uint8_t* samples = bandSamples[level].data();
+    // pages of large bands), fits the band's tables to all its pages, codes every page (constant,
+    // rANS or raw, whichever is smallest) and writes them row by row.
+    void encodeBand(uint32_t band, const std::vector<Segment>& segments, const uint8_t* samples) {
+        std::vector<uint64_t> segmentStart = {0};  // first page of each segment, then the total
+        for (const Segment& g : segments)
+            segmentStart.push_back(segmentStart.back() + uint64_t(g.rows) * header.levels[g.level].pagesX);
+        const uint64_t pages = segmentStart.back();
+        // The page index of the band's k-th page.
+        auto indexOf = [&](uint64_t k) {
+            const size_t g = size_t(std::upper_bound(segmentStart.begin(), segmentStart.end(), k) - segmentStart.begin() - 1);
+            const Segment& seg = segments[g];
+            const uint32_t pagesX = header.levels[seg.level].pagesX;
+            const uint64_t inSegment = k - segmentStart[g];
+            return levelFirstPage[seg.level] + (uint64_t(seg.firstRow) + inSegment / pagesX) * pagesX + inSegment % pagesX;
+        };
         PageFilter filter = options.pageFilter.value_or(PageFilter::Med);
         uint32_t decorrelateTo = 0;
         std::vector<PageFilter> filters = {PageFilter::Med, PageFilter::Mean};
@@ -859,7 +888,7 @@ struct BotWriter::Impl {
         std::vector<uint8_t> packed(size_t(pages) * rawBytes);
         const auto tables =
             detail::RansTableSet::fit(bandHistogram(samples, pages, 1, filter, decorrelateTo, packed.data()));
-        std::vector<uint8_t>& stored = bandTables[levelFirstBand[level] + firstRow / levelBandRows[level]];
+        std::vector<uint8_t>& stored = bandTables[band];
         stored.push_back(uint8_t(uint32_t(filter) | (decorrelateTo ? decorrelateTo - 1 : 0) << 2));
         tables->serialize(stored);
 
@@ -882,8 +911,7 @@ struct BotWriter::Impl {
                         std::memcpy(dst, page, n);
                     }
                 }
-                const uint32_t pageY = firstRow + uint32_t(k / lv.pagesX), px = uint32_t(k % lv.pagesX);
-                const uint64_t index = levelFirstPage[level] + uint64_t(pageY) * lv.pagesX + px;
+                const uint64_t index = indexOf(k);
                 rowSizes[k] = uint32_t(n);
                 pageSizes[index] = uint32_t(n) << detail::kBot3KindBits | uint32_t(bot3KindOf(kind));
                 pageChecksums[index] = kind == BotPageKind::Constant ? 0 : page3Checksum(dst, n, index, kind);
@@ -894,8 +922,7 @@ struct BotWriter::Impl {
         std::map<std::vector<uint8_t>, uint32_t> colours;
         std::vector<uint8_t> palette;
         for (uint64_t k = 0; k < pages; ++k) {
-            const uint32_t pageY = firstRow + uint32_t(k / lv.pagesX), px = uint32_t(k % lv.pagesX);
-            const uint64_t index = levelFirstPage[level] + uint64_t(pageY) * lv.pagesX + px;
+            const uint64_t index = indexOf(k);
             if ((pageSizes[index] & 3) != uint32_t(detail::Bot3Kind::Constant)) continue;
             const uint8_t* page = packed.data() + k * rawBytes;
             const auto [it, added] =
@@ -906,11 +933,16 @@ struct BotWriter::Impl {
         appendVarint(stored, uint32_t(colours.size()));
         stored.insert(stored.end(), palette.begin(), palette.end());
         size_t packedEnd = 0;
-        for (uint32_t r = 0; r < rows; ++r) {
-            rowOffsets[levelFirstRow[level] + firstRow + r] = cursor + packedEnd;
-            for (uint64_t k = uint64_t(r) * lv.pagesX; k < uint64_t(r + 1) * lv.pagesX; ++k) {
-                std::memmove(rowBuffer.data() + packedEnd, rowBuffer.data() + k * rawBytes, rowSizes[k]);
-                packedEnd += rowSizes[k];
+        for (size_t g = 0; g < segments.size(); ++g) {
+            const Segment& seg = segments[g];
+            const uint32_t pagesX = header.levels[seg.level].pagesX;
+            for (uint32_t r = 0; r < seg.rows; ++r) {
+                rowOffsets[levelFirstRow[seg.level] + seg.firstRow + r] = cursor + packedEnd;
+                const uint64_t first = segmentStart[g] + uint64_t(r) * pagesX;
+                for (uint64_t k = first; k < first + pagesX; ++k) {
+                    std::memmove(rowBuffer.data() + packedEnd, rowBuffer.data() + k * rawBytes, rowSizes[k]);
+                    packedEnd += rowSizes[k];
+                }
             }
         }
         pwriteAll(fd, rowBuffer.data(), packedEnd, cursor, target);
@@ -1222,13 +1254,15 @@ BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t
         // Page data follows the header; the tables go after it (writeTables3).
         m.cursor = detail::kBotHeaderBytes;
         m.contexts = detail::ransContextCount(options.pixelType);
-        uint32_t bands = 0;
-        for (const BotLevel& l : m.header.levels) {
-            m.levelFirstBand.push_back(bands);
-            m.levelBandRows.push_back(detail::bot3BandRows(l.pagesX, m.rawBytes));
-            bands += (l.pagesY + m.levelBandRows.back() - 1) / m.levelBandRows.back();
-        }
-        m.bandTables.resize(bands);
+        detail::Bot3Bands bands = detail::bot3Bands(m.header.levels, m.rawBytes);
+        m.levelFirstBand = std::move(bands.levelFirstBand);
+        m.levelBandRows = std::move(bands.levelBandRows);
+        m.tailLevel = bands.tailLevel;
+        m.tailLevelOffset = {0};
+        for (uint32_t l = m.tailLevel; l < m.header.levels.size(); ++l)
+            m.tailLevelOffset.push_back(m.tailLevelOffset.back() + size_t(m.header.levels[l].pagesX) *
+                                                                       m.header.levels[l].pagesY * m.rawBytes);
+        m.bandTables.resize(bands.count);
         m.bandSamples.resize(m.header.levels.size());
         m.codingDecided = true;
     }
@@ -1289,6 +1323,14 @@ BotWriteStats BotWriter::finish() {
                                    std::to_string(m.levels[l].nextRow) + " of " +
                                    std::to_string(m.header.levels[l].height) + " rows");
     if (m.options.version == detail::kBotVersion3) {
+        if (m.tailLevel < m.header.levels.size()) {
+            std::vector<Impl::Segment> segments;
+            for (uint32_t l = m.tailLevel; l < m.header.levels.size(); ++l)
+                segments.push_back({l, 0, m.header.levels[l].pagesY});
+            m.encodeBand(uint32_t(m.bandTables.size() - 1), segments, m.tailSamples.data());
+            m.tailSamples.clear();
+            m.tailSamples.shrink_to_fit();
+        }
         m.writeTables3();
     } else {
         if (!m.codingDecided) m.decideCoding();

@@ -4,6 +4,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
+
+#include "texture/bot_file.h"
 
 namespace pushpin::texture::detail {
 
@@ -33,6 +36,43 @@ inline uint32_t bot3BandRows(uint32_t pagesX, uint32_t rawBytes) {
     if (bandPages > kBot3BandMaxPages) bandPages = kBot3BandMaxPages;
     const uint32_t rows = bandPages / pagesX;
     return rows ? rows : 1;
+}
+
+// A level of fewer pages than this (and every level after it) belongs to the tail band, which
+// holds all of them: at most 8 MiB of raw pages, and one set of tables instead of one per small
+// level.
+constexpr uint32_t kBot3TailMaxPages = 4096;
+inline uint32_t bot3TailPages(uint32_t rawBytes) {
+    const uint32_t pages = kBot3BandMaxRawBytes / 2 / rawBytes;
+    return pages < 1 ? 1 : pages > kBot3TailMaxPages ? kBot3TailMaxPages : pages;
+}
+
+// How the pages of a version-3 file fall into bands: page row y of level l is in band
+// levelFirstBand[l] + y / levelBandRows[l].
+struct Bot3Bands {
+    std::vector<uint32_t> levelFirstBand, levelBandRows;
+    uint32_t tailLevel = 0;  // the first level of the tail band (levels.size(): no tail band)
+    uint32_t count = 0;
+};
+inline Bot3Bands bot3Bands(const std::vector<BotLevel>& levels, uint32_t rawBytes) {
+    Bot3Bands b;
+    b.tailLevel = uint32_t(levels.size());
+    for (uint32_t l = 0; l < levels.size(); ++l)
+        if (uint64_t(levels[l].pagesX) * levels[l].pagesY < bot3TailPages(rawBytes)) {
+            b.tailLevel = l;
+            break;
+        }
+    for (uint32_t l = 0; l < levels.size(); ++l) {
+        b.levelFirstBand.push_back(b.count);
+        if (l >= b.tailLevel) {
+            b.levelBandRows.push_back(levels[l].pagesY);  // every row in the one tail band
+            continue;
+        }
+        b.levelBandRows.push_back(bot3BandRows(levels[l].pagesX, rawBytes));
+        b.count += (levels[l].pagesY + b.levelBandRows.back() - 1) / b.levelBandRows.back();
+    }
+    if (b.tailLevel < levels.size()) ++b.count;
+    return b;
 }
 
 // Header field offsets.
