@@ -792,6 +792,7 @@ struct BotWriter::Impl {
     std::vector<uint8_t> tailSamples;
     std::vector<std::vector<uint8_t>> bandTables;   // per band: filter byte and stored tables
     uint32_t contexts = 0;
+    uint32_t symbolsPerPage = 0;
 
     void emitPageRow3(uint32_t level, uint32_t pageY, const float* rows, uint32_t nRows, bool linear) {
         const BotLevel& lv = header.levels[level];
@@ -823,7 +824,8 @@ struct BotWriter::Impl {
     // Symbol counts of the band's pages (every `step`-th) packed with `filter`. Integer sums, so the
     // result does not depend on how the pages were split among threads.
     detail::RansHistogram bandHistogram(const uint8_t* samples, uint64_t pages, uint64_t step, PageFilter filter,
-                                        uint32_t decorrelateTo, uint8_t* packedOut) const {
+                                        uint32_t decorrelateTo, uint8_t* packedOut,
+                                        uint8_t* contextsOut = nullptr) const {
         tbb::enumerable_thread_specific<detail::RansHistogram> partial(detail::RansHistogram{contexts});
         const uint64_t count = (pages + step - 1) / step;
         tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 64), [&](const tbb::blocked_range<uint64_t>& rg) {
@@ -833,7 +835,8 @@ struct BotWriter::Impl {
                 uint8_t* packed = packedOut ? packedOut + k * step * rawBytes : local;
                 detail::packPage(samples + k * step * rawBytes, header.channels, header.pixelType, filter, packed);
                 detail::decorrelateChannels(packed, header.channels, header.pixelType, decorrelateTo);
-                detail::ransCount(packed, header.channels, header.pixelType, hist);
+                detail::ransCount(packed, header.channels, header.pixelType, hist,
+                                  contextsOut ? contextsOut + k * step * symbolsPerPage : nullptr);
             }
         });
         detail::RansHistogram total(contexts);
@@ -886,8 +889,9 @@ struct BotWriter::Impl {
                 }
         }
         std::vector<uint8_t> packed(size_t(pages) * rawBytes);
-        const auto tables =
-            detail::RansTableSet::fit(bandHistogram(samples, pages, 1, filter, decorrelateTo, packed.data()));
+        std::vector<uint8_t> pageContexts(size_t(pages) * symbolsPerPage);
+        const auto tables = detail::RansTableSet::fit(
+            bandHistogram(samples, pages, 1, filter, decorrelateTo, packed.data(), pageContexts.data()));
         std::vector<uint8_t>& stored = bandTables[band];
         stored.push_back(uint8_t(uint32_t(filter) | (decorrelateTo ? decorrelateTo - 1 : 0) << 2));
         tables->serialize(stored);
@@ -904,7 +908,8 @@ struct BotWriter::Impl {
                     kind = BotPageKind::Constant;  // its colour goes to the band's palette below
                     n = 0;
                 } else {
-                    n = tables->encode(page, header.channels, header.pixelType, dst, rawBytes - 1);
+                    n = tables->encode(page, header.channels, header.pixelType, dst, rawBytes - 1,
+                                       pageContexts.data() + k * symbolsPerPage);
                     if (n == 0) {
                         kind = BotPageKind::Raw;
                         n = rawBytes;
@@ -1254,6 +1259,7 @@ BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t
         // Page data follows the header; the tables go after it (writeTables3).
         m.cursor = detail::kBotHeaderBytes;
         m.contexts = detail::ransContextCount(options.pixelType);
+        m.symbolsPerPage = detail::ransSymbolsPerPage(channels, options.pixelType);
         detail::Bot3Bands bands = detail::bot3Bands(m.header.levels, m.rawBytes);
         m.levelFirstBand = std::move(bands.levelFirstBand);
         m.levelBandRows = std::move(bands.levelBandRows);

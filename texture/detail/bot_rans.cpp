@@ -188,15 +188,24 @@ double RansHistogram::codedBits() const {
     return bits;
 }
 
-void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram) {
+void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram,
+               uint8_t* contexts) {
     // walkPage stores each byte back into its plane; counting passes a copy.
     thread_local std::array<uint8_t, size_t(kPageSizeTexels) * kPageSizeTexels * kMaxChannels * 4> copy;
     const uint32_t prefix = pagePrefixBytes(channels, type);
     const uint32_t raw = pageRawBytes(channels, type);
     std::memcpy(copy.data(), packed + prefix, raw - prefix);
     uint32_t* counts = histogram.counts.data();
-    walkPageAnyType(type, channels, copy.data(), [counts](uint32_t ctx, uint8_t byte) {
+    if (!contexts) {
+        walkPageAnyType(type, channels, copy.data(), [counts](uint32_t ctx, uint8_t byte) {
+            ++counts[ctx * 256 + byte];
+            return byte;
+        });
+        return;
+    }
+    walkPageAnyType(type, channels, copy.data(), [counts, &contexts](uint32_t ctx, uint8_t byte) {
         ++counts[ctx * 256 + byte];
+        *contexts++ = uint8_t(ctx);
         return byte;
     });
 }
@@ -295,7 +304,7 @@ size_t RansTableSet::memoryBytes() const {
 }
 
 size_t RansTableSet::encode(const uint8_t* packed, uint32_t channels, PixelType type, uint8_t* out,
-                            size_t capacity) const {
+                            size_t capacity, const uint8_t* knownContexts) const {
     constexpr size_t kMaxSymbols = size_t(kPageResiduals) * kMaxChannels * 4;
     thread_local std::array<uint8_t, kMaxSymbols> planes, contexts, symbols;
     // Renormalisation emits at most two bytes a symbol (12 bits of frequency precision).
@@ -304,14 +313,30 @@ size_t RansTableSet::encode(const uint8_t* packed, uint32_t channels, PixelType 
     const uint32_t raw = pageRawBytes(channels, type);
     // Contexts come from the symbols before each one, so they are found front to back; rANS codes
     // back to front so that the decoder reads front to back.
-    std::memcpy(planes.data(), packed + prefix, raw - prefix);
     size_t n = 0;
-    walkPageAnyType(type, channels, planes.data(), [&](uint32_t ctx, uint8_t byte) {
-        contexts[n] = uint8_t(ctx);
-        symbols[n] = byte;
-        ++n;
-        return byte;
-    });
+    const uint8_t* ctxOf = contexts.data();
+    if (knownContexts) {
+        // The symbols in coding order: channel, texel, bytes from the most significant down.
+        const uint32_t bytes = bytesPerSample(type);
+        const uint8_t* p = packed + prefix;
+        if (bytes == 1) {
+            n = raw - prefix;
+            std::memcpy(symbols.data(), p, n);
+        } else {
+            for (uint32_t c = 0; c < channels; ++c)
+                for (uint32_t i = 0; i < kPageResiduals; ++i)
+                    for (uint32_t b = bytes; b-- > 0;) symbols[n++] = p[(c * bytes + b) * kPageResiduals + i];
+        }
+        ctxOf = knownContexts;
+    } else {
+        std::memcpy(planes.data(), packed + prefix, raw - prefix);
+        walkPageAnyType(type, channels, planes.data(), [&](uint32_t ctx, uint8_t byte) {
+            contexts[n] = uint8_t(ctx);
+            symbols[n] = byte;
+            ++n;
+            return byte;
+        });
+    }
     // The first prefix bytes ride in the initial state: the decoder ends in that state and reads them
     // back, so they cost nothing beyond the 4 bytes every page's final state takes.
     const uint32_t inState = ransPrefixInState(prefix);
@@ -320,7 +345,7 @@ size_t RansTableSet::encode(const uint8_t* packed, uint32_t channels, PixelType 
     uint8_t* const end = emitted.data() + emitted.size();
     uint8_t* p = end;
     for (size_t i = n; i-- > 0;) {
-        const int32_t ti = m_tableOf[contexts[i]];
+        const int32_t ti = m_tableOf[ctxOf[i]];
         if (ti < 0) return 0;
         const Table& t = m_tables[size_t(ti)];
         const uint32_t s = symbols[i], f = t.freq[s];

@@ -54,8 +54,10 @@ struct RansHistogram {
     // Bits the counts would take coded with tables fitted to them, plus the tables' stored bytes.
     double codedBits() const;
 };
-// Adds the symbols of one packed page, each under its context.
-void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram);
+// Adds the symbols of one packed page, each under its context. With `contexts`, also writes each
+// symbol's context there, in coding order (ransSymbolsPerPage bytes), for RansTableSet::encode.
+void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram,
+               uint8_t* contexts = nullptr);
 
 // The coding tables of one band: per context, 256 frequencies summing to kRansScale (all zero for a
 // context that never occurs), with what encoding and decoding need.
@@ -79,7 +81,9 @@ public:
     // ransPrefixInState of them, the final state (4 bytes, little-endian), then the renormalisation
     // bytes. Returns the bytes written, or 0 when they would not fit in `capacity`. Every symbol
     // of the page must have a frequency in its context (pages counted into the fitted histogram).
-    size_t encode(const uint8_t* packed, uint32_t channels, PixelType type, uint8_t* out, size_t capacity) const;
+    // `contexts`: the page's contexts as ransCount wrote them, which saves finding them again.
+    size_t encode(const uint8_t* packed, uint32_t channels, PixelType type, uint8_t* out, size_t capacity,
+                  const uint8_t* contexts = nullptr) const;
     // Inverse of encode: rebuilds the packed page from `bytes` stored bytes. Returns false when
     // the bytes are not a valid coding (the state does not end where encode began it, bytes left
     // over or missing, a symbol without frequency). Never reads outside [stored, stored + bytes).
