@@ -411,9 +411,10 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
 }
 
 // Version 3 (BOT_FORMAT.md "Version 3"): the tables follow the page data as one trailer. Every count
-// that sizes an allocation is checked against the trailer's size first: a page entry takes at
-// least 3 bytes and a band at least one byte per context, so nothing allocated here outgrows a
-// small multiple of the file.
+// that sizes an allocation is checked against the trailer's size first: a page entry takes at least
+// a byte, a band at least its coding byte, a bit per context and its palette count, and a band
+// holds at least 512 pages unless it is a level's last or the tail band, so nothing allocated here
+// outgrows a small multiple of the file.
 void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& source) {
     using namespace detail;
     const std::filesystem::path& path = file.m_path;
@@ -450,7 +451,7 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
         throw fail("bad trailer offset " + std::to_string(trailerOffset) + " or size " + std::to_string(trailerBytes) +
                    " (file has " + std::to_string(fileBytes) + " bytes)");
     const uint64_t leastTrailer = uint64_t(levelCount) * kBotLevelEntryBytes + rowCount * kBotRowEntryBytes +
-                                  bandCount * (2 + contexts) + pageCount * kBot3MinPageEntryBytes;
+                                  bandCount * (2 + (contexts + 7) / 8) + pageCount * kBot3MinPageEntryBytes;
     if (trailerBytes < leastTrailer)
         throw fail("trailer of " + std::to_string(trailerBytes) + " bytes cannot hold the tables of " +
                    std::to_string(pageCount) + " pages (at least " + std::to_string(leastTrailer) + " bytes)");

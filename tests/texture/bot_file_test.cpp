@@ -1087,15 +1087,10 @@ TEST(Bot3FileErrors, BadFieldsAndTablesAreRejectedNamingWhat) {
     EXPECT_NE(with([&](auto& b) { b[bandTable] = 13; }).find("bad coding byte of the tail band (levels 0 to 5)"), std::string::npos);
     // Channel 3 coded as a difference in an RGB file.
     EXPECT_NE(with([&](auto& b) { b[bandTable] = 9; }).find("bad coding byte of the tail band (levels 0 to 5)"), std::string::npos);
-    // The first frequency of the first table in use grows by one: they no longer sum to 4096.
+    // Sixteen zero bits where the first table's symbol count starts: a gamma code of more than 256.
     EXPECT_NE(with([&](auto& b) {
-                  const uint8_t* at = &b[bandTable + 1];
-                  uint32_t n = 0, gap = 0;
-                  ASSERT_TRUE(readVarint(at, b.data() + b.size(), n));
-                  while (n == 0) ASSERT_TRUE(readVarint(at, b.data() + b.size(), n));
-                  ASSERT_TRUE(readVarint(at, b.data() + b.size(), gap));
-                  ASSERT_LT(*at & 0x7f, 0x7f);
-                  ++b[size_t(at - b.data())];
+                  b[bandTable + 1] = 0;
+                  b[bandTable + 2] = 0;
               }).find("corrupt coding tables of the tail band (levels 0 to 5)"),
               std::string::npos);
     EXPECT_NE(with([&](auto& b) { put64(&b[rowTable + 8], uint64_t(1) << 40); })

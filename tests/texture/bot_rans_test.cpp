@@ -84,9 +84,27 @@ TEST(RansTableSet, FittedTablesCodeEveryPageAndStoredTablesDecodeIt) {
     }
 }
 
-// A symbol that occurs once in a thousand still gets a frequency, and a context that never occurs
-// stores one byte.
-TEST(RansTableSet, RareSymbolsKeepAFrequencyAndUnusedContextsCostOneByte) {
+// Elias gamma codes as BOT_FORMAT.md describes them (floor(log2 v) zero bits, then v's bits from
+// the top), bits filling each byte from its low end.
+struct GammaStream {
+    std::vector<uint8_t> bytes;
+    uint32_t bits = 0;
+    void bit(uint32_t b) {
+        if (bits % 8 == 0) bytes.push_back(0);
+        bytes.back() = uint8_t(bytes.back() | b << (bits % 8));
+        ++bits;
+    }
+    GammaStream& gamma(uint32_t v) {
+        const int top = 31 - __builtin_clz(v);
+        for (int k = 0; k < top; ++k) bit(0);
+        for (int k = top; k >= 0; --k) bit((v >> k) & 1);
+        return *this;
+    }
+};
+
+// A symbol that occurs once in a hundred thousand still gets a frequency, and a context that never
+// occurs stores one bit.
+TEST(RansTableSet, RareSymbolsKeepAFrequencyAndUnusedContextsCostOneBit) {
     RansHistogram histogram(3);
     histogram.counts[0 * 256 + 0] = 100000;
     histogram.counts[0 * 256 + 255] = 1;
@@ -94,25 +112,35 @@ TEST(RansTableSet, RareSymbolsKeepAFrequencyAndUnusedContextsCostOneByte) {
     const auto set = RansTableSet::fit(histogram);
     std::vector<uint8_t> stored;
     set->serialize(stored);
-    // context 0: 2 symbols (0 with 2047, 255 with 1); context 1: none; context 2: symbol 7 alone.
-    const std::vector<uint8_t> expected = {2, 0, 0xfe, 0x0f, 0xfe, 0x01, 0, 0, 1, 7, 0xff, 0x0f};
-    EXPECT_EQ(stored, expected);
+    // context 0: 2 symbols, 0 with 2047 and 255 with 1; context 1: none; context 2: 7 alone.
+    GammaStream expected;
+    expected.gamma(3).gamma(1).gamma(2047).gamma(255).gamma(1);
+    expected.gamma(1);
+    expected.gamma(2).gamma(8).gamma(2048);
+    EXPECT_EQ(stored, expected.bytes);
 }
 
 TEST(RansTableSet, MalformedTablesAreRefused) {
-    auto parses = [](std::vector<uint8_t> bytes, uint32_t contexts) {
-        const uint8_t* at = bytes.data();
-        return RansTableSet::parse(at, bytes.data() + bytes.size(), contexts) != nullptr;
+    auto parses = [](const GammaStream& g, uint32_t contexts) {
+        const uint8_t* at = g.bytes.data();
+        const bool ok = RansTableSet::parse(at, g.bytes.data() + g.bytes.size(), contexts) != nullptr;
+        if (ok) {
+            EXPECT_EQ(at, g.bytes.data() + g.bytes.size());  // used up to the padded byte
+        }
+        return ok;
     };
-    EXPECT_TRUE(parses({1, 7, 0xff, 0x0f}, 1));        // symbol 7 with frequency 2048
-    EXPECT_FALSE(parses({1, 7, 0xfe, 0x0f}, 1));       // 2047: does not sum to 2048
-    EXPECT_FALSE(parses({1, 7, 0xff, 0x1f}, 1));       // 4096: more than 2048
-    EXPECT_FALSE(parses({1, 7, 0xff}, 1));             // truncated varint
-    EXPECT_FALSE(parses({1, 7, 0xff, 0x0f}, 2));       // second context missing
-    EXPECT_FALSE(parses({2, 200, 0, 60, 0}, 1));       // second symbol past 255
-    EXPECT_TRUE(parses({2, 0, 0xff, 0x07, 0, 0xff, 0x07}, 1));   // symbols 0 and 1, 1024 each
-    EXPECT_FALSE(parses({0xff, 0xff, 0xff, 0xff, 0x7f}, 1));  // more than 256 symbols
-    EXPECT_FALSE(parses({1, 0, 0xff, 0xff, 0xff, 0xff, 0x7f}, 1));  // frequency past 32 bits
+    EXPECT_TRUE(parses(GammaStream().gamma(2).gamma(8).gamma(2048), 1));   // symbol 7 with frequency 2048
+    EXPECT_FALSE(parses(GammaStream().gamma(2).gamma(8).gamma(2047), 1));  // does not sum to 2048
+    EXPECT_FALSE(parses(GammaStream().gamma(2).gamma(8).gamma(4096), 1));  // more than 2048
+    EXPECT_FALSE(parses(GammaStream().gamma(2).gamma(8), 1));              // frequency missing
+    EXPECT_FALSE(parses(GammaStream().gamma(2).gamma(8).gamma(2048), 2));  // second context missing
+    EXPECT_FALSE(parses(GammaStream().gamma(3).gamma(201).gamma(1).gamma(61).gamma(2047), 1));  // past 255
+    EXPECT_TRUE(parses(GammaStream().gamma(3).gamma(1).gamma(1024).gamma(1).gamma(1024), 1));   // 0 and 1
+    EXPECT_FALSE(parses(GammaStream().gamma(258), 1));                     // more than 256 symbols
+    GammaStream longCode;
+    for (int k = 0; k < 40; ++k) longCode.bit(0);
+    longCode.bit(1);
+    EXPECT_FALSE(parses(longCode, 1));  // a code of more than 32 bits
 }
 
 }  // namespace

@@ -126,26 +126,81 @@ void normalize(const uint32_t* counts, uint16_t* freq) {
     }
 }
 
-uint32_t varintBytes(uint32_t v) {
-    uint32_t n = 1;
-    while (v >= 0x80) {
-        v >>= 7;
-        ++n;
-    }
-    return n;
-}
+// Tables are stored as Elias gamma codes (a value v >= 1 as floor(log2 v) zero bits, then v's bits
+// from the top), bits filled from the low end of each byte: most gaps between symbols are 0 and most
+// frequencies small, 1 to 7 bits each instead of a varint's 8.
+uint32_t gammaBits(uint32_t v) { return 2 * (31 - uint32_t(__builtin_clz(v))) + 1; }
 
-// Stored bytes of one table with these frequencies (serialize's form).
-uint32_t storedTableBytes(const uint16_t* freq) {
-    uint32_t n = 0, bytes = 0;
+class BitWriter {
+public:
+    explicit BitWriter(std::vector<uint8_t>& out) : m_out(out) {}
+    void gamma(uint32_t v) {
+        const uint32_t top = 31 - uint32_t(__builtin_clz(v));
+        for (uint32_t k = 0; k < top; ++k) bit(0);
+        for (uint32_t k = top + 1; k-- > 0;) bit((v >> k) & 1);
+    }
+    void flush() {  // pads the last byte with zero bits
+        if (m_count) m_out.push_back(m_byte);
+        m_byte = 0;
+        m_count = 0;
+    }
+
+private:
+    void bit(uint32_t b) {
+        m_byte = uint8_t(m_byte | b << m_count);
+        if (++m_count == 8) flush();
+    }
+    std::vector<uint8_t>& m_out;
+    uint8_t m_byte = 0;
+    uint32_t m_count = 0;
+};
+
+class BitReader {
+public:
+    BitReader(const uint8_t* at, const uint8_t* end) : m_at(at), m_end(end) {}
+    // False when the bits run out or the code is longer than 32 bits.
+    bool gamma(uint32_t& v) {
+        uint32_t zeros = 0, b = 0;
+        for (;;) {
+            if (!bit(b)) return false;
+            if (b) break;
+            if (++zeros > 31) return false;
+        }
+        v = 1;
+        for (uint32_t k = 0; k < zeros; ++k) {
+            if (!bit(b)) return false;
+            v = v << 1 | b;
+        }
+        return true;
+    }
+    const uint8_t* end() const { return m_count ? m_at + 1 : m_at; }  // past the last byte read
+
+private:
+    bool bit(uint32_t& b) {
+        if (m_at == m_end) return false;
+        b = (*m_at >> m_count) & 1;
+        if (++m_count == 8) {
+            m_count = 0;
+            ++m_at;
+        }
+        return true;
+    }
+    const uint8_t* m_at;
+    const uint8_t* m_end;
+    uint32_t m_count = 0;
+};
+
+// Stored bits of one table with these frequencies (serialize's form).
+uint32_t storedTableBits(const uint16_t* freq) {
+    uint32_t n = 0, bits = 0;
     int prev = -1;
     for (int s = 0; s < 256; ++s) {
         if (!freq[s]) continue;
         ++n;
-        bytes += varintBytes(uint32_t(s - prev - 1)) + varintBytes(freq[s] - 1u);
+        bits += gammaBits(uint32_t(s - prev)) + gammaBits(freq[s]);
         prev = s;
     }
-    return bytes + varintBytes(n);
+    return bits + gammaBits(n + 1);
 }
 
 void completeTable(RansTableSet::Table& t);
@@ -181,7 +236,7 @@ double RansHistogram::codedBits() const {
     uint16_t freq[256];
     for (size_t c = 0; c + 256 <= counts.size(); c += 256) {
         normalize(counts.data() + c, freq);
-        bits += 8.0 * storedTableBytes(freq);
+        bits += storedTableBits(freq);
         for (int s = 0; s < 256; ++s)
             if (counts[c + s]) bits += double(counts[c + s]) * (kRansScaleBits - std::log2(double(freq[s])));
     }
@@ -253,20 +308,21 @@ std::shared_ptr<const RansTableSet> RansTableSet::parse(const uint8_t*& at, cons
     std::shared_ptr<RansTableSet> set(new RansTableSet());
     set->m_contexts = contexts;
     set->m_tableOf.assign(contexts, -1);
+    BitReader bits(at, end);
     for (uint32_t c = 0; c < contexts; ++c) {
         uint32_t n = 0;
-        if (!readVarint(at, end, n) || n > 256) return nullptr;
-        if (n == 0) continue;
+        if (!bits.gamma(n) || n > 257) return nullptr;
+        if (--n == 0) continue;
         Table t{};
         uint32_t sum = 0;
         int prev = -1;
         for (uint32_t k = 0; k < n; ++k) {
-            uint32_t gap = 0, f = 0;
-            if (!readVarint(at, end, gap) || !readVarint(at, end, f)) return nullptr;
-            if (gap > 255 || prev + 1 + int(gap) > 255 || f >= kRansScale) return nullptr;
-            prev += 1 + int(gap);
-            t.freq[prev] = uint16_t(f + 1);
-            sum += f + 1;
+            uint32_t step = 0, f = 0;
+            if (!bits.gamma(step) || !bits.gamma(f)) return nullptr;
+            if (step > 256 || prev + int(step) > 255 || f > kRansScale) return nullptr;
+            prev += int(step);
+            t.freq[prev] = uint16_t(f);
+            sum += f;
             if (sum > kRansScale) return nullptr;
         }
         if (sum != kRansScale) return nullptr;
@@ -274,28 +330,31 @@ std::shared_ptr<const RansTableSet> RansTableSet::parse(const uint8_t*& at, cons
         set->m_tableOf[c] = int32_t(set->m_tables.size());
         set->m_tables.push_back(t);
     }
+    at = bits.end();
     set->index();
     return set;
 }
 
 void RansTableSet::serialize(std::vector<uint8_t>& out) const {
+    BitWriter bits(out);
     for (uint32_t c = 0; c < m_contexts; ++c) {
         if (m_tableOf[c] < 0) {
-            appendVarint(out, 0);
+            bits.gamma(1);
             continue;
         }
         const Table& t = m_tables[size_t(m_tableOf[c])];
         uint32_t n = 0;
         for (int s = 0; s < 256; ++s) n += t.freq[s] != 0;
-        appendVarint(out, n);
+        bits.gamma(n + 1);
         int prev = -1;
         for (int s = 0; s < 256; ++s) {
             if (!t.freq[s]) continue;
-            appendVarint(out, uint32_t(s - prev - 1));
-            appendVarint(out, t.freq[s] - 1u);
+            bits.gamma(uint32_t(s - prev));
+            bits.gamma(t.freq[s]);
             prev = s;
         }
     }
+    bits.flush();
 }
 
 size_t RansTableSet::memoryBytes() const {

@@ -66,12 +66,15 @@ public:
     // Tables fitted to `histogram`: every symbol that occurs gets a frequency of at least 1.
     static std::shared_ptr<const RansTableSet> fit(const RansHistogram& histogram);
     // Parses `contexts` tables from bytes [at, end) (the stored form, see serialize), advancing
-    // `at`. Returns nullptr when they are malformed (frequencies not summing to kRansScale, symbols
-    // out of order or past 255, bytes missing). Allocates only for tables actually present.
+    // `at` past them. Returns nullptr when they are malformed (frequencies not summing to
+    // kRansScale, symbols out of order or past 255, bits missing). Allocates only for tables
+    // actually present.
     static std::shared_ptr<const RansTableSet> parse(const uint8_t*& at, const uint8_t* end, uint32_t contexts);
-    // Appends the stored form: per context a varint count of symbols with a non-zero frequency, then
-    // for each, in increasing order, varint(symbol - previous symbol - 1) (the first: the symbol)
-    // and varint(frequency - 1).
+    // Appends the stored form, a stream of Elias gamma codes (floor(log2 v) zero bits, then v's bits
+    // from the top; bits fill each byte from its low end; the last byte is padded with zeros): per
+    // context, the number of symbols with a non-zero frequency plus one, then for each, in
+    // increasing order, the symbol minus the previous one (the first: the symbol plus one) and its
+    // frequency.
     void serialize(std::vector<uint8_t>& out) const;
 
     uint32_t contexts() const { return m_contexts; }
