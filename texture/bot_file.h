@@ -4,10 +4,14 @@
 // Thread safety: a BotFile is immutable after open(); all its const methods may be called
 // concurrently. A BotWriter belongs to one thread (it parallelises page encoding internally with
 // oneTBB).
-// Memory: a BotFile holds 16 bytes per page plus the file's dictionary; readPage uses thread-local
-// buffers bounded by the largest possible page (64 channels of float: 16 KiB raw). A BotWriter holds
-// 8 rows per level, 8 bytes per page for its tables, and while it trains its dictionary at most
-// kDictionarySampleBytes of pending pages.
+// Memory: a BotFile holds 16 bytes per page plus the file's dictionary (version 2) or its bands'
+// coding tables and palettes (version 3: about 9 KiB per context in use, 14 contexts a byte of a
+// sample; a band holds up to 16384 pages); readPage uses thread-local buffers bounded by the
+// largest possible page (64 channels of float: 16 KiB raw). A BotWriter holds 8 rows per level, 8
+// bytes per page for its tables, and while it trains its dictionary (version 2) at most
+// kDictionarySampleBytes of pending pages; version 3 holds one band per level as samples (at most
+// 8 MiB each) and, while coding it, its packed pages and their contexts, plus the tail band's levels
+// (at most 8 MiB).
 #pragma once
 
 #include <cstdint>
