@@ -3,9 +3,16 @@
 // Each tool runs several times as a child process; the table gives min/median/max wall time, peak
 // resident memory of the child (wait4 ru_maxrss) and output size, with maketx/makebot ratios.
 //
+// --suite runs both tools once on each image of a suite of real textures instead (see
+// suiteImages below and bench/README.md) and adds the peak memory of each and the time to decode
+// every page of the BOT file through texture::BotFile.
+//
 // usage: makebot_bench [--quick] [--runs N] [--filter box|lanczos3] [--dir DIR]
 //                      [--makebot PATH] [--maketx PATH]
+//        makebot_bench --suite [--only TEXT] [--bot-version N] [--filter F] [--dir DIR] [--makebot PATH]
+//                      [--maketx PATH]
 #include "bench/bench_support.h"
+#include "texture/bot_file.h"
 
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
@@ -13,11 +20,15 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -102,10 +113,172 @@ Summary measure(const std::vector<std::string>& args, const fs::path& output, in
     return s;
 }
 
+
+// ------------------------------------------------------------------------------------------ suite
+
+// The suite's images, in a fixed order: the textures of the Maya projects under
+// /work/shared/scenes/ma-projects (every JPEG, PNG, TIFF, PSD, BMP and IFF file), the 4096^2
+// artworks of Debian's gnome-backgrounds other than the wood and adwaita ones, and the float HDR
+// environments of blender-data. A source that is not installed is skipped with a note.
+std::vector<fs::path> suiteImages() {
+    std::vector<fs::path> images;
+    auto lower = [](std::string s) {
+        for (char& ch : s) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+        return s;
+    };
+    auto collect = [&](const fs::path& root, const std::vector<std::string>& extensions, bool recursive,
+                       const char* what) {
+        std::vector<fs::path> found;
+        std::error_code ec;
+        if (!fs::is_directory(root, ec)) {
+            std::printf("note: %s not found at %s, skipped\n", what, root.c_str());
+            return found;
+        }
+        auto consider = [&](const fs::directory_entry& e) {
+            if (!e.is_regular_file()) return;
+            const std::string ext = lower(e.path().extension().string());
+            if (std::find(extensions.begin(), extensions.end(), ext) != extensions.end()) found.push_back(e.path());
+        };
+        if (recursive)
+            for (const auto& e : fs::recursive_directory_iterator(root, ec)) consider(e);
+        else
+            for (const auto& e : fs::directory_iterator(root, ec)) consider(e);
+        std::sort(found.begin(), found.end());
+        if (found.empty()) std::printf("note: no %s under %s, skipped\n", what, root.c_str());
+        return found;
+    };
+    for (const fs::path& p : collect("/work/shared/scenes/ma-projects",
+                                     {".jpg", ".jpeg", ".png", ".tif", ".tiff", ".psd", ".bmp", ".iff"}, true,
+                                     "Maya project textures"))
+        images.push_back(p);
+    for (const fs::path& p :
+         collect("/usr/share/backgrounds/gnome", {".webp", ".jpg", ".jpeg", ".png"}, false,
+                 "gnome-backgrounds (apt-get install gnome-backgrounds)")) {
+        const std::string name = p.filename().string();
+        if (name.rfind("wood", 0) == 0 || name.rfind("adwaita", 0) == 0) continue;
+        auto in = OIIO::ImageInput::open(p.string());
+        if (!in) continue;
+        const OIIO::ImageSpec& spec = in->spec();
+        if (spec.width == 4096 && spec.height == 4096) images.push_back(p);
+    }
+    for (const fs::path& p :
+         collect("/usr/share/blender/datafiles/studiolights/world", {".exr"}, false, "blender-data environments"))
+        images.push_back(p);
+    return images;
+}
+
+// Reads every page of a BOT file held in memory, level by level in raster order, and returns the
+// mean nanoseconds per page (the best of two passes; the first also warms the caches).
+double pageDecodeNs(const fs::path& bot, uint64_t& pages) {
+    std::ifstream f(bot, std::ios::binary);
+    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const auto file = pushpin::texture::BotFile::parse(bytes.data(), bytes.size(), bot);
+    const pushpin::texture::BotHeader& h = file->header();
+    std::vector<float> texels(size_t(pushpin::texture::kPageSizeTexels) * pushpin::texture::kPageSizeTexels *
+                              h.channels);
+    pages = file->pageCount();
+    double best = HUGE_VAL;
+    for (int pass = 0; pass < 2; ++pass) {
+        const auto t0 = std::chrono::steady_clock::now();
+        for (uint32_t l = 0; l < h.levels.size(); ++l)
+            for (uint32_t py = 0; py < h.levels[l].pagesY; ++py)
+                for (uint32_t px = 0; px < h.levels[l].pagesX; ++px)
+                    file->readPageFromMemory(bytes.data(), bytes.size(), l, px, py, texels.data());
+        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return best * 1e9 / double(std::max<uint64_t>(pages, 1));
+}
+
+// The name a suite image is shown by: its path below the suite's roots.
+std::string suiteName(const fs::path& p) {
+    std::string s = p.string();
+    for (const char* root : {"/work/shared/scenes/ma-projects/", "/usr/share/backgrounds/gnome/",
+                             "/usr/share/blender/datafiles/studiolights/world/"})
+        if (s.rfind(root, 0) == 0) return s.substr(std::strlen(root));
+    return s;
+}
+
+int runSuite(const std::string& only, const std::string& filter, const std::string& botVersion, const fs::path& dir,
+             const fs::path& makebot, const fs::path& maketx) {
+    if (!fs::exists(maketx)) {
+        std::fprintf(stderr, "maketx not found at %s (use --maketx)\n", maketx.c_str());
+        return 1;
+    }
+    std::vector<fs::path> images = suiteImages();
+    if (!only.empty())
+        std::erase_if(images, [&](const fs::path& p) { return suiteName(p).find(only) == std::string::npos; });
+    std::printf("makebot vs maketx on %zu real images, filter %s, BOT version %s, one run each, %ld cores\n",
+                images.size(), filter.c_str(), botVersion.empty() ? "(makebot's default)" : botVersion.c_str(),
+                sysconf(_SC_NPROCESSORS_ONLN));
+    std::printf("%-44s %11s %-9s %11s %11s %6s %7s %7s %8s %8s %7s\n", "image", "pixels", "type", "maketx B",
+                "makebot B", "size", "time", "tx s", "tx MB", "bot MB", "ns/page");
+    struct Total {
+        uint64_t txBytes = 0, botBytes = 0, pages = 0;
+        double txS = 0, botS = 0, decodeS = 0, worstSize = 0;
+        long txPeakKiB = 0, botPeakKiB = 0;
+        int images = 0, larger = 0;
+    } total;
+    const fs::path botOut = dir / "suite.bot", txOut = dir / "suite.tx";
+    for (const fs::path& image : images) {
+        const std::string name = suiteName(image);
+        auto in = OIIO::ImageInput::open(image.string());
+        if (!in) {
+            std::printf("%-44s unreadable by OpenImageIO, skipped\n", name.c_str());
+            continue;
+        }
+        const OIIO::ImageSpec spec = in->spec();
+        in.reset();
+        const Summary t = measure({maketx.string(), "--filter", filter, "-o", txOut.string(), image.string()}, txOut, 1);
+        std::vector<std::string> botArgs = {makebot.string(), "--filter", filter};
+        if (!botVersion.empty()) botArgs.insert(botArgs.end(), {"--bot-version", botVersion});
+        botArgs.insert(botArgs.end(), {image.string(), botOut.string()});
+        const Summary b = measure(botArgs, botOut, 1);
+        if (!t.ok || !b.ok) {
+            std::printf("%-44s %s failed, skipped\n", name.c_str(), t.ok ? "makebot" : "maketx");
+            continue;
+        }
+        uint64_t pages = 0;
+        double ns = 0;
+        try {
+            ns = pageDecodeNs(botOut, pages);
+        } catch (const std::exception& e) {
+            std::printf("%-44s cannot read the BOT file back: %s\n", name.c_str(), e.what());
+            continue;
+        }
+        const double sizeRatio = double(b.outBytes) / double(t.outBytes);
+        const std::string pixels = std::to_string(spec.width) + "x" + std::to_string(spec.height);
+        const std::string type = std::to_string(spec.nchannels) + " " + spec.format.c_str();
+        std::printf("%-44s %11s %-9s %11llu %11llu %6.3f %7.3f %7.2f %8.1f %8.1f %7.0f\n", name.c_str(),
+                    pixels.c_str(), type.c_str(), (unsigned long long)t.outBytes, (unsigned long long)b.outBytes,
+                    sizeRatio, b.medS / t.medS, t.medS, t.peakKiB / 1024.0, b.peakKiB / 1024.0, ns);
+        total.txBytes += t.outBytes;
+        total.botBytes += b.outBytes;
+        total.txS += t.medS;
+        total.botS += b.medS;
+        total.decodeS += ns * 1e-9 * double(pages);
+        total.pages += pages;
+        total.txPeakKiB = std::max(total.txPeakKiB, t.peakKiB);
+        total.botPeakKiB = std::max(total.botPeakKiB, b.peakKiB);
+        total.worstSize = std::max(total.worstSize, sizeRatio);
+        total.larger += b.outBytes > t.outBytes;
+        ++total.images;
+    }
+    if (total.images == 0) return 1;
+    std::printf("%-44s %11s %-9s %11llu %11llu %6.3f %7.3f %7.2f %8.1f %8.1f %7.0f\n", "total", "", "",
+                (unsigned long long)total.txBytes, (unsigned long long)total.botBytes,
+                double(total.botBytes) / double(total.txBytes), total.botS / total.txS, total.txS,
+                total.txPeakKiB / 1024.0, total.botPeakKiB / 1024.0, total.decodeS * 1e9 / double(total.pages));
+    std::printf("%d images; makebot larger than maketx on %d, worst size ratio %.3f; total makebot %.1f s, maketx "
+                "%.1f s; peak MB is the largest of any image\n",
+                total.images, total.larger, total.worstSize, total.botS, total.txS);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
+    bool quick = false, suite = false;
+    std::string only, botVersion;
     int runs = 3;
     std::string filter = "box";
     fs::path dir = fs::temp_directory_path() / "pushpin_makebot_bench";
@@ -115,13 +288,19 @@ int main(int argc, char** argv) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
         if (a == "--quick") quick = true;
+        else if (a == "--suite") suite = true;
+        else if (a == "--only") only = next();
+        else if (a == "--bot-version") botVersion = next();
         else if (a == "--runs") runs = std::max(1, std::atoi(next().c_str()));
         else if (a == "--filter") filter = next();
         else if (a == "--dir") dir = next();
         else if (a == "--makebot") makebot = next();
         else if (a == "--maketx") maketx = next();
         else {
-            std::fprintf(stderr, "usage: makebot_bench [--quick] [--runs N] [--filter F] [--dir D] [--makebot P] [--maketx P]\n");
+            std::fprintf(stderr,
+                         "usage: makebot_bench [--quick] [--runs N] [--filter F] [--dir D] [--makebot P] [--maketx P]\n"
+                         "       makebot_bench --suite [--only TEXT] [--bot-version N] [--filter F] [--dir D] [--makebot P]\n"
+                         "                     [--maketx P]\n");
             return 2;
         }
     }
@@ -132,6 +311,7 @@ int main(int argc, char** argv) {
     }
     const bool haveMaketx = fs::exists(maketx);
     fs::create_directories(dir);
+    if (suite) return runSuite(only, filter, botVersion, dir, makebot, maketx);
 
     struct Case {
         std::string name;

@@ -70,14 +70,15 @@ float contentAt(uint32_t x, uint32_t y, uint32_t c, uint32_t size) {
 
 struct Textures {
     fs::path bot, tx;
+    fs::path bot2;  // the same texture as a version-2 file, for its page read time
 };
 
 Textures makeTextures(const Config& cfg) {
     fs::create_directories(cfg.dir);
     const uint32_t n = cfg.textureSize;
-    Textures t{cfg.dir / ("bench_" + std::to_string(n) + ".bot"),
-               cfg.dir / ("bench_" + std::to_string(n) + ".tx")};
-    if (fs::exists(t.bot) && fs::exists(t.tx)) return t;
+    Textures t{cfg.dir / ("bench_" + std::to_string(n) + "_v3.bot"), cfg.dir / ("bench_" + std::to_string(n) + ".tx"),
+               cfg.dir / ("bench_" + std::to_string(n) + "_v2.bot")};
+    if (fs::exists(t.bot) && fs::exists(t.bot2) && fs::exists(t.tx)) return t;
     std::fprintf(stderr, "writing %u×%u RGB test textures to %s ...\n", n, n, cfg.dir.c_str());
     std::vector<float> px(size_t(n) * n * 3);
     for (uint32_t y = 0; y < n; ++y)
@@ -87,6 +88,8 @@ Textures makeTextures(const Config& cfg) {
     wo.pixelType = PixelType::U8;
     wo.alphaChannel = -1;
     writeBot(t.bot, px.data(), n, n, 3, wo);
+    wo.version = 2;
+    writeBot(t.bot2, px.data(), n, n, 3, wo);
     OIIO::ImageSpec spec(static_cast<int>(n), static_cast<int>(n), 3, OIIO::TypeDesc::FLOAT);
     OIIO::ImageBuf src(spec, px.data());
     OIIO::ImageSpec config;
@@ -381,6 +384,7 @@ struct HitFixture {
     TextureHandle handle;
     Stream warmStream;  // a 480×270 render-order stream whose pages all fit in the cache
     std::shared_ptr<const BotFile> bot;
+    std::shared_ptr<const BotFile> bot2;  // the version-2 file of the same texture
 };
 HitFixture* g_hit = nullptr;
 
@@ -451,10 +455,11 @@ void BM_RenderOrderWarm(benchmark::State& state) {
 }
 
 // One page read as the cache's miss path does it, over level-0 pages in raster order: with one
-// pread per page (arg 0) or from a mapping of the whole file (arg 1). Checksum, zstd and
-// conversion to float included.
+// pread per page (mapped:0) or from a mapping of the whole file (mapped:1), from the version-3
+// file (version:3, the one the cache reads) or the version-2 file of the same texture. Checksum,
+// decoding and conversion to float included.
 void BM_PageRead(benchmark::State& state) {
-    const BotFile& bot = *g_hit->bot;
+    const BotFile& bot = state.range(1) == 2 ? *g_hit->bot2 : *g_hit->bot;
     const bool mapped = state.range(0) != 0;
     const int fd = ::open(bot.path().c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) {
@@ -528,9 +533,10 @@ int main(int argc, char** argv) {
     TextureCacheOptions o;
     o.pageSlots = 16384;  // 12 MiB: every page the micro-benchmarks touch stays resident
     o.maxChannels = 3;
-    HitFixture fixture{std::make_unique<TextureCache>(o), {}, {}, {}};
+    HitFixture fixture{std::make_unique<TextureCache>(o), {}, {}, {}, {}};
     fixture.handle = fixture.cache->registerFile(tex.bot);
     fixture.bot = BotFile::open(tex.bot);
+    fixture.bot2 = BotFile::open(tex.bot2);
     Config warm = cfg;
     warm.imageWidth = 480;
     warm.imageHeight = 270;
@@ -540,7 +546,12 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark("TextureCache/sharedMapHit", BM_SharedHit);
     benchmark::RegisterBenchmark("TextureCache/trilinearLookup", BM_TrilinearLookup);
     benchmark::RegisterBenchmark("TextureCache/renderOrderWarm", BM_RenderOrderWarm);
-    benchmark::RegisterBenchmark("BotFile/pageRead", BM_PageRead)->ArgName("mapped")->Arg(0)->Arg(1);
+    benchmark::RegisterBenchmark("BotFile/pageRead", BM_PageRead)
+        ->ArgNames({"mapped", "version"})
+        ->Args({0, 3})
+        ->Args({1, 3})
+        ->Args({0, 2})
+        ->Args({1, 2});
     int n = int(rest.size());
     benchmark::Initialize(&n, rest.data());
     std::printf("\n");

@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -24,6 +25,7 @@
 #include "texture/detail/bot_checksum.h"
 #include "texture/detail/bot_layout.h"
 #include "texture/detail/bot_page.h"
+#include "texture/detail/bot_rans.h"
 #include "texture/detail/mapped_file.h"
 #include "texture/mipmap.h"
 
@@ -33,6 +35,8 @@ using detail::get16;
 using detail::get32;
 using detail::get64;
 using detail::kPageTexels;
+using detail::appendVarint;
+using detail::readVarint;
 
 uint32_t bytesPerSample(PixelType type) {
     switch (type) {
@@ -103,6 +107,8 @@ const char* pageKindName(BotPageKind kind) {
         case BotPageKind::Frame: return "frame";
         case BotPageKind::Block: return "block";
         case BotPageKind::Literals: return "literals";
+        case BotPageKind::Rans: return "rans";
+        case BotPageKind::Constant: return "constant";
     }
     return "?";
 }
@@ -117,6 +123,19 @@ std::string pageName(uint32_t level, uint32_t pageX, uint32_t pageY) {
 // naming the wrong kind, fails like damaged bytes.
 uint32_t pageChecksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex, BotPageKind kind) {
     return uint32_t(detail::xxh64(stored, bytes, pageIndex | uint64_t(kind) << 56));
+}
+
+// Version 3 stores the kind as 0 raw, 1 rANS, 2 constant, and keeps the low 16 bits of the checksum.
+detail::Bot3Kind bot3KindOf(BotPageKind kind) {
+    switch (kind) {
+        case BotPageKind::Rans: return detail::Bot3Kind::Rans;
+        case BotPageKind::Constant: return detail::Bot3Kind::Constant;
+        default: return detail::Bot3Kind::Raw;
+    }
+}
+
+uint32_t page3Checksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex, BotPageKind kind) {
+    return uint32_t(detail::xxh64(stored, bytes, pageIndex | uint64_t(bot3KindOf(kind)) << 56) & 0xffffu);
 }
 
 cache::ZstdForm zstdFormOf(BotPageKind kind) {
@@ -265,14 +284,16 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
         throw fail("truncated BOT header (" + std::to_string(fileBytes) + " bytes, need " +
                    std::to_string(kBotHeaderBytes) + ")");
     if (std::memcmp(h, kBotMagic, sizeof kBotMagic) != 0) throw fail("not a BOT file (bad magic)");
-    if (get32(h + kFieldVersion) != kBotVersion)
-        throw fail("unsupported BOT version " + std::to_string(get32(h + kFieldVersion)));
+    const uint32_t version = get32(h + kFieldVersion);
+    if (version != kBotVersion2 && version != kBotVersion3)
+        throw fail("unsupported BOT version " + std::to_string(version));
     if (get32(h + kFieldHeaderBytes) != kBotHeaderBytes)
         throw fail("bad header size " + std::to_string(get32(h + kFieldHeaderBytes)));
 
     std::shared_ptr<BotFile> file(new BotFile());
     file->m_path = path;
     file->m_fileBytes = fileBytes;
+    file->m_version = version;
     BotHeader& hd = file->m_header;
     hd.width = get32(h + kFieldWidth);
     hd.height = get32(h + kFieldHeight);
@@ -300,6 +321,10 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
     if (levelCount != hd.levels.size())
         throw fail("bad level count " + std::to_string(levelCount) + " (a " + std::to_string(hd.width) + "x" +
                    std::to_string(hd.height) + " image has " + std::to_string(hd.levels.size()) + ")");
+    if (version == kBotVersion3) {
+        parseVersion3(*file, h, source);
+        return file;
+    }
 
     uint64_t pageCount = 0, rowCount = 0;
     for (const BotLevel& l : hd.levels) {
@@ -385,6 +410,145 @@ std::shared_ptr<const BotFile> BotFile::parseImpl(const std::filesystem::path& p
     return file;
 }
 
+// Version 3 (BOT_FORMAT.md "Version 3"): the tables follow the page data as one trailer. Every count
+// that sizes an allocation is checked against the trailer's size first: a page entry takes at least
+// a byte, a band at least its coding byte, a bit per context and its palette count, and a band
+// holds at least 512 pages unless it is a level's last or the tail band, so nothing allocated here
+// outgrows a small multiple of the file.
+void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& source) {
+    using namespace detail;
+    const std::filesystem::path& path = file.m_path;
+    auto fail = [&](const std::string& msg) -> FormatError { return FormatError(path, msg); };
+    const uint64_t fileBytes = source.size;
+    BotHeader& hd = file.m_header;
+    const uint32_t levelCount = uint32_t(hd.levels.size());
+    if (h[kFieldPageFilter] != 0) throw fail("bad page filter field " + std::to_string(h[kFieldPageFilter]) +
+                                             " (version 3 names the filter per band)");
+    if (get16(h + kFieldReserved0) != 0 || get64(h + kField3Reserved) != 0 || get64(h + kField3Reserved + 8) != 0)
+        throw fail("reserved header fields not zero");
+    const uint32_t rawBytes = file.m_pageRawBytes;
+    const uint32_t prefixBytes = pagePrefixBytes(hd.channels, hd.pixelType);
+    const uint32_t contexts = ransContextCount(hd.pixelType);
+    uint64_t pageCount = 0, rowCount = 0, bandCount = 0;
+    for (const BotLevel& l : hd.levels) {
+        file.m_levelFirstPage.push_back(pageCount);
+        pageCount += uint64_t(l.pagesX) * l.pagesY;
+        rowCount += l.pagesY;
+    }
+    Bot3Bands layout = bot3Bands(hd.levels, rawBytes);
+    file.m_levelFirstBand = std::move(layout.levelFirstBand);
+    file.m_levelBandRows = std::move(layout.levelBandRows);
+    bandCount = layout.count;
+    if (get64(h + kFieldPageCount) != pageCount)
+        throw fail("bad page count " + std::to_string(get64(h + kFieldPageCount)) + " (expected " +
+                   std::to_string(pageCount) + ")");
+    if (get64(h + kField3BandCount) != bandCount)
+        throw fail("bad band count " + std::to_string(get64(h + kField3BandCount)) + " (expected " +
+                   std::to_string(bandCount) + ")");
+    const uint64_t trailerOffset = get64(h + kField3TrailerOffset);
+    const uint64_t trailerBytes = get64(h + kField3TrailerBytes);
+    if (trailerOffset < kBotHeaderBytes || trailerOffset > fileBytes || trailerBytes != fileBytes - trailerOffset)
+        throw fail("bad trailer offset " + std::to_string(trailerOffset) + " or size " + std::to_string(trailerBytes) +
+                   " (file has " + std::to_string(fileBytes) + " bytes)");
+    const uint64_t leastTrailer = uint64_t(levelCount) * kBotLevelEntryBytes + rowCount * kBotRowEntryBytes +
+                                  bandCount * (2 + (contexts + 7) / 8) + pageCount * kBot3MinPageEntryBytes;
+    if (trailerBytes < leastTrailer)
+        throw fail("trailer of " + std::to_string(trailerBytes) + " bytes cannot hold the tables of " +
+                   std::to_string(pageCount) + " pages (at least " + std::to_string(leastTrailer) + " bytes)");
+
+    // Bounded by the file size (checked above).
+    std::vector<uint8_t> trailer{};
+    trailer.resize(size_t(trailerBytes));
+    if (!source.read(trailer.data(), trailer.size(), trailerOffset, path)) throw fail("truncated trailer");
+    if (xxh64(trailer.data(), trailer.size(), xxh64(h, kFieldMetaChecksum, 0)) != get64(h + kFieldMetaChecksum))
+        throw fail("header/trailer checksum mismatch");
+
+    const uint8_t* at = trailer.data();
+    const uint8_t* const end = trailer.data() + trailer.size();
+    for (uint32_t l = 0; l < levelCount; ++l, at += kBotLevelEntryBytes)
+        if (get32(at) != hd.levels[l].width || get32(at + 4) != hd.levels[l].height)
+            throw fail("level table entry " + std::to_string(l) + " does not match the image size");
+    const uint8_t* rowTable = at;
+    at += rowCount * kBotRowEntryBytes;
+    file.m_bands.resize(size_t(bandCount));
+    for (uint32_t b = 0; b < bandCount; ++b) {
+        {
+            std::string name = "the tail band (levels " + std::to_string(layout.tailLevel) + " to " +
+                               std::to_string(levelCount - 1) + ")";
+            for (uint32_t l = 0; l < layout.tailLevel; ++l)
+                if (b >= file.m_levelFirstBand[l] && (l + 1 == layout.tailLevel || b < file.m_levelFirstBand[l + 1]))
+                    name = "band " + std::to_string(b - file.m_levelFirstBand[l]) + " of level " + std::to_string(l);
+            // Bits 0-1: the page filter; bits 2-3: the last channel coded as a difference (0: none,
+            // 1: channel 2, 2: channel 3), which the image must have.
+            const uint32_t mode = at == end ? 0 : uint32_t(*at >> 2);
+            if (at == end || (*at & 3) > 2 || mode > 2 || (mode && hd.channels <= mode + 1))
+                throw fail("bad coding byte of " + name);
+            file.m_bands[b].filter = PageFilter(*at++ & 3);
+            file.m_bands[b].decorrelateTo = mode ? mode + 1 : 0;
+            file.m_bands[b].tables = RansTableSet::parse(at, end, contexts);
+            if (!file.m_bands[b].tables) throw fail("corrupt coding tables of " + name);
+            // The band's constant colours: a count, then each colour's prefix bytes.
+            uint32_t colours = 0;
+            if (!readVarint(at, end, colours) || uint64_t(colours) * prefixBytes > uint64_t(end - at))
+                throw fail("bad constant colours of " + name);
+            file.m_bands[b].palette.assign(at, at + size_t(colours) * prefixBytes);
+            at += size_t(colours) * prefixBytes;
+        }
+    }
+    file.m_pages.resize(size_t(pageCount));
+    const uint32_t least = ransPrefixInState(prefixBytes);
+    uint64_t row = 0, index = 0;
+    for (uint32_t l = 0; l < levelCount; ++l) {
+        const BotLevel& lv = hd.levels[l];
+        for (uint32_t py = 0; py < lv.pagesY; ++py, ++row) {
+            uint64_t offset = get64(rowTable + row * kBotRowEntryBytes);
+            for (uint32_t px = 0; px < lv.pagesX; ++px, ++index) {
+                BotPageEntry& e = file.m_pages[index];
+                uint32_t field = 0;
+                if (!readVarint(at, end, field)) throw fail("truncated page table at " + pageName(l, px, py));
+                const uint32_t kind = field & ((1u << kBot3KindBits) - 1);
+                const uint32_t stored = field >> kBot3KindBits;
+                if (Bot3Kind(kind) == Bot3Kind::Constant) {
+                    // No stored bytes: the entry names one of the band's constant colours, which the
+                    // trailer's checksum covers.
+                    const Band& band = file.m_bands[file.m_levelFirstBand[l] + py / file.m_levelBandRows[l]];
+                    if (uint64_t(stored) * prefixBytes >= band.palette.size())
+                        throw fail("bad constant colour " + std::to_string(stored) + " of " + pageName(l, px, py));
+                    e.kind = BotPageKind::Constant;
+                    e.checksum = stored;  // the colour's index
+                    e.storedBytes = 0;
+                    e.offsetBytes = offset;
+                    continue;
+                }
+                if (end - at < 2) throw fail("truncated page table at " + pageName(l, px, py));
+                e.checksum = get16(at);
+                at += 2;
+                bool sizeOk = false;
+                switch (Bot3Kind(kind)) {
+                    case Bot3Kind::Raw: e.kind = BotPageKind::Raw; sizeOk = stored == rawBytes; break;
+                    case Bot3Kind::Rans:
+                        e.kind = BotPageKind::Rans;
+                        sizeOk = stored >= prefixBytes - least + kRansStateBytes && stored < rawBytes;
+                        break;
+                    default: throw fail("bad page kind " + std::to_string(kind) + " of " + pageName(l, px, py));
+                }
+                if (!sizeOk)
+                    throw fail("bad stored size " + std::to_string(stored) + " of " + pageKindName(e.kind) + " " +
+                               pageName(l, px, py));
+                e.storedBytes = uint16_t(stored);
+                e.offsetBytes = offset;
+                if (offset < kBotHeaderBytes || offset > trailerOffset || stored > trailerOffset - offset)
+                    throw fail(pageName(l, px, py) + " lies outside the page data (offset " + std::to_string(offset) +
+                               ", " + std::to_string(stored) + " bytes, page data ends at " +
+                               std::to_string(trailerOffset) + ")");
+                offset += stored;
+            }
+        }
+    }
+    if (at != end) throw fail(std::to_string(end - at) + " unexpected bytes at the end of the trailer");
+    file.m_pageFilter = file.m_bands.empty() ? PageFilter::None : file.m_bands[0].filter;
+}
+
 uint64_t BotFile::pageIndex(uint32_t level, uint32_t pageX, uint32_t pageY) const {
     if (level >= m_header.levels.size() || pageX >= m_header.levels[level].pagesX ||
         pageY >= m_header.levels[level].pagesY)
@@ -429,17 +593,48 @@ uint64_t BotFile::readPageFromMapping(const uint8_t* bytes, size_t byteCount, ui
 }
 
 size_t BotFile::memoryBytes() const {
+    size_t bandBytes = m_bands.capacity() * sizeof(Band) +
+                       (m_levelFirstBand.capacity() + m_levelBandRows.capacity()) * sizeof(uint32_t);
+    for (const Band& b : m_bands) bandBytes += (b.tables ? b.tables->memoryBytes() : 0) + b.palette.capacity();
     return sizeof(BotFile) + m_path.native().capacity() + m_header.levels.capacity() * sizeof(BotLevel) +
            m_levelFirstPage.capacity() * sizeof(uint64_t) + m_pages.capacity() * sizeof(BotPageEntry) +
-           (m_dictionary ? m_dictionary->memoryBytes() : 0);
+           (m_dictionary ? m_dictionary->memoryBytes() : 0) + bandBytes;
 }
 
 uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uint32_t pageY, const uint8_t* stored,
                              float* dst) const {
     const BotPageEntry& e = m_pages[index];
+    PageScratch& scratch = pageScratch();
+    if (m_version == detail::kBotVersion3) {
+        const Band& band = m_bands[m_levelFirstBand[level] + pageY / m_levelBandRows[level]];
+        const uint8_t* packed = stored;
+        if (e.kind == BotPageKind::Constant) {
+            const uint32_t prefix = detail::pagePrefixBytes(m_header.channels, m_header.pixelType);
+            std::memcpy(scratch.packed.data(), band.palette.data() + size_t(e.checksum) * prefix, prefix);
+            std::memset(scratch.packed.data() + prefix, 0, m_pageRawBytes - prefix);
+            detail::unpackPageToFloat(scratch.packed.data(), m_header.channels, m_header.pixelType, band.filter, dst);
+            return 0;
+        }
+        if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum)
+            throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
+        if (e.kind == BotPageKind::Rans) {
+            if (!band.tables->decode(stored, e.storedBytes, m_header.channels, m_header.pixelType,
+                                     scratch.packed.data()))
+                throw FormatError(m_path, "corrupt rANS data in " + pageName(level, pageX, pageY));
+            packed = scratch.packed.data();
+        }
+        if (band.decorrelateTo) {
+            if (packed != scratch.packed.data()) {
+                std::memcpy(scratch.packed.data(), packed, m_pageRawBytes);
+                packed = scratch.packed.data();
+            }
+            detail::recorrelateChannels(scratch.packed.data(), m_header.channels, m_header.pixelType, band.decorrelateTo);
+        }
+        detail::unpackPageToFloat(packed, m_header.channels, m_header.pixelType, band.filter, dst);
+        return e.storedBytes;
+    }
     if (pageChecksum(stored, e.storedBytes, index, e.kind) != e.checksum)
         throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
-    PageScratch& scratch = pageScratch();
     const uint8_t* packed = stored;
     if (e.kind != BotPageKind::Raw) {
         // The prefix (texel 0 of every channel) is stored as it is; zstd codes the rest.
@@ -585,7 +780,229 @@ struct BotWriter::Impl {
         cursor += packedEnd;
     }
 
+    // ------------------------------------------------------------------------------ version 3
+
+    // Each level's band being gathered: its page rows as quantised samples, until the band's last
+    // row arrives; then the band is coded and written (encodeBand).
+    std::vector<uint32_t> levelFirstBand, levelBandRows;
+    std::vector<std::vector<uint8_t>> bandSamples;  // per level
+    // The tail band (the small levels, BOT_FORMAT.md "Bands"): all their pages, level after level,
+    // coded in finish().
+    uint32_t tailLevel = 0;
+    std::vector<size_t> tailLevelOffset;  // where each tail level's pages start in tailSamples
+    std::vector<uint8_t> tailSamples;
+    std::vector<std::vector<uint8_t>> bandTables;   // per band: filter byte and stored tables
+    uint32_t contexts = 0;
+    uint32_t symbolsPerPage = 0;
+
+    void emitPageRow3(uint32_t level, uint32_t pageY, const float* rows, uint32_t nRows, bool linear) {
+        const BotLevel& lv = header.levels[level];
+        if (level >= tailLevel) {
+            if (tailSamples.empty()) tailSamples.resize(tailLevelOffset.back());
+            uint8_t* row = tailSamples.data() + tailLevelOffset[level - tailLevel] + size_t(pageY) * lv.pagesX * rawBytes;
+            for (uint32_t px = 0; px < lv.pagesX; ++px)
+                quantizePage(level, rows, nRows, px, linear, row + size_t(px) * rawBytes);
+            return;
+        }
+        const uint32_t bandRows = levelBandRows[level];
+        const uint32_t rowInBand = pageY % bandRows;
+        const uint32_t rowsInBand = std::min(bandRows, lv.pagesY - (pageY - rowInBand));
+        std::vector<uint8_t>& samples = bandSamples[level];
+        if (rowInBand == 0) samples.resize(size_t(rowsInBand) * lv.pagesX * rawBytes);
+        uint8_t* row = samples.data() + size_t(rowInBand) * lv.pagesX * rawBytes;
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, lv.pagesX, 8), [&](const tbb::blocked_range<uint32_t>& rg) {
+            for (uint32_t px = rg.begin(); px != rg.end(); ++px)
+                quantizePage(level, rows, nRows, px, linear, row + size_t(px) * rawBytes);
+        });
+        if (rowInBand + 1 == rowsInBand)
+            encodeBand(levelFirstBand[level] + pageY / bandRows, {{level, pageY - rowInBand, rowsInBand}}, samples.data());
+        if (pageY + 1 == lv.pagesY) {
+            samples.clear();
+            samples.shrink_to_fit();
+        }
+    }
+
+    // Symbol counts of the band's pages (every `step`-th) packed with `filter`. Integer sums, so the
+    // result does not depend on how the pages were split among threads.
+    detail::RansHistogram bandHistogram(const uint8_t* samples, uint64_t pages, uint64_t step, PageFilter filter,
+                                        uint32_t decorrelateTo, uint8_t* packedOut,
+                                        uint8_t* contextsOut = nullptr) const {
+        tbb::enumerable_thread_specific<detail::RansHistogram> partial(detail::RansHistogram{contexts});
+        const uint64_t count = (pages + step - 1) / step;
+        tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 64), [&](const tbb::blocked_range<uint64_t>& rg) {
+            detail::RansHistogram& hist = partial.local();
+            alignas(16) uint8_t local[kPageTexels * kMaxChannels * 4];
+            for (uint64_t k = rg.begin(); k != rg.end(); ++k) {
+                uint8_t* packed = packedOut ? packedOut + k * step * rawBytes : local;
+                detail::packPage(samples + k * step * rawBytes, header.channels, header.pixelType, filter, packed);
+                detail::decorrelateChannels(packed, header.channels, header.pixelType, decorrelateTo);
+                detail::ransCount(packed, header.channels, header.pixelType, hist,
+                                  contextsOut ? contextsOut + k * step * symbolsPerPage : nullptr);
+            }
+        });
+        detail::RansHistogram total(contexts);
+        for (const detail::RansHistogram& h : partial) total.add(h);
+        return total;
+    }
+
+    // Page rows [firstRow, firstRow + rows) of a level.
+    struct Segment {
+        uint32_t level, firstRow, rows;
+    };
+
+    // Codes band `band`, the page rows of `segments` whose samples lie back to back in `samples`:
+    // picks the filter and channel coding whose residuals code smaller (measured on a sample of the
+    // pages of large bands), fits the band's tables to all its pages, codes every page (constant,
+    // rANS or raw, whichever is smallest) and writes them row by row.
+    void encodeBand(uint32_t band, const std::vector<Segment>& segments, const uint8_t* samples) {
+        std::vector<uint64_t> segmentStart = {0};  // first page of each segment, then the total
+        for (const Segment& g : segments)
+            segmentStart.push_back(segmentStart.back() + uint64_t(g.rows) * header.levels[g.level].pagesX);
+        const uint64_t pages = segmentStart.back();
+        // The page index of the band's k-th page.
+        auto indexOf = [&](uint64_t k) {
+            const size_t g = size_t(std::upper_bound(segmentStart.begin(), segmentStart.end(), k) - segmentStart.begin() - 1);
+            const Segment& seg = segments[g];
+            const uint32_t pagesX = header.levels[seg.level].pagesX;
+            const uint64_t inSegment = k - segmentStart[g];
+            return levelFirstPage[seg.level] + (uint64_t(seg.firstRow) + inSegment / pagesX) * pagesX + inSegment % pagesX;
+        };
+        PageFilter filter = options.pageFilter.value_or(PageFilter::Med);
+        uint32_t decorrelateTo = 0;
+        std::vector<PageFilter> filters = {PageFilter::Med, PageFilter::Mean};
+        if (options.pageFilter) filters = {*options.pageFilter};
+        std::vector<uint32_t> modes = {0};
+        if (header.channels >= 3) modes.push_back(2);
+        if (header.channels >= 4) modes.push_back(3);
+        if (filters.size() * modes.size() > 1) {
+            // Every 16th page of a large band decides as well as every 4th (the same choices on the
+            // 4096^2 suite images) in a quarter of the time.
+            const uint64_t step = pages >= 4096 ? 16 : pages >= 1024 ? 4 : 1;
+            double best = HUGE_VAL;
+            for (PageFilter f : filters)
+                for (uint32_t d : modes) {
+                    const double bits = bandHistogram(samples, pages, step, f, d, nullptr).codedBits();
+                    if (bits < best) {
+                        best = bits;
+                        filter = f;
+                        decorrelateTo = d;
+                    }
+                }
+        }
+        std::vector<uint8_t> packed(size_t(pages) * rawBytes);
+        std::vector<uint8_t> pageContexts(size_t(pages) * symbolsPerPage);
+        const auto tables = detail::RansTableSet::fit(
+            bandHistogram(samples, pages, 1, filter, decorrelateTo, packed.data(), pageContexts.data()));
+        std::vector<uint8_t>& stored = bandTables[band];
+        stored.push_back(uint8_t(uint32_t(filter) | (decorrelateTo ? decorrelateTo - 1 : 0) << 2));
+        tables->serialize(stored);
+
+        rowBuffer.resize(size_t(pages) * rawBytes);
+        rowSizes.resize(size_t(pages));
+        tbb::parallel_for(tbb::blocked_range<uint64_t>(0, pages, 16), [&](const tbb::blocked_range<uint64_t>& rg) {
+            for (uint64_t k = rg.begin(); k != rg.end(); ++k) {
+                const uint8_t* page = packed.data() + k * rawBytes;
+                uint8_t* dst = rowBuffer.data() + k * rawBytes;
+                BotPageKind kind = BotPageKind::Rans;
+                size_t n = 0;
+                if (std::all_of(page + prefixBytes, page + rawBytes, [](uint8_t b) { return b == 0; })) {
+                    kind = BotPageKind::Constant;  // its colour goes to the band's palette below
+                    n = 0;
+                } else {
+                    n = tables->encode(page, header.channels, header.pixelType, dst, rawBytes - 1,
+                                       pageContexts.data() + k * symbolsPerPage);
+                    if (n == 0) {
+                        kind = BotPageKind::Raw;
+                        n = rawBytes;
+                        std::memcpy(dst, page, n);
+                    }
+                }
+                const uint64_t index = indexOf(k);
+                rowSizes[k] = uint32_t(n);
+                pageSizes[index] = uint32_t(n) << detail::kBot3KindBits | uint32_t(bot3KindOf(kind));
+                pageChecksums[index] = kind == BotPageKind::Constant ? 0 : page3Checksum(dst, n, index, kind);
+            }
+        });
+        // The band's constant colours in the order their first page comes, each stored once; a
+        // constant page's entry names its colour.
+        std::map<std::vector<uint8_t>, uint32_t> colours;
+        std::vector<uint8_t> palette;
+        for (uint64_t k = 0; k < pages; ++k) {
+            const uint64_t index = indexOf(k);
+            if ((pageSizes[index] & 3) != uint32_t(detail::Bot3Kind::Constant)) continue;
+            const uint8_t* page = packed.data() + k * rawBytes;
+            const auto [it, added] =
+                colours.try_emplace(std::vector<uint8_t>(page, page + prefixBytes), uint32_t(colours.size()));
+            if (added) palette.insert(palette.end(), page, page + prefixBytes);
+            pageSizes[index] = it->second << detail::kBot3KindBits | uint32_t(detail::Bot3Kind::Constant);
+        }
+        appendVarint(stored, uint32_t(colours.size()));
+        stored.insert(stored.end(), palette.begin(), palette.end());
+        size_t packedEnd = 0;
+        for (size_t g = 0; g < segments.size(); ++g) {
+            const Segment& seg = segments[g];
+            const uint32_t pagesX = header.levels[seg.level].pagesX;
+            for (uint32_t r = 0; r < seg.rows; ++r) {
+                rowOffsets[levelFirstRow[seg.level] + seg.firstRow + r] = cursor + packedEnd;
+                const uint64_t first = segmentStart[g] + uint64_t(r) * pagesX;
+                for (uint64_t k = first; k < first + pagesX; ++k) {
+                    std::memmove(rowBuffer.data() + packedEnd, rowBuffer.data() + k * rawBytes, rowSizes[k]);
+                    packedEnd += rowSizes[k];
+                }
+            }
+        }
+        pwriteAll(fd, rowBuffer.data(), packedEnd, cursor, target);
+        cursor += packedEnd;
+    }
+
+    // The trailer (level, row, band and page tables) after the page data, then the header.
+    void writeTables3() {
+        using namespace detail;
+        std::vector<uint8_t> trailer;
+        uint8_t word[8];
+        for (const BotLevel& l : header.levels) {
+            put32(word, l.width);
+            put32(word + 4, l.height);
+            trailer.insert(trailer.end(), word, word + 8);
+        }
+        for (uint64_t offset : rowOffsets) {
+            put64(word, offset);
+            trailer.insert(trailer.end(), word, word + 8);
+        }
+        for (const std::vector<uint8_t>& band : bandTables) trailer.insert(trailer.end(), band.begin(), band.end());
+        for (size_t p = 0; p < pageSizes.size(); ++p) {
+            appendVarint(trailer, pageSizes[p]);
+            if ((pageSizes[p] & 3) == uint32_t(Bot3Kind::Constant)) continue;  // no bytes, no checksum
+            put16(word, uint16_t(pageChecksums[p]));
+            trailer.insert(trailer.end(), word, word + 2);
+        }
+        uint8_t h[kBotHeaderBytes] = {};
+        std::memcpy(h, kBotMagic, sizeof kBotMagic);
+        put32(h + kFieldVersion, kBotVersion3);
+        put32(h + kFieldHeaderBytes, kBotHeaderBytes);
+        put32(h + kFieldWidth, header.width);
+        put32(h + kFieldHeight, header.height);
+        put32(h + kFieldChannels, header.channels);
+        h[kFieldPixelType] = uint8_t(header.pixelType);
+        h[kFieldColorSpace] = uint8_t(header.colorSpace);
+        h[kFieldWrapS] = uint8_t(header.wrapS);
+        h[kFieldWrapT] = uint8_t(header.wrapT);
+        h[kFieldMipFilter] = uint8_t(mipFilter);
+        put32(h + kFieldLevelCount, uint32_t(header.levels.size()));
+        put64(h + kField3TrailerOffset, cursor);
+        put64(h + kField3TrailerBytes, trailer.size());
+        put64(h + kField3BandCount, bandTables.size());
+        put64(h + kFieldPageCount, pageSizes.size());
+        put64(h + kFieldMetaChecksum, xxh64(trailer.data(), trailer.size(), xxh64(h, kFieldMetaChecksum, 0)));
+        pwriteAll(fd, trailer.data(), trailer.size(), cursor, target);
+        cursor += trailer.size();
+        pwriteAll(fd, h, kBotHeaderBytes, 0, target);
+    }
+
+    // ------------------------------------------------------------------------------ version 2
+
     void emitPageRow(uint32_t level, uint32_t pageY, const float* rows, uint32_t nRows, bool linear) {
+        if (options.version == detail::kBotVersion3) return emitPageRow3(level, pageY, rows, nRows, linear);
         const uint32_t pagesX = header.levels[level].pagesX;
         std::vector<uint8_t> buffer(size_t(pagesX) * rawBytes);
         if (!codingDecided) {
@@ -771,7 +1188,7 @@ struct BotWriter::Impl {
 
         uint8_t h[kBotHeaderBytes] = {};
         std::memcpy(h, kBotMagic, sizeof kBotMagic);
-        put32(h + kFieldVersion, kBotVersion);
+        put32(h + kFieldVersion, kBotVersion2);
         put32(h + kFieldHeaderBytes, kBotHeaderBytes);
         put32(h + kFieldWidth, header.width);
         put32(h + kFieldHeight, header.height);
@@ -807,6 +1224,8 @@ BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t
         throw std::invalid_argument(path.string() + ": unsupported channel count " + std::to_string(channels));
     const auto filter = parseMipFilter(options.filter);
     if (!filter) throw std::invalid_argument("unknown mip filter '" + options.filter + "'");
+    if (options.version != detail::kBotVersion2 && options.version != detail::kBotVersion3)
+        throw std::invalid_argument("cannot write BOT version " + std::to_string(options.version));
     if (options.alphaChannel < -2 || options.alphaChannel >= int(channels))
         throw std::invalid_argument("bad alpha channel " + std::to_string(options.alphaChannel));
     m.target = path;
@@ -837,6 +1256,23 @@ BotWriter::BotWriter(const std::filesystem::path& path, uint32_t width, uint32_t
     m.pageTableOffset = m.rowTableOffset + rows * detail::kBotRowEntryBytes;
     m.dictOffset = m.pageTableOffset + pages * detail::kBotPageEntryBytes;
     m.cursor = m.dictOffset;
+    if (options.version == detail::kBotVersion3) {
+        // Page data follows the header; the tables go after it (writeTables3).
+        m.cursor = detail::kBotHeaderBytes;
+        m.contexts = detail::ransContextCount(options.pixelType);
+        m.symbolsPerPage = detail::ransSymbolsPerPage(channels, options.pixelType);
+        detail::Bot3Bands bands = detail::bot3Bands(m.header.levels, m.rawBytes);
+        m.levelFirstBand = std::move(bands.levelFirstBand);
+        m.levelBandRows = std::move(bands.levelBandRows);
+        m.tailLevel = bands.tailLevel;
+        m.tailLevelOffset = {0};
+        for (uint32_t l = m.tailLevel; l < m.header.levels.size(); ++l)
+            m.tailLevelOffset.push_back(m.tailLevelOffset.back() + size_t(m.header.levels[l].pagesX) *
+                                                                       m.header.levels[l].pagesY * m.rawBytes);
+        m.bandTables.resize(bands.count);
+        m.bandSamples.resize(m.header.levels.size());
+        m.codingDecided = true;
+    }
 
     // A random, exclusively created temporary name in the target's folder, so the final rename is
     // atomic and SIGINT or SIGTERM remove it (cache/output_file.h).
@@ -893,8 +1329,20 @@ BotWriteStats BotWriter::finish() {
             throw std::logic_error("BotWriter::finish: level " + std::to_string(l) + " has " +
                                    std::to_string(m.levels[l].nextRow) + " of " +
                                    std::to_string(m.header.levels[l].height) + " rows");
-    if (!m.codingDecided) m.decideCoding();
-    m.writeTables();
+    if (m.options.version == detail::kBotVersion3) {
+        if (m.tailLevel < m.header.levels.size()) {
+            std::vector<Impl::Segment> segments;
+            for (uint32_t l = m.tailLevel; l < m.header.levels.size(); ++l)
+                segments.push_back({l, 0, m.header.levels[l].pagesY});
+            m.encodeBand(uint32_t(m.bandTables.size() - 1), segments, m.tailSamples.data());
+            m.tailSamples.clear();
+            m.tailSamples.shrink_to_fit();
+        }
+        m.writeTables3();
+    } else {
+        if (!m.codingDecided) m.decideCoding();
+        m.writeTables();
+    }
     m.fd = -1;
     m.out->commit();  // fsync, close, rename, each checked: throws OutputError
     m.out.reset();
@@ -906,7 +1354,15 @@ BotWriteStats BotWriter::finish() {
     stats.dictionaryBytes = m.dictionary ? uint32_t(m.dictionary->bytes().size()) : 0;
     stats.pageFilter = m.pageFilter;
     stats.dictionary = m.dictionaryKind;
-    for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[field >> detail::kBotPageKindShift];
+    stats.version = m.options.version;
+    if (m.options.version == detail::kBotVersion3) {
+        constexpr BotPageKind kinds[] = {BotPageKind::Raw, BotPageKind::Rans, BotPageKind::Constant};
+        for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[unsigned(kinds[field & 3])];
+        stats.bands = m.bandTables.size();
+        stats.pageFilter = m.bandTables.empty() ? PageFilter::None : PageFilter(m.bandTables[0][0] & 3);
+    } else {
+        for (uint32_t field : m.pageSizes) ++stats.pagesOfKind[field >> detail::kBotPageKindShift];
+    }
     return stats;
 }
 

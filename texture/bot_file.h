@@ -4,10 +4,14 @@
 // Thread safety: a BotFile is immutable after open(); all its const methods may be called
 // concurrently. A BotWriter belongs to one thread (it parallelises page encoding internally with
 // oneTBB).
-// Memory: a BotFile holds 16 bytes per page plus the file's dictionary; readPage uses thread-local
-// buffers bounded by the largest possible page (64 channels of float: 16 KiB raw). A BotWriter holds
-// 8 rows per level, 8 bytes per page for its tables, and while it trains its dictionary at most
-// kDictionarySampleBytes of pending pages.
+// Memory: a BotFile holds 16 bytes per page plus the file's dictionary (version 2) or its bands'
+// coding tables and palettes (version 3: about 9 KiB per context in use, 14 contexts a byte of a
+// sample; a band holds up to 16384 pages); readPage uses thread-local buffers bounded by the
+// largest possible page (64 channels of float: 16 KiB raw). A BotWriter holds 8 rows per level, 8
+// bytes per page for its tables, and while it trains its dictionary (version 2) at most
+// kDictionarySampleBytes of pending pages; version 3 holds one band per level as samples (at most
+// 8 MiB each) and, while coding it, its packed pages and their contexts, plus the tail band's levels
+// (at most 8 MiB).
 #pragma once
 
 #include <cstdint>
@@ -19,6 +23,9 @@
 
 namespace pushpin::cache {
 class ZstdDictionary;
+}
+namespace pushpin::texture::detail {
+class RansTableSet;
 }
 
 namespace pushpin::texture {
@@ -40,7 +47,11 @@ enum class BotPageKind : uint8_t {
     Frame = 1,     // prefix, then a whole compact zstd frame
     Block = 2,     // prefix, then the body of the frame's one compressed block
     Literals = 3,  // prefix, then the Huffman stream of a literals-only block
+    // Version 3:
+    Rans = 4,      // the band's rANS coding of the page (prefix bytes past the third, state, bytes)
+    Constant = 5,  // no stored bytes: every residual is zero, texel 0 is a colour of the band's palette
 };
+constexpr uint32_t kBotPageKinds = 6;
 
 constexpr uint32_t kPageSizeTexels = 8;  // pages are 8x8 texels
 constexpr uint32_t kMaxChannels = 64;
@@ -73,7 +84,9 @@ std::optional<PageFilter> parsePageFilter(const std::string& name);  // none, me
 // million pages, and every registered texture keeps its table in memory.
 struct BotPageEntry {
     uint64_t offsetBytes = 0;
-    uint32_t checksum = 0;     // low 32 bits of XXH64(stored bytes, seed = page index | kind << 56)
+    // Low 32 (version 3: 16) bits of XXH64(stored bytes, seed = page index | kind << 56); for a
+    // version-3 constant page, the index of its colour in its band's palette.
+    uint32_t checksum = 0;
     uint16_t storedBytes = 0;  // bytes on disk (at most 16384)
     BotPageKind kind = BotPageKind::Raw;
 };
@@ -120,12 +133,16 @@ public:
     const BotPageEntry& pageEntry(uint64_t index) const { return m_pages[index]; }
     uint32_t pageRawBytes() const { return m_pageRawBytes; }  // decompressed bytes of one page
     uint32_t dictionaryBytes() const { return m_dictionaryBytes; }
+    // The page filter (version 3: of the first band of level 0).
     PageFilter pageFilter() const { return m_pageFilter; }
+    uint32_t version() const { return m_version; }  // 2 or 3
+    uint64_t bandCount() const { return m_bands.size(); }  // version 3; 0 for version 2
 
 private:
     struct Source;  // where parseImpl reads from: a file descriptor or a memory buffer
     BotFile() = default;
     static std::shared_ptr<const BotFile> parseImpl(const std::filesystem::path& path, const Source& source);
+    static void parseVersion3(BotFile& file, const uint8_t* header, const Source& source);
     // The entry of page `index`, checked to lie within the first `byteCount` bytes of the file;
     // throws FormatError naming the page otherwise.
     const BotPageEntry& entryWithin(uint64_t index, size_t byteCount, uint32_t level, uint32_t pageX,
@@ -142,6 +159,16 @@ private:
     std::vector<uint64_t> m_levelFirstPage;
     std::vector<BotPageEntry> m_pages;
     std::shared_ptr<const cache::ZstdDictionary> m_dictionary;
+    // Version 3: bands of page rows, each with its filter and coding tables.
+    struct Band {
+        PageFilter filter = PageFilter::None;
+        uint32_t decorrelateTo = 0;  // channels 1 to this one coded as differences (0: none; 2 or 3)
+        std::vector<uint8_t> palette;  // the band's constant colours, each a page prefix
+        std::shared_ptr<const detail::RansTableSet> tables;
+    };
+    uint32_t m_version = 0;
+    std::vector<Band> m_bands;
+    std::vector<uint32_t> m_levelFirstBand, m_levelBandRows;
 };
 
 // How a BOT file is written. Fields after `threads` are tuning knobs with sensible defaults.
@@ -158,8 +185,12 @@ struct BotWriteOptions {
     // The per-file zstd dictionary: auto (the smallest of none, trained and literal on the first
     // pages), none, trained (zstd's trainer) or literal (a literal table fitted to the residuals).
     BotDictionary dictionary = BotDictionary::Auto;
-    // Page prediction; unset: the filter whose residuals of the first pages have the lower entropy.
+    // Page prediction; unset: version 2, the filter whose residuals of the first pages have the lower
+    // entropy; version 3, the one whose residuals of each band code smaller.
     std::optional<PageFilter> pageFilter;
+    // The file version: 3 (rANS-coded pages in bands; the default) or 2 (zstd pages, BOT_FORMAT.md
+    // "Version 2"). compressionLevel and dictionary apply to version 2 only.
+    uint32_t version = 3;
 };
 
 // Figures about one written file.
@@ -170,7 +201,9 @@ struct BotWriteStats {
     uint32_t dictionaryBytes = 0;
     PageFilter pageFilter = PageFilter::None;
     BotDictionary dictionary = BotDictionary::None;  // the kind used: None, Trained or Literal
-    uint64_t pagesOfKind[4] = {};         // indexed by BotPageKind
+    uint64_t pagesOfKind[kBotPageKinds] = {};  // indexed by BotPageKind
+    uint32_t version = 0;
+    uint64_t bands = 0;                        // version 3
 };
 
 // Writes a BOT file from a float image already in memory (used by tests and by makebot's

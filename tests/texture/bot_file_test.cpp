@@ -22,6 +22,7 @@
 #include "cache/zstd_codec.h"
 #include "texture/detail/bot_layout.h"
 #include "texture/detail/bot_page.h"
+#include "texture/detail/bot_rans.h"
 #include "texture/mipmap.h"
 
 namespace pushpin::texture {
@@ -129,17 +130,19 @@ TEST(BotChecksum, MatchesPublishedXxh64Values) {
     EXPECT_EQ(detail::xxh64("abc", 3, 0), 0x44BC2CF5AD770999ull);
 }
 
-class BotRoundTrip : public ::testing::TestWithParam<PixelType> {};
+class BotRoundTrip : public ::testing::TestWithParam<std::tuple<PixelType, uint32_t>> {};
 
 TEST_P(BotRoundTrip, LevelZeroReproducesSourceExactly) {
-    const PixelType type = GetParam();
+    const auto [type, version] = GetParam();
     for (auto [w, h, ch] : {std::tuple<uint32_t, uint32_t, uint32_t>{37, 21, 3}, {13, 7, 4}, {1, 9, 1}, {200, 130, 2}}) {
         const std::vector<float> src = makeImage(w, h, ch, type, w * 131 + h);
         const fs::path path = tempDir() / ("rt_" + std::string(pixelTypeName(type)) + ".bot");
         BotWriteOptions opt;
         opt.pixelType = type;
+        opt.version = version;
         writeBot(path, src.data(), w, h, ch, opt);
         const auto file = BotFile::open(path);
+        EXPECT_EQ(file->version(), version);
         EXPECT_EQ(file->header().width, w);
         EXPECT_EQ(file->header().height, h);
         EXPECT_EQ(file->header().channels, ch);
@@ -152,8 +155,13 @@ TEST_P(BotRoundTrip, LevelZeroReproducesSourceExactly) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllPixelTypes, BotRoundTrip,
-                         ::testing::Values(PixelType::U8, PixelType::U16, PixelType::Half, PixelType::Float),
-                         [](const auto& p) { return std::string(pixelTypeName(p.param)); });
+                         ::testing::Combine(::testing::Values(PixelType::U8, PixelType::U16, PixelType::Half,
+                                                              PixelType::Float),
+                                            ::testing::Values(2u, 3u)),
+                         [](const auto& p) {
+                             return std::string(pixelTypeName(std::get<0>(p.param))) + "_v" +
+                                    std::to_string(std::get<1>(p.param));
+                         });
 
 // Smooth content with per-texel noise, as in scanned and painted textures: the mean filter and the
 // literal dictionary are made for it. Values are exact in every pixel type.
@@ -185,6 +193,7 @@ TEST_P(BotCodings, LevelZeroRoundTrips) {
     opt.pixelType = type;
     opt.pageFilter = filter;
     opt.dictionary = dictionary;
+    opt.version = 2;
     writeBot(path, src.data(), w, h, ch, opt);
     const auto file = BotFile::open(path);
     EXPECT_EQ(file->pageFilter(), filter);
@@ -227,6 +236,7 @@ TEST(BotFile, EveryPageKindIsWrittenAndReadBack) {
     const fs::path path = tempDir() / "kinds.bot";
     BotWriteOptions opt;
     opt.pageFilter = PageFilter::Med;
+    opt.version = 2;
     writeBot(path, src.data(), w, h, ch, opt);
     const auto file = BotFile::open(path);
     uint64_t kinds[4] = {};
@@ -246,6 +256,7 @@ TEST(BotFile, FramePagesAreRead) {
     const fs::path path = tempDir() / "frame_src.bot";
     BotWriteOptions opt;
     opt.dictionary = BotDictionary::Literal;
+    opt.version = 2;
     writeBot(path, src.data(), w, h, ch, opt);
     std::vector<uint8_t> b = readBytes(path);
     const auto file = BotFile::parse(b.data(), b.size(), "frame.bot");
@@ -293,21 +304,23 @@ TEST(BotFile, FramePagesAreRead) {
 // must not depend on it.
 TEST(BotWriter, SameBytesWithOneOrTwoThreads) {
     const uint32_t w = 384, h = 320;
-    for (PixelType type : {PixelType::U8, PixelType::Half}) {
-        std::vector<float> src = noisyImage(w, h, 3, 61);
-        if (type == PixelType::Half)
-            for (float& v : src) v = float(Imath::half(v));
-        std::vector<std::vector<uint8_t>> files;
-        for (int threads : {1, 2}) {
-            const fs::path path = tempDir() / ("threads_" + std::to_string(threads) + ".bot");
-            BotWriteOptions opt;
-            opt.pixelType = type;
-            opt.threads = threads;
-            writeBot(path, src.data(), w, h, 3, opt);
-            files.push_back(readBytes(path));
+    for (uint32_t version : {2u, 3u})
+        for (PixelType type : {PixelType::U8, PixelType::Half}) {
+            std::vector<float> src = noisyImage(w, h, 3, 61);
+            if (type == PixelType::Half)
+                for (float& v : src) v = float(Imath::half(v));
+            std::vector<std::vector<uint8_t>> files;
+            for (int threads : {1, 2}) {
+                const fs::path path = tempDir() / ("threads_" + std::to_string(threads) + ".bot");
+                BotWriteOptions opt;
+                opt.pixelType = type;
+                opt.threads = threads;
+                opt.version = version;
+                writeBot(path, src.data(), w, h, 3, opt);
+                files.push_back(readBytes(path));
+            }
+            EXPECT_EQ(files[0], files[1]) << pixelTypeName(type) << " version " << version;
         }
-        EXPECT_EQ(files[0], files[1]) << pixelTypeName(type);
-    }
 }
 
 // A flat texture: residuals are all zero, which a literal table cannot be fitted to (zstd codes a
@@ -333,6 +346,7 @@ TEST(BotWriter, AutomaticCodingIsAsSmallAsTheBestForcedOne) {
         BotWriteOptions opt;
         opt.pageFilter = filter;
         opt.dictionary = dictionary;
+        opt.version = 2;
         BotWriter writer(path, w, h, ch, opt);
         MipCascade cascade(w, h, ch, MipFilter::Box, opt.colorSpace, opt.alphaChannel,
                            [&](uint32_t level, uint32_t first, uint32_t count, const float* rows, bool linear) {
@@ -373,7 +387,9 @@ TEST(BotFile, LargeImageTrainsDictionaryAndRoundTrips) {
                 src[(size_t(y) * w + x) * ch + c] = float(code) / 255.0f;
             }
     const fs::path path = tempDir() / "large.bot";
-    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    BotWriteOptions opt;
+    opt.version = 2;
+    writeBot(path, src.data(), w, h, ch, opt);
     const auto file = BotFile::open(path);
     EXPECT_GT(file->dictionaryBytes(), 0u);
     EXPECT_EQ(file->header().levels.size(), 10u);
@@ -537,10 +553,12 @@ TEST(BotMipLevels, NanAndInfinityDoNotSpreadIntoMips) {
 
 // ------------------------------------------------------------------ damaged and hostile files
 
-std::vector<uint8_t> validFile(uint32_t w, uint32_t h, uint32_t ch, const std::string& name) {
+std::vector<uint8_t> validFile(uint32_t w, uint32_t h, uint32_t ch, const std::string& name, uint32_t version = 2) {
     const std::vector<float> src = makeImage(w, h, ch, PixelType::U8, 77);
     const fs::path path = tempDir() / name;
-    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    BotWriteOptions opt;
+    opt.version = version;
+    writeBot(path, src.data(), w, h, ch, opt);
     return readBytes(path);
 }
 
@@ -548,6 +566,13 @@ std::vector<uint8_t> validFile(uint32_t w, uint32_t h, uint32_t ch, const std::s
 // the reader has to reject.
 void reseal(std::vector<uint8_t>& b) {
     using namespace detail;
+    if (get32(&b[kFieldVersion]) == kBotVersion3) {
+        const uint64_t trailer = get64(&b[kField3TrailerOffset]);
+        ASSERT_LE(trailer, b.size());
+        put64(&b[kFieldMetaChecksum],
+              xxh64(b.data() + trailer, size_t(b.size() - trailer), xxh64(b.data(), kFieldMetaChecksum, 0)));
+        return;
+    }
     const uint64_t dataStart = get64(&b[kFieldDictionary]) + get32(&b[kFieldDictionaryBytes]);
     ASSERT_LE(dataStart, b.size());
     put64(&b[kFieldMetaChecksum],
@@ -615,7 +640,9 @@ TEST(BotFileErrors, PageTableNamingTheWrongKindFailsTheChecksum) {
     const uint32_t w = 160, h = 136;
     const std::vector<float> src = noisyImage(w, h, 3, 41);
     const fs::path path = tempDir() / "kind_src.bot";
-    writeBot(path, src.data(), w, h, 3, BotWriteOptions{});
+    BotWriteOptions opt;
+    opt.version = 2;
+    writeBot(path, src.data(), w, h, 3, opt);
     const auto file = BotFile::open(path);
     const uint64_t pageTable = get64(&readBytes(path)[kFieldPageTable]);
     // Rewrite each compressed page's kind as every other compressed kind, seal the tables again:
@@ -751,7 +778,7 @@ TEST(BotFileErrors, AbsurdHeaderValuesAreRejectedWithoutAllocating) {
     EXPECT_NE(with([](auto& b) { b[kFieldPixelType] = 9; }).find("bad pixel type 9"), std::string::npos);
     EXPECT_NE(with([](auto& b) { b[0] = 'X'; }).find("bad magic"), std::string::npos);
     EXPECT_NE(with([](auto& b) { put32(&b[kFieldVersion], 1); }).find("unsupported BOT version 1"), std::string::npos);
-    EXPECT_NE(with([](auto& b) { put32(&b[kFieldVersion], 3); }).find("unsupported BOT version 3"), std::string::npos);
+    EXPECT_NE(with([](auto& b) { put32(&b[kFieldVersion], 4); }).find("unsupported BOT version 4"), std::string::npos);
     EXPECT_NE(with([](auto& b) { b[kFieldPageFilter] = 3; }).find("bad page filter 3"), std::string::npos);
     // Largest legal dimensions, but the page table they imply does not fit in the file.
     EXPECT_NE(with([](auto& b) {
@@ -808,6 +835,325 @@ TEST(BotWriter, RejectsBadArguments) {
     EXPECT_FALSE(fs::exists(path));
 }
 
+// ------------------------------------------------------------------ version 3
+
+// Every page filter for every pixel type reproduces level 0 exactly, and every level decodes.
+class Bot3Codings : public ::testing::TestWithParam<std::tuple<PixelType, PageFilter>> {};
+
+TEST_P(Bot3Codings, LevelZeroRoundTrips) {
+    const auto [type, filter] = GetParam();
+    const uint32_t w = 160, h = 136, ch = type == PixelType::U8 ? 3 : 4;
+    std::vector<float> src = noisyImage(w, h, ch, 11);
+    if (type == PixelType::Half)
+        for (float& v : src) v = float(Imath::half(v));
+    if (type == PixelType::Float)  // full float mantissas, some negative, some large
+        for (size_t i = 0; i < src.size(); i += 7) src[i] = (src[i] - 0.3f) * 1.0e4f + float(i) * 1.0e-3f;
+    const fs::path path = tempDir() / ("v3_" + std::string(pixelTypeName(type)) + "_" + pageFilterName(filter) + ".bot");
+    BotWriteOptions opt;
+    opt.pixelType = type;
+    opt.pageFilter = filter;
+    writeBot(path, src.data(), w, h, ch, opt);
+    const auto file = BotFile::open(path);
+    EXPECT_EQ(file->version(), 3u);
+    EXPECT_EQ(file->pageFilter(), filter);
+    EXPECT_EQ(readLevel(*file, 0), src);
+    for (uint32_t l = 1; l < file->header().levels.size(); ++l) {
+        const std::vector<float> level = readLevel(*file, l);
+        for (float v : level) ASSERT_TRUE(std::isfinite(v)) << "level " << l;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    All, Bot3Codings,
+    ::testing::Combine(::testing::Values(PixelType::U8, PixelType::U16, PixelType::Half, PixelType::Float),
+                       ::testing::Values(PageFilter::None, PageFilter::Med, PageFilter::Mean)),
+    [](const auto& p) {
+        return std::string(pixelTypeName(std::get<0>(p.param))) + "_" + pageFilterName(std::get<1>(p.param));
+    });
+
+// Constant areas (constant pages), white noise (raw pages) and smooth noisy areas (rANS pages).
+TEST(Bot3File, EveryPageKindIsWrittenAndReadBack) {
+    const uint32_t w = 256, h = 192, ch = 3;
+    std::vector<float> src = noisyImage(w, h, ch, 21);
+    std::mt19937 rng(4);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            for (uint32_t c = 0; c < ch; ++c) {
+                float& v = src[(size_t(y) * w + x) * ch + c];
+                if (y < 48 && x < 64) v = float(32 * (c + 1)) / 255.0f;        // constant
+                if (y >= 144 && x >= 192) v = float(rng() % 256) / 255.0f;  // white noise
+            }
+    const fs::path path = tempDir() / "kinds3.bot";
+    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    const auto file = BotFile::open(path);
+    uint64_t kinds[kBotPageKinds] = {};
+    for (uint64_t i = 0; i < file->pageCount(); ++i) ++kinds[unsigned(file->pageEntry(i).kind)];
+    for (BotPageKind k : {BotPageKind::Raw, BotPageKind::Rans, BotPageKind::Constant})
+        EXPECT_GT(kinds[unsigned(k)], 0u) << pageKindName(k) << " pages";
+    EXPECT_EQ(kinds[unsigned(BotPageKind::Frame)] + kinds[unsigned(BotPageKind::Block)] +
+                  kinds[unsigned(BotPageKind::Literals)],
+              0u);
+    EXPECT_EQ(readLevel(*file, 0), src);
+}
+
+// A level wider than a band's page budget allows is cut into bands of page rows, each with its own
+// tables; pages of every band read back.
+TEST(Bot3File, LevelsAreCutIntoBands) {
+    const uint32_t w = 2100, h = 520, ch = 1;  // 263 x 65 pages of 64 bytes: 62 page rows a band
+    std::vector<float> src = noisyImage(w, h, ch, 5);
+    for (uint32_t y = h / 2; y < h; ++y)  // the lower half smooth: its band fits other tables
+        for (uint32_t x = 0; x < w; ++x) src[size_t(y) * w + x] = float((x / 16 + y / 64) % 256) / 255.0f;
+    const fs::path path = tempDir() / "bands.bot";
+    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    const auto file = BotFile::open(path);
+    EXPECT_EQ(detail::bot3BandRows(file->header().levels[0].pagesX, file->pageRawBytes()), 62u);
+    // Level 0 (263 x 65 pages): two bands; level 1 (132 x 33 pages): one; levels 2 to 12, each of
+    // fewer than 4096 pages: the tail band.
+    EXPECT_EQ(file->bandCount(), 4u);
+    EXPECT_EQ(readLevel(*file, 0), src);
+    for (uint32_t l = 1; l < file->header().levels.size(); ++l) EXPECT_NO_THROW(readLevel(*file, l));
+}
+
+// Smooth content, where version 2's per-page zstd costs most: version 3 stores it in much less.
+TEST(Bot3File, SmoothContentIsSmallerThanVersion2) {
+    const uint32_t w = 512, h = 512, ch = 3;
+    std::vector<float> src(size_t(w) * h * ch);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            for (uint32_t c = 0; c < ch; ++c)  // a sky: slow gradients, 8-bit banding
+                src[(size_t(y) * w + x) * ch + c] =
+                    float(int(40.0f + 120.0f * float(y) / h + 30.0f * float(c) * float(x) / w)) / 255.0f;
+    uint64_t bytes[2] = {};
+    for (uint32_t version : {2u, 3u}) {
+        const fs::path path = tempDir() / ("smooth_v" + std::to_string(version) + ".bot");
+        BotWriteOptions opt;
+        opt.version = version;
+        writeBot(path, src.data(), w, h, ch, opt);
+        const auto file = BotFile::open(path);
+        EXPECT_EQ(readLevel(*file, 0), src);
+        bytes[version - 2] = file->fileBytes();
+    }
+    EXPECT_LT(double(bytes[1]), 0.6 * double(bytes[0])) << bytes[1] << " against " << bytes[0];
+}
+
+// A grey image stored as RGB, or as RGBA with an alpha that follows it (a mask): coding channels 1
+// to 3 as differences from the channel before makes them all zero, so the file costs little more
+// than the one-channel file of the same image.
+TEST(Bot3File, GreyImageAsRgbOrRgbaCostsLittleMoreThanOneChannel) {
+    const uint32_t w = 256, h = 192;
+    const std::vector<float> grey = noisyImage(w, h, 1, 8);
+    uint64_t oneChannel = 0;
+    for (uint32_t ch : {1u, 3u, 4u}) {
+        std::vector<float> src(grey.size() * ch);
+        for (size_t i = 0; i < src.size(); ++i) src[i] = grey[i / ch];
+        const fs::path path = tempDir() / ("grey" + std::to_string(ch) + ".bot");
+        BotWriteOptions opt;
+        opt.alphaChannel = ch == 4 ? 3 : -1;
+        writeBot(path, src.data(), w, h, ch, opt);
+        const auto file = BotFile::open(path);
+        EXPECT_EQ(readLevel(*file, 0), src);
+        for (uint32_t l = 1; l < file->header().levels.size(); ++l) EXPECT_NO_THROW(readLevel(*file, l));
+        if (ch == 1) oneChannel = file->fileBytes();
+        else EXPECT_LT(double(file->fileBytes()), 1.3 * double(oneChannel)) << file->fileBytes() << " against " << oneChannel;
+    }
+}
+
+// Flat areas: a page whose residuals are all zero stores nothing; its entry (one byte) names a colour
+// of its band's palette, where each colour is stored once.
+TEST(Bot3File, ConstantPagesCostOneEntryByte) {
+    const uint32_t w = 512, h = 512, ch = 4;
+    std::vector<float> src(size_t(w) * h * ch);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            for (uint32_t c = 0; c < ch; ++c)  // four flat quadrants
+                src[(size_t(y) * w + x) * ch + c] = float(40 * (c + 1) + 60 * (x >= w / 2) + 30 * (y >= h / 2)) / 255.0f;
+    const fs::path path = tempDir() / "flat3.bot";
+    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    const auto file = BotFile::open(path);
+    EXPECT_EQ(readLevel(*file, 0), src);
+    uint64_t constant = 0;
+    for (uint64_t i = 0; i < file->pageCount(); ++i) constant += file->pageEntry(i).kind == BotPageKind::Constant;
+    EXPECT_GE(constant, 4096u);  // all of level 0, most of the mip levels
+    EXPECT_LT(file->fileBytes(), file->pageCount() + 8 * (file->pageCount() - constant) + 4096)
+        << file->fileBytes() << " bytes for " << file->pageCount() << " pages";
+}
+
+// Where the page table of a version-3 file starts: after the level, row and band tables.
+uint64_t bot3PageTable(const std::vector<uint8_t>& b, const BotFile& file) {
+    using namespace detail;
+    uint64_t rows = 0;
+    for (const BotLevel& l : file.header().levels) rows += l.pagesY;
+    const uint8_t* at = b.data() + get64(&b[kField3TrailerOffset]) + file.header().levels.size() * 8 + rows * 8;
+    for (uint64_t k = 0; k < file.bandCount(); ++k) {
+        ++at;  // the band's coding byte
+        EXPECT_NE(RansTableSet::parse(at, b.data() + b.size(), ransContextCount(file.header().pixelType)), nullptr);
+        uint32_t colours = 0;
+        EXPECT_TRUE(readVarint(at, b.data() + b.size(), colours));
+        at += colours * pagePrefixBytes(file.header().channels, file.header().pixelType);
+    }
+    return uint64_t(at - b.data());
+}
+
+// Offset of page `index`'s entry (varint field, u16 checksum) in a version-3 file.
+uint64_t bot3Entry(const std::vector<uint8_t>& b, const BotFile& file, uint64_t index) {
+    const uint8_t* at = b.data() + bot3PageTable(b, file);
+    for (uint64_t i = 0; i < index; ++i) {
+        uint32_t field = 0;
+        EXPECT_TRUE(detail::readVarint(at, b.data() + b.size(), field));
+        if ((field & 3) != uint32_t(detail::Bot3Kind::Constant)) at += 2;  // the checksum
+    }
+    return uint64_t(at - b.data());
+}
+
+std::vector<uint8_t> validFile3(const std::string& name) {
+    const std::vector<float> src = noisyImage(40, 30, 3, 71);
+    const fs::path path = tempDir() / name;
+    writeBot(path, src.data(), 40, 30, 3, BotWriteOptions{});
+    return readBytes(path);
+}
+
+TEST(Bot3FileErrors, TruncatedFilesAreFormatErrors) {
+    const std::vector<uint8_t> good = validFile3("trunc3_src.bot");
+    ASSERT_EQ(detail::get32(&good[detail::kFieldVersion]), 3u);
+    const fs::path path = tempDir() / "truncated3.bot";
+    for (size_t len : {size_t(0), size_t(95), size_t(96), size_t(200), good.size() / 2, good.size() - 1}) {
+        std::vector<uint8_t> cut(good.begin(), good.begin() + std::ptrdiff_t(len));
+        EXPECT_NE(openError(cut, path), "") << "length " << len;
+    }
+}
+
+TEST(Bot3FileErrors, FlippedPageByteNamesThePage) {
+    std::vector<uint8_t> bytes = validFile3("flip3_src.bot");
+    const auto file = BotFile::parse(bytes.data(), bytes.size(), "flip3.bot");
+    const uint64_t index = file->pageIndex(0, 2, 1);
+    const BotPageEntry e = file->pageEntry(index);
+    ASSERT_EQ(e.kind, BotPageKind::Rans);
+    std::vector<float> page(64 * 3);
+    for (uint32_t at : {0u, uint32_t(e.storedBytes) / 2, uint32_t(e.storedBytes) - 1}) {
+        std::vector<uint8_t> b = bytes;
+        b[e.offsetBytes + at] ^= 0x10;
+        const auto damaged = BotFile::parse(b.data(), b.size(), "flip3.bot");  // the trailer is intact
+        try {
+            damaged->readPageFromMemory(b.data(), b.size(), 0, 2, 1, page.data());
+            ADD_FAILURE() << "no exception, byte " << at;
+        } catch (const FormatError& err) {
+            const std::string msg = err.what();
+            EXPECT_NE(msg.find("checksum mismatch in level 0 page (2, 1)"), std::string::npos) << msg;
+            EXPECT_NE(msg.find("flip3.bot"), std::string::npos) << msg;
+        }
+        EXPECT_NO_THROW(damaged->readPageFromMemory(b.data(), b.size(), 0, 1, 1, page.data()));
+    }
+}
+
+TEST(Bot3FileErrors, CorruptTrailerIsDetectedByChecksum) {
+    std::vector<uint8_t> bytes = validFile3("trailer3_src.bot");
+    bytes[bytes.size() - 5] ^= 1;
+    EXPECT_NE(openError(bytes, tempDir() / "trailer3.bot").find("header/trailer checksum mismatch"), std::string::npos);
+}
+
+// Header fields and tables edited and sealed again, so that only validation can reject them.
+TEST(Bot3FileErrors, BadFieldsAndTablesAreRejectedNamingWhat) {
+    using namespace detail;
+    const std::vector<uint8_t> good = validFile3("fields3_src.bot");
+    const auto file = BotFile::parse(good.data(), good.size(), "fields3.bot");
+    const fs::path path = tempDir() / "fields3.bot";
+    auto with = [&](auto edit) {
+        std::vector<uint8_t> b = good;
+        edit(b);
+        reseal(b);
+        return openError(b, path);
+    };
+    const uint64_t trailer = get64(&good[kField3TrailerOffset]);
+    const uint64_t pageTable = bot3PageTable(good, *file);
+    const uint64_t rowTable = trailer + file->header().levels.size() * 8;
+    const uint64_t bandTable = rowTable + 8 * (4 + 2 + 1 + 1 + 1 + 1);  // page rows of 40x30 ... 1x1
+    EXPECT_NE(with([&](auto& b) { b[kFieldPageFilter] = 1; }).find("bad page filter field 1"), std::string::npos);
+    EXPECT_NE(with([&](auto& b) { put64(&b[kField3BandCount], 99); }).find("bad band count 99"), std::string::npos);
+    EXPECT_NE(with([&](auto& b) { put64(&b[kFieldPageCount], 99); }).find("bad page count 99"), std::string::npos);
+    // The trailer's place is checked before its checksum.
+    for (uint64_t offset : {trailer + 1, trailer - 1, uint64_t(1) << 62, uint64_t(10)}) {
+        std::vector<uint8_t> b = good;
+        put64(&b[kField3TrailerOffset], offset);
+        EXPECT_NE(openError(b, path).find("bad trailer offset"), std::string::npos) << offset;
+    }
+    {
+        std::vector<uint8_t> b = good;  // a trailer too small for the page table
+        put64(&b[kField3TrailerOffset], b.size() - 40);
+        put64(&b[kField3TrailerBytes], 40);
+        EXPECT_NE(openError(b, path).find("cannot hold the tables of"), std::string::npos);
+    }
+    EXPECT_NE(with([&](auto& b) { put64(&b[kField3Reserved], 1); }).find("reserved header fields"), std::string::npos);
+    EXPECT_NE(with([&](auto& b) { b[bandTable] = 3; }).find("bad coding byte of the tail band (levels 0 to 5)"), std::string::npos);
+    EXPECT_NE(with([&](auto& b) { b[bandTable] = 13; }).find("bad coding byte of the tail band (levels 0 to 5)"), std::string::npos);
+    // Channel 3 coded as a difference in an RGB file.
+    EXPECT_NE(with([&](auto& b) { b[bandTable] = 9; }).find("bad coding byte of the tail band (levels 0 to 5)"), std::string::npos);
+    // Sixteen zero bits where the first table's symbol count starts: a gamma code of more than 256.
+    EXPECT_NE(with([&](auto& b) {
+                  b[bandTable + 1] = 0;
+                  b[bandTable + 2] = 0;
+              }).find("corrupt coding tables of the tail band (levels 0 to 5)"),
+              std::string::npos);
+    EXPECT_NE(with([&](auto& b) { put64(&b[rowTable + 8], uint64_t(1) << 40); })
+                  .find("level 0 page (0, 1) lies outside the page data"),
+              std::string::npos);
+    EXPECT_NE(with([&](auto& b) { put64(&b[rowTable], 3); }).find("level 0 page (0, 0) lies outside"), std::string::npos);
+    // Page (0, 0)'s entry: a kind that does not exist, then sizes a page of its kind cannot have.
+    ASSERT_EQ(file->pageEntry(0).kind, BotPageKind::Rans);
+    const uint32_t stored = file->pageEntry(0).storedBytes;
+    ASSERT_GE(stored, 32u);  // a two-byte varint
+    auto entryWith = [&](uint32_t field) {
+        return with([&](auto& b) {
+            b[pageTable] = uint8_t(field | 0x80);
+            b[pageTable + 1] = uint8_t(field >> 7);
+        });
+    };
+    EXPECT_NE(entryWith(stored << 2 | 3).find("bad page kind 3 of level 0 page (0, 0)"), std::string::npos);
+    EXPECT_NE(entryWith(192 << 2 | 1).find("bad stored size 192 of rans level 0 page (0, 0)"), std::string::npos);
+    EXPECT_NE(entryWith(100 << 2 | 0).find("bad stored size 100 of raw level 0 page (0, 0)"), std::string::npos);
+    EXPECT_NE(entryWith(200 << 2 | 2).find("bad constant colour 200 of level 0 page (0, 0)"), std::string::npos);
+    EXPECT_NE(with([&](auto& b) {
+                  b.push_back(0);
+                  put64(&b[kField3TrailerBytes], b.size() - trailer);
+              }).find("1 unexpected bytes at the end of the trailer"),
+              std::string::npos);
+}
+
+// Damaged coded bytes whose checksum was made to match: the rANS decoder almost always notices that
+// it does not end in the state the encoder began with (a page whose damage it cannot tell from data
+// decodes to other texels), and it reads nothing outside the page.
+TEST(Bot3FileErrors, ForgedRansBytesAreCorruptData) {
+    using namespace detail;
+    const std::vector<uint8_t> good = validFile3("forged3_src.bot");
+    const auto file = BotFile::parse(good.data(), good.size(), "forged3.bot");
+    int rejected = 0, pages = 0;
+    for (uint64_t index = 0; index < file->pageCount(); ++index) {
+        const BotPageEntry e = file->pageEntry(index);
+        if (e.kind != BotPageKind::Rans) continue;
+        std::vector<uint8_t> b = good;
+        b[e.offsetBytes] ^= 0x55;  // the final state's low byte
+        const uint32_t sum = uint32_t(xxh64(&b[e.offsetBytes], e.storedBytes, index | uint64_t(1) << 56) & 0xffff);
+        put16(&b[bot3Entry(b, *file, index) + (e.storedBytes >= 32 ? 2 : 1)], uint16_t(sum));
+        reseal(b);
+        const auto forged = BotFile::parse(b.data(), b.size(), "forged3.bot");
+        uint32_t level = 0;
+        for (uint32_t l = 0; l < forged->header().levels.size(); ++l)
+            if (index >= forged->pageIndex(l, 0, 0)) level = l;
+        const uint64_t inLevel = index - forged->pageIndex(level, 0, 0);
+        const uint32_t px = uint32_t(inLevel % forged->header().levels[level].pagesX);
+        const uint32_t py = uint32_t(inLevel / forged->header().levels[level].pagesX);
+        std::vector<float> page(64 * 3);
+        ++pages;
+        try {
+            forged->readPageFromMemory(b.data(), b.size(), level, px, py, page.data());
+        } catch (const FormatError& err) {
+            EXPECT_NE(std::string(err.what()).find("corrupt rANS data in level"), std::string::npos) << err.what();
+            ++rejected;
+        }
+    }
+    EXPECT_GT(pages, 20);
+    EXPECT_GE(rejected, pages * 9 / 10);
+}
+
 }  // namespace
 }  // namespace pushpin::texture
 
@@ -834,30 +1180,37 @@ bool readEverything(const std::vector<uint8_t>& bytes) {
 }
 
 TEST(BotFileMutation, ThousandsOfMutantsNeverCrashAndFlipsAreAlwaysDetected) {
-    // One file with a trained dictionary, one small file without.
+    // Per version: one file with several hundred pages (version 2: a trained dictionary), one
+    // small half file.
     std::vector<std::vector<uint8_t>> seeds;
-    {
-        const uint32_t w = 300, h = 200;
-        std::vector<float> src(size_t(w) * h * 3);
-        for (size_t i = 0; i < src.size(); ++i) src[i] = float((i * 7 + (i / 900) * 3) % 256) / 255.0f;
-        writeBot(tempDir() / "mut_a.bot", src.data(), w, h, 3, BotWriteOptions{});
-        seeds.push_back(readBytes(tempDir() / "mut_a.bot"));
+    for (uint32_t version : {2u, 3u}) {
+        const std::string v = std::to_string(version);
+        {
+            const uint32_t w = 300, h = 200;
+            std::vector<float> src(size_t(w) * h * 3);
+            for (size_t i = 0; i < src.size(); ++i) src[i] = float((i * 7 + (i / 900) * 3) % 256) / 255.0f;
+            BotWriteOptions opt;
+            opt.version = version;
+            writeBot(tempDir() / ("mut_a" + v + ".bot"), src.data(), w, h, 3, opt);
+            seeds.push_back(readBytes(tempDir() / ("mut_a" + v + ".bot")));
+        }
+        {
+            const std::vector<float> src = makeImage(13, 7, 2, PixelType::Half, 3);
+            BotWriteOptions opt;
+            opt.pixelType = PixelType::Half;
+            opt.filter = "lanczos3";
+            opt.version = version;
+            writeBot(tempDir() / ("mut_b" + v + ".bot"), src.data(), 13, 7, 2, opt);
+            seeds.push_back(readBytes(tempDir() / ("mut_b" + v + ".bot")));
+        }
     }
-    {
-        const std::vector<float> src = makeImage(13, 7, 2, PixelType::Half, 3);
-        BotWriteOptions opt;
-        opt.pixelType = PixelType::Half;
-        opt.filter = "lanczos3";
-        writeBot(tempDir() / "mut_b.bot", src.data(), 13, 7, 2, opt);
-        seeds.push_back(readBytes(tempDir() / "mut_b.bot"));
-    }
-    ASSERT_TRUE(readEverything(seeds[0]));
-    ASSERT_TRUE(readEverything(seeds[1]));
+    for (const auto& seed : seeds) ASSERT_TRUE(readEverything(seed));
 
     std::mt19937_64 rng(20240611);
     int detected = 0, cases = 0;
-    for (int iter = 0; iter < 4000; ++iter) {
-        const std::vector<uint8_t>& seed = seeds[iter % 2];
+    for (int iter = 0; iter < 8000; ++iter) {
+        const std::vector<uint8_t>& seed = seeds[iter % seeds.size()];
+        const bool version3 = detail::get32(&seed[detail::kFieldVersion]) == detail::kBotVersion3;
         std::vector<uint8_t> b = seed;
         const int kind = int(rng() % 5);
         bool mustFail = false;
@@ -881,15 +1234,26 @@ TEST(BotFileMutation, ThousandsOfMutantsNeverCrashAndFlipsAreAlwaysDetected) {
                 break;
             }
             case 3: {  // a header or table field overwritten, then resealed so only validation can catch it
-                const size_t tablesEnd = size_t(detail::get64(&b[detail::kFieldDictionary]));
-                const size_t pos = rng() % (tablesEnd - 8);
+                // Version 2: the header or the tables before the dictionary; version 3: the header
+                // or the trailer.
+                const size_t trailer = size_t(detail::get64(&b[detail::kField3TrailerOffset]));
+                size_t pos = 0;
+                if (!version3) {
+                    pos = rng() % (size_t(detail::get64(&b[detail::kFieldDictionary])) - 8);
+                } else {
+                    pos = rng() % (detail::kBotHeaderBytes + (b.size() - trailer) - 8);
+                    if (pos >= detail::kBotHeaderBytes) pos = trailer + (pos - detail::kBotHeaderBytes);
+                }
                 const uint64_t values[] = {0, ~0ull, rng(), 1ull << 31, 1ull << 63, b.size(), b.size() - 1};
                 const uint64_t v = values[rng() % 7];
                 for (int i = 0; i < 8; ++i) b[pos + size_t(i)] = uint8_t(v >> (8 * i));
                 if (pos + 8 <= detail::kFieldMetaChecksum || pos >= detail::kBotHeaderBytes) {
                     const uint64_t dataStart =
-                        detail::get64(&b[detail::kFieldDictionary]) + detail::get32(&b[detail::kFieldDictionaryBytes]);
-                    if (dataStart <= b.size()) reseal(b);
+                        version3 ? detail::get64(&b[detail::kField3TrailerOffset])
+                                 : detail::get64(&b[detail::kFieldDictionary]) +
+                                       detail::get32(&b[detail::kFieldDictionaryBytes]);
+                    if (dataStart <= b.size() && detail::get32(&b[detail::kFieldVersion]) == (version3 ? 3u : 2u))
+                        reseal(b);
                 }
                 break;
             }
@@ -906,7 +1270,7 @@ TEST(BotFileMutation, ThousandsOfMutantsNeverCrashAndFlipsAreAlwaysDetected) {
             ASSERT_FALSE(clean) << "undetected mutation kind " << kind << " at iteration " << iter;
         }
     }
-    EXPECT_GT(cases, 3900);
+    EXPECT_GT(cases, 7800);
     EXPECT_GT(detected, cases / 2);
 }
 

@@ -553,7 +553,7 @@ TEST(TextureCache, FileTruncatedAfterRegistrationIsBrokenWithAClearError) {
 
 TEST(TextureCache, FileTruncatedWhileMappedBreaksTheTextureNotTheProcess) {
     TempDir dir("tc-shrink");
-    const auto paths = writeTextures(dir, 1, 512);  // several hundred KiB, many OS pages
+    const auto paths = writeTextures(dir, 1, 1024);  // several hundred KiB, many OS pages
     const auto bot = BotFile::open(paths[0]);
     const BotLevel& l0 = bot->header().levels[0];
     const BotPageEntry last = bot->pageEntry(bot->pageIndex(0, l0.pagesX - 1, l0.pagesY - 1));

@@ -90,6 +90,8 @@ TEST(Makebot, ConvertsPngAndBotinfoReportsIt) {
     EXPECT_EQ(json.exitCode, 0);
     EXPECT_NE(json.output.find("\"levels\": ["), std::string::npos) << json.output;
     EXPECT_NE(json.output.find("\"compressedBytes\""), std::string::npos);
+    EXPECT_NE(json.output.find("\"version\": 3"), std::string::npos) << json.output;
+    EXPECT_NE(info.output.find("version 3"), std::string::npos) << info.output;
     for (const auto& e : fs::directory_iterator(tempDir()))
         EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
 }

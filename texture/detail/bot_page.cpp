@@ -578,3 +578,75 @@ void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, Pag
 }
 
 }  // namespace pushpin::texture::detail
+
+namespace pushpin::texture::detail {
+
+namespace {
+
+constexpr uint32_t kResiduals = kPageTexels - 1;
+
+// Residual `i` (texels 1..63) of channel c, as the zigzagged value its byte planes hold.
+inline uint32_t planeValue(const uint8_t* planes, uint32_t c, uint32_t bytes, uint32_t i) {
+    uint32_t v = 0;
+    for (uint32_t b = 0; b < bytes; ++b) v |= uint32_t(planes[(c * bytes + b) * kResiduals + i]) << (8 * b);
+    return v;
+}
+
+inline void setPlaneValue(uint8_t* planes, uint32_t c, uint32_t bytes, uint32_t i, uint32_t v) {
+    for (uint32_t b = 0; b < bytes; ++b) planes[(c * bytes + b) * kResiduals + i] = uint8_t(v >> (8 * b));
+}
+
+// Zigzag of a `bits`-wide two's complement value and its inverse (0, -1, 1, -2 ... to 0, 1, 2, 3 ...).
+inline uint32_t zig(uint32_t v, uint32_t bits, uint32_t mask) {
+    const uint32_t negative = (v >> (bits - 1)) & 1;
+    return ((v << 1) ^ (0u - negative)) & mask;
+}
+inline uint32_t unzig(uint32_t z, uint32_t mask) { return ((z >> 1) ^ (0u - (z & 1))) & mask; }
+
+template <bool kForward>
+void correlate(uint8_t* packed, uint32_t channels, PixelType type, uint32_t lastChannel) {
+    if (lastChannel == 0 || channels <= lastChannel) return;
+    uint32_t r[4];
+    if (type == PixelType::U8) {  // the common case, one byte a residual: no plane assembly
+        uint8_t* planes = packed + channels;
+        for (uint32_t i = 0; i < kResiduals; ++i) {
+            for (uint32_t c = 0; c <= lastChannel; ++c) r[c] = unzig(planes[c * kResiduals + i], 0xff);
+            if (kForward) {
+                for (uint32_t c = lastChannel; c >= 1; --c)
+                    planes[c * kResiduals + i] = uint8_t(zig((r[c] - r[c - 1]) & 0xff, 8, 0xff));
+            } else {
+                for (uint32_t c = 1; c <= lastChannel; ++c) {
+                    r[c] = (r[c] + r[c - 1]) & 0xff;
+                    planes[c * kResiduals + i] = uint8_t(zig(r[c], 8, 0xff));
+                }
+            }
+        }
+        return;
+    }
+    const uint32_t bytes = bytesPerSample(type), bits = 8 * bytes;
+    const uint32_t mask = bits == 32 ? ~0u : (1u << bits) - 1;
+    uint8_t* planes = packed + pagePrefixBytes(channels, type);
+    for (uint32_t i = 0; i < kResiduals; ++i) {
+        for (uint32_t c = 0; c <= lastChannel; ++c) r[c] = unzig(planeValue(planes, c, bytes, i), mask);
+        if (kForward) {
+            for (uint32_t c = lastChannel; c >= 1; --c)
+                setPlaneValue(planes, c, bytes, i, zig((r[c] - r[c - 1]) & mask, bits, mask));
+        } else {
+            for (uint32_t c = 1; c <= lastChannel; ++c) {
+                r[c] = (r[c] + r[c - 1]) & mask;
+                setPlaneValue(planes, c, bytes, i, zig(r[c], bits, mask));
+            }
+        }
+    }
+}
+
+}  // namespace
+
+void decorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type, uint32_t lastChannel) {
+    correlate<true>(packed, channels, type, lastChannel);
+}
+void recorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type, uint32_t lastChannel) {
+    correlate<false>(packed, channels, type, lastChannel);
+}
+
+}  // namespace pushpin::texture::detail

@@ -47,3 +47,16 @@ void unpackPageToFloat(const uint8_t* in, uint32_t channels, PixelType type, Pag
 void samplesToFloat(const void* samples, uint32_t channels, PixelType type, float* texels);
 
 }  // namespace pushpin::texture::detail
+
+namespace pushpin::texture::detail {
+
+// Version 3's channel decorrelation (BOT_FORMAT.md "Version 3"): in a packed page, the residuals of
+// channels 1 to lastChannel (2 or 3) are replaced by their difference from the residual of the
+// channel before (modulo 2^bits, zigzagged), which is zero where the channels move together, as in
+// grey images stored as RGB, masks whose alpha follows their colour, and along the edges of colour
+// images. Texel 0 (the prefix) is kept. In place; nothing happens when lastChannel is 0 or the page
+// has no channel lastChannel. recorrelateChannels undoes it.
+void decorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type, uint32_t lastChannel);
+void recorrelateChannels(uint8_t* packed, uint32_t channels, PixelType type, uint32_t lastChannel);
+
+}  // namespace pushpin::texture::detail

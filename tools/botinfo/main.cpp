@@ -43,7 +43,7 @@ int run(const std::string& path, bool json, bool verify) {
     const BotHeader& h = file->header();
     std::vector<LevelFigures> figures(h.levels.size());
     LevelFigures total;
-    uint64_t pagesOfKind[4] = {};
+    uint64_t pagesOfKind[kBotPageKinds] = {};
     for (uint32_t l = 0; l < h.levels.size(); ++l) {
         const BotLevel& lv = h.levels[l];
         for (uint32_t py = 0; py < lv.pagesY; ++py)
@@ -82,13 +82,16 @@ int run(const std::string& path, bool json, bool verify) {
         std::printf("{\n  \"file\": \"%s\",\n  \"fileBytes\": %llu,\n  \"width\": %u,\n  \"height\": %u,\n"
                     "  \"channels\": %u,\n  \"pixelType\": \"%s\",\n  \"colorSpace\": \"%s\",\n"
                     "  \"wrapS\": \"%s\",\n  \"wrapT\": \"%s\",\n  \"pageFilter\": \"%s\",\n"
+                    "  \"version\": %u,\n  \"bands\": %llu,\n"
                     "  \"dictionaryBytes\": %u,\n  \"pagesOfKind\": {\"raw\": %llu, \"frame\": %llu, \"block\": %llu, "
-                    "\"literals\": %llu},\n  \"levels\": [\n",
+                    "\"literals\": %llu, \"rans\": %llu, \"constant\": %llu},\n  \"levels\": [\n",
                     jsonEscape(path).c_str(), (unsigned long long)file->fileBytes(), h.width, h.height, h.channels,
                     pixelTypeName(h.pixelType), colorSpaceName(h.colorSpace), wrapModeName(h.wrapS),
-                    wrapModeName(h.wrapT), pageFilterName(file->pageFilter()), file->dictionaryBytes(),
+                    wrapModeName(h.wrapT), pageFilterName(file->pageFilter()), file->version(),
+                    (unsigned long long)file->bandCount(), file->dictionaryBytes(),
                     (unsigned long long)pagesOfKind[0], (unsigned long long)pagesOfKind[1],
-                    (unsigned long long)pagesOfKind[2], (unsigned long long)pagesOfKind[3]);
+                    (unsigned long long)pagesOfKind[2], (unsigned long long)pagesOfKind[3],
+                    (unsigned long long)pagesOfKind[4], (unsigned long long)pagesOfKind[5]);
         for (size_t l = 0; l < h.levels.size(); ++l) {
             const BotLevel& lv = h.levels[l];
             std::printf("    {\"level\": %zu, \"width\": %u, \"height\": %u, \"pagesX\": %u, \"pagesY\": %u, "
@@ -109,10 +112,18 @@ int run(const std::string& path, bool json, bool verify) {
                     path.c_str(), h.width, h.height, h.channels, pixelTypeName(h.pixelType),
                     colorSpaceName(h.colorSpace), wrapModeName(h.wrapS), wrapModeName(h.wrapT), h.levels.size(),
                     (unsigned long long)file->fileBytes(), file->dictionaryBytes());
-        std::printf("page filter %s; pages stored raw %llu, as zstd frames %llu, blocks %llu, literals %llu\n",
-                    pageFilterName(file->pageFilter()), (unsigned long long)pagesOfKind[0],
-                    (unsigned long long)pagesOfKind[1], (unsigned long long)pagesOfKind[2],
-                    (unsigned long long)pagesOfKind[3]);
+        if (file->version() == 3)
+            std::printf("version 3, %llu bands, first band's page filter %s; pages stored raw %llu, rANS %llu, "
+                        "constant %llu\n",
+                        (unsigned long long)file->bandCount(), pageFilterName(file->pageFilter()),
+                        (unsigned long long)pagesOfKind[0], (unsigned long long)pagesOfKind[4],
+                        (unsigned long long)pagesOfKind[5]);
+        else
+            std::printf("version 2, page filter %s; pages stored raw %llu, as zstd frames %llu, blocks %llu, "
+                        "literals %llu\n",
+                        pageFilterName(file->pageFilter()), (unsigned long long)pagesOfKind[0],
+                        (unsigned long long)pagesOfKind[1], (unsigned long long)pagesOfKind[2],
+                        (unsigned long long)pagesOfKind[3]);
         std::printf("%5s %13s %11s %8s %14s %14s %7s\n", "level", "size", "pages", "count", "compressed", "uncompressed",
                     "ratio");
         for (size_t l = 0; l < h.levels.size(); ++l) {

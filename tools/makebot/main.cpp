@@ -37,7 +37,8 @@ struct Options {
     bool verbose = false;
     int compressionLevel = 1;
     BotDictionary dictionary = BotDictionary::Auto;
-    std::optional<PageFilter> pageFilter;  // unset: chosen from the first pages
+    std::optional<PageFilter> pageFilter;  // unset: chosen from the first pages (per band in version 3)
+    uint32_t version = 3;
 };
 
 const char* kUsage =
@@ -48,14 +49,15 @@ const char* kUsage =
     "  --colorspace linear|srgb         default: srgb for 8-bit inputs without other colour-space\n"
     "                                   metadata, else linear\n"
     "  --threads N                      worker threads (default: all)\n"
-    "  --zstd-level N                   zstd level for pages with a trained or no dictionary\n"
+    "  --bot-version 3|2                file version (default 3: rANS-coded pages; 2: zstd pages)\n"
+    "  --zstd-level N                   version 2: zstd level for pages with a trained or no dictionary\n"
     "                                   (default 1; literal-dictionary pages use zstd's fast level)\n"
     "  --dictionary auto|none|trained|literal\n"
-    "                                   per-file zstd dictionary (default auto: the kind that codes\n"
+    "                                   version 2: per-file zstd dictionary (default auto: the kind that codes\n"
     "                                   the first pages smallest)\n"
     "  --no-dictionary                  the same as --dictionary none\n"
-    "  --page-filter auto|med|mean|none page prediction (default auto: the one whose residuals of\n"
-    "                                   the first pages code smaller)\n"
+    "  --page-filter auto|med|mean|none page prediction (default auto: the one whose residuals code\n"
+    "                                   smaller, per band in version 3, on the first pages in version 2)\n"
     "  --no-predict                     the same as --page-filter none\n"
     "  -v                               print levels, sizes, time and compression ratio\n"
     "exit status: 0 done; 1 the input cannot be read whole (missing, truncated, damaged,\n"
@@ -121,6 +123,11 @@ Options parseArgs(int argc, char** argv) {
             const long n = std::strtol(v.c_str(), &end, 10);
             if (v.empty() || *end || n < 1 || n > 22) usageError("bad zstd level '" + v + "'");
             o.compressionLevel = int(n);
+        } else if (a == "--bot-version") {
+            const std::string v = value();
+            if (v == "2") o.version = 2;
+            else if (v == "3") o.version = 3;
+            else usageError("bad BOT version '" + v + "' (2 or 3)");
         } else if (a == "--dictionary") {
             const std::string v = value();
             const auto kind = parseBotDictionary(v);
@@ -199,6 +206,7 @@ int run(const Options& o) {
     wo.compressionLevel = o.compressionLevel;
     wo.dictionary = o.dictionary;
     wo.pageFilter = o.pageFilter;
+    wo.version = o.version;
 
     // Band height: whole tile rows for tiled files, otherwise 64 scanlines.
     const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
@@ -264,11 +272,19 @@ int run(const Options& o) {
                     o.output.c_str(), (unsigned long long)stats.pages, (unsigned long long)stats.rawBytes,
                     (unsigned long long)stats.fileBytes, double(stats.fileBytes) / double(std::max<uint64_t>(1, stats.rawBytes)),
                     stats.dictionaryBytes, seconds);
-        std::printf("%s: page filter %s, %s dictionary; pages stored as", o.output.c_str(),
-                    pageFilterName(stats.pageFilter), botDictionaryName(stats.dictionary));
-        for (int k = 0; k < 4; ++k)
-            std::printf(" %s %llu%s", pageKindName(BotPageKind(k)), (unsigned long long)stats.pagesOfKind[k],
-                        k < 3 ? "," : "\n");
+        if (stats.version == 3)
+            std::printf("%s: version 3, %llu bands, first band's page filter %s; pages stored as", o.output.c_str(),
+                        (unsigned long long)stats.bands, pageFilterName(stats.pageFilter));
+        else
+            std::printf("%s: version 2, page filter %s, %s dictionary; pages stored as", o.output.c_str(),
+                        pageFilterName(stats.pageFilter), botDictionaryName(stats.dictionary));
+        const char* separator = "";
+        for (uint32_t k = 0; k < kBotPageKinds; ++k) {
+            if (!stats.pagesOfKind[k]) continue;
+            std::printf("%s %s %llu", separator, pageKindName(BotPageKind(k)), (unsigned long long)stats.pagesOfKind[k]);
+            separator = ",";
+        }
+        std::printf("\n");
     }
     return 0;
 }

@@ -1,0 +1,111 @@
+// texture/detail/bot_rans.h: the entropy coder of BOT version 3 pages (texture/BOT_FORMAT.md,
+// "Version 3"): a static rANS coder with 11-bit frequencies, one table per context, the contexts
+// taken from the magnitudes of the residuals already coded around each sample (LOCO-I and CALIC
+// choose their contexts from the local gradient the same way).
+// A RansTableSet is immutable once built and may be read by any number of threads; the page
+// functions work on caller-owned buffers and never allocate.
+// Memory: a RansTableSet holds RansTableSet::memoryBytes() (about 9 KiB per context in use; those
+// built by fit() also 2 KiB per context of reciprocals for encoding).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "texture/bot_file.h"
+
+namespace pushpin::texture::detail {
+
+constexpr uint32_t kRansScaleBits = 11;                // frequencies sum to 2048
+constexpr uint32_t kRansScale = 1u << kRansScaleBits;
+constexpr uint32_t kRansLow = 1u << 24;                // the state lies in [2^24, 2^32) between symbols
+constexpr uint32_t kRansStateBytes = 4;                // the final encoder state, stored first
+// The first bytes of the prefix that ride in the initial state (see ransPrefixInState).
+constexpr uint32_t kRansPrefixInStateMax = 3;
+
+// Contexts per byte of a sample: kRansActivityBuckets by the neighbours' residual magnitudes, one
+// for the two texels whose only neighbour is texel 0, one for a byte whose sample already has a
+// non-zero higher byte.
+constexpr uint32_t kRansActivityBuckets = 12;
+constexpr uint32_t kRansStartContext = kRansActivityBuckets;
+constexpr uint32_t kRansHighContext = kRansActivityBuckets + 1;
+constexpr uint32_t kRansContextsPerByte = kRansActivityBuckets + 2;
+
+inline uint32_t ransContextCount(PixelType type) { return kRansContextsPerByte * bytesPerSample(type); }
+inline uint32_t ransPrefixInState(uint32_t prefixBytes) {
+    return prefixBytes < kRansPrefixInStateMax ? prefixBytes : kRansPrefixInStateMax;
+}
+// Symbols coded per page: texels 1..63 of every channel, every byte of each sample.
+inline uint32_t ransSymbolsPerPage(uint32_t channels, PixelType type) {
+    return (kPageSizeTexels * kPageSizeTexels - 1) * channels * bytesPerSample(type);
+}
+
+// LEB128 varints, as the version-3 tables store their numbers.
+void appendVarint(std::vector<uint8_t>& out, uint32_t v);
+// Reads one varint of at most 32 bits from [at, end), advancing `at`; false when it runs past `end`
+// or is longer than 5 bytes.
+bool readVarint(const uint8_t*& at, const uint8_t* end, uint32_t& v);
+
+// Symbol counts per context, gathered from packed pages (the layout of detail::packPage).
+struct RansHistogram {
+    std::vector<uint32_t> counts;  // contexts * 256
+    explicit RansHistogram(uint32_t contexts = 0) : counts(size_t(contexts) * 256, 0) {}
+    void add(const RansHistogram& other);
+    // Bits the counts would take coded with tables fitted to them, plus the tables' stored bytes.
+    double codedBits() const;
+};
+// Adds the symbols of one packed page, each under its context. With `contexts`, also writes each
+// symbol's context there, in coding order (ransSymbolsPerPage bytes), for RansTableSet::encode.
+void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram,
+               uint8_t* contexts = nullptr);
+
+// The coding tables of one band: per context, 256 frequencies summing to kRansScale (all zero for a
+// context that never occurs), with what encoding and decoding need.
+class RansTableSet {
+public:
+    // Tables fitted to `histogram`: every symbol that occurs gets a frequency of at least 1.
+    static std::shared_ptr<const RansTableSet> fit(const RansHistogram& histogram);
+    // Parses `contexts` tables from bytes [at, end) (the stored form, see serialize), advancing
+    // `at` past them. Returns nullptr when they are malformed (frequencies not summing to
+    // kRansScale, symbols out of order or past 255, bits missing). Allocates only for tables
+    // actually present.
+    static std::shared_ptr<const RansTableSet> parse(const uint8_t*& at, const uint8_t* end, uint32_t contexts);
+    // Appends the stored form, a stream of Elias gamma codes (floor(log2 v) zero bits, then v's bits
+    // from the top; bits fill each byte from its low end; the last byte is padded with zeros): per
+    // context, the number of symbols with a non-zero frequency plus one, then for each, in
+    // increasing order, the symbol minus the previous one (the first: the symbol plus one) and its
+    // frequency.
+    void serialize(std::vector<uint8_t>& out) const;
+
+    uint32_t contexts() const { return m_contexts; }
+    size_t memoryBytes() const;
+
+    // Codes one packed page into `out` (capacity bytes): the prefix bytes past the first
+    // ransPrefixInState of them, the final state (4 bytes, little-endian), then the renormalisation
+    // bytes. Returns the bytes written, or 0 when they would not fit in `capacity`. Every symbol
+    // of the page must have a frequency in its context (pages counted into the fitted histogram).
+    // `contexts`: the page's contexts as ransCount wrote them, which saves finding them again.
+    size_t encode(const uint8_t* packed, uint32_t channels, PixelType type, uint8_t* out, size_t capacity,
+                  const uint8_t* contexts = nullptr) const;
+    // Inverse of encode: rebuilds the packed page from `bytes` stored bytes. Returns false when
+    // the bytes are not a valid coding (the state does not end where encode began it, bytes left
+    // over or missing, a symbol without frequency). Never reads outside [stored, stored + bytes).
+    bool decode(const uint8_t* stored, size_t bytes, uint32_t channels, PixelType type, uint8_t* packed) const;
+
+    struct Table;  // one context's frequencies and lookup tables (bot_rans.cpp)
+
+private:
+    RansTableSet() = default;
+    uint32_t m_contexts = 0;
+    std::vector<int32_t> m_tableOf;  // per context: index into m_tables, or -1 when unused
+    std::vector<Table> m_tables;
+    std::vector<uint64_t> m_reciprocals;  // fit() only: 256 per table, for encoding
+    std::vector<const Table*> m_decodeTables;  // per context: its table, or one that marks misuse
+    void index();                              // fills m_decodeTables
+public:
+    ~RansTableSet();
+    RansTableSet(RansTableSet&&) noexcept;
+};
+
+}  // namespace pushpin::texture::detail
