@@ -87,6 +87,7 @@ Textures makeTextures(const Config& cfg) {
     BotWriteOptions wo;
     wo.pixelType = PixelType::U8;
     wo.alphaChannel = -1;
+    wo.version = 3;
     writeBot(t.bot, px.data(), n, n, 3, wo);
     wo.version = 2;
     writeBot(t.bot2, px.data(), n, n, 3, wo);

@@ -188,9 +188,10 @@ struct BotWriteOptions {
     // Page prediction; unset: version 2, the filter whose residuals of the first pages have the lower
     // entropy; version 3, the one whose residuals of each band code smaller.
     std::optional<PageFilter> pageFilter;
-    // The file version: 3 (rANS-coded pages in bands; the default) or 2 (zstd pages, BOT_FORMAT.md
-    // "Version 2"). compressionLevel and dictionary apply to version 2 only.
-    uint32_t version = 3;
+    // The file version: 2 (zstd pages, BOT_FORMAT.md "Version 2"; the default) or 3 (rANS-coded
+    // pages in bands: smaller files whose pages take about 2.5 times as long to decode).
+    // compressionLevel and dictionary apply to version 2 only.
+    uint32_t version = 2;
 };
 
 // Figures about one written file.

@@ -837,6 +837,13 @@ TEST(BotWriter, RejectsBadArguments) {
 
 // ------------------------------------------------------------------ version 3
 
+// Options that write version 3 (makebot's default is version 2).
+BotWriteOptions version3Options() {
+    BotWriteOptions opt;
+    opt.version = 3;
+    return opt;
+}
+
 // Every page filter for every pixel type reproduces level 0 exactly, and every level decodes.
 class Bot3Codings : public ::testing::TestWithParam<std::tuple<PixelType, PageFilter>> {};
 
@@ -849,7 +856,7 @@ TEST_P(Bot3Codings, LevelZeroRoundTrips) {
     if (type == PixelType::Float)  // full float mantissas, some negative, some large
         for (size_t i = 0; i < src.size(); i += 7) src[i] = (src[i] - 0.3f) * 1.0e4f + float(i) * 1.0e-3f;
     const fs::path path = tempDir() / ("v3_" + std::string(pixelTypeName(type)) + "_" + pageFilterName(filter) + ".bot");
-    BotWriteOptions opt;
+    BotWriteOptions opt = version3Options();
     opt.pixelType = type;
     opt.pageFilter = filter;
     writeBot(path, src.data(), w, h, ch, opt);
@@ -884,7 +891,7 @@ TEST(Bot3File, EveryPageKindIsWrittenAndReadBack) {
                 if (y >= 144 && x >= 192) v = float(rng() % 256) / 255.0f;  // white noise
             }
     const fs::path path = tempDir() / "kinds3.bot";
-    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    writeBot(path, src.data(), w, h, ch, version3Options());
     const auto file = BotFile::open(path);
     uint64_t kinds[kBotPageKinds] = {};
     for (uint64_t i = 0; i < file->pageCount(); ++i) ++kinds[unsigned(file->pageEntry(i).kind)];
@@ -904,7 +911,7 @@ TEST(Bot3File, LevelsAreCutIntoBands) {
     for (uint32_t y = h / 2; y < h; ++y)  // the lower half smooth: its band fits other tables
         for (uint32_t x = 0; x < w; ++x) src[size_t(y) * w + x] = float((x / 16 + y / 64) % 256) / 255.0f;
     const fs::path path = tempDir() / "bands.bot";
-    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    writeBot(path, src.data(), w, h, ch, version3Options());
     const auto file = BotFile::open(path);
     EXPECT_EQ(detail::bot3BandRows(file->header().levels[0].pagesX, file->pageRawBytes()), 62u);
     // Level 0 (263 x 65 pages): two bands; level 1 (132 x 33 pages): one; levels 2 to 12, each of
@@ -947,7 +954,7 @@ TEST(Bot3File, GreyImageAsRgbOrRgbaCostsLittleMoreThanOneChannel) {
         std::vector<float> src(grey.size() * ch);
         for (size_t i = 0; i < src.size(); ++i) src[i] = grey[i / ch];
         const fs::path path = tempDir() / ("grey" + std::to_string(ch) + ".bot");
-        BotWriteOptions opt;
+        BotWriteOptions opt = version3Options();
         opt.alphaChannel = ch == 4 ? 3 : -1;
         writeBot(path, src.data(), w, h, ch, opt);
         const auto file = BotFile::open(path);
@@ -968,7 +975,7 @@ TEST(Bot3File, ConstantPagesCostOneEntryByte) {
             for (uint32_t c = 0; c < ch; ++c)  // four flat quadrants
                 src[(size_t(y) * w + x) * ch + c] = float(40 * (c + 1) + 60 * (x >= w / 2) + 30 * (y >= h / 2)) / 255.0f;
     const fs::path path = tempDir() / "flat3.bot";
-    writeBot(path, src.data(), w, h, ch, BotWriteOptions{});
+    writeBot(path, src.data(), w, h, ch, version3Options());
     const auto file = BotFile::open(path);
     EXPECT_EQ(readLevel(*file, 0), src);
     uint64_t constant = 0;
@@ -1008,7 +1015,7 @@ uint64_t bot3Entry(const std::vector<uint8_t>& b, const BotFile& file, uint64_t 
 std::vector<uint8_t> validFile3(const std::string& name) {
     const std::vector<float> src = noisyImage(40, 30, 3, 71);
     const fs::path path = tempDir() / name;
-    writeBot(path, src.data(), 40, 30, 3, BotWriteOptions{});
+    writeBot(path, src.data(), 40, 30, 3, version3Options());
     return readBytes(path);
 }
 
