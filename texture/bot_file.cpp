@@ -955,6 +955,23 @@ struct BotWriter::Impl {
         cursor += packedEnd;
     }
 
+    // The header fields both versions share (BOT_FORMAT.md: bytes 0–39 but the page filter).
+    void putSharedHeader(uint8_t* h, uint32_t version) const {
+        using namespace detail;
+        std::memcpy(h, kBotMagic, sizeof kBotMagic);
+        put32(h + kFieldVersion, version);
+        put32(h + kFieldHeaderBytes, kBotHeaderBytes);
+        put32(h + kFieldWidth, header.width);
+        put32(h + kFieldHeight, header.height);
+        put32(h + kFieldChannels, header.channels);
+        h[kFieldPixelType] = uint8_t(header.pixelType);
+        h[kFieldColorSpace] = uint8_t(header.colorSpace);
+        h[kFieldWrapS] = uint8_t(header.wrapS);
+        h[kFieldWrapT] = uint8_t(header.wrapT);
+        h[kFieldMipFilter] = uint8_t(mipFilter);
+        put32(h + kFieldLevelCount, uint32_t(header.levels.size()));
+    }
+
     // The trailer (level, row, band and page tables) after the page data, then the header.
     void writeTables3() {
         using namespace detail;
@@ -977,18 +994,7 @@ struct BotWriter::Impl {
             trailer.insert(trailer.end(), word, word + 2);
         }
         uint8_t h[kBotHeaderBytes] = {};
-        std::memcpy(h, kBotMagic, sizeof kBotMagic);
-        put32(h + kFieldVersion, kBotVersion3);
-        put32(h + kFieldHeaderBytes, kBotHeaderBytes);
-        put32(h + kFieldWidth, header.width);
-        put32(h + kFieldHeight, header.height);
-        put32(h + kFieldChannels, header.channels);
-        h[kFieldPixelType] = uint8_t(header.pixelType);
-        h[kFieldColorSpace] = uint8_t(header.colorSpace);
-        h[kFieldWrapS] = uint8_t(header.wrapS);
-        h[kFieldWrapT] = uint8_t(header.wrapT);
-        h[kFieldMipFilter] = uint8_t(mipFilter);
-        put32(h + kFieldLevelCount, uint32_t(header.levels.size()));
+        putSharedHeader(h, kBotVersion3);
         put64(h + kField3TrailerOffset, cursor);
         put64(h + kField3TrailerBytes, trailer.size());
         put64(h + kField3BandCount, bandTables.size());
@@ -1187,19 +1193,8 @@ struct BotWriter::Impl {
         if (dictBytes) std::memcpy(tables.data() + (dictOffset - kBotHeaderBytes), dictionary->bytes().data(), dictBytes);
 
         uint8_t h[kBotHeaderBytes] = {};
-        std::memcpy(h, kBotMagic, sizeof kBotMagic);
-        put32(h + kFieldVersion, kBotVersion2);
-        put32(h + kFieldHeaderBytes, kBotHeaderBytes);
-        put32(h + kFieldWidth, header.width);
-        put32(h + kFieldHeight, header.height);
-        put32(h + kFieldChannels, header.channels);
-        h[kFieldPixelType] = uint8_t(header.pixelType);
-        h[kFieldColorSpace] = uint8_t(header.colorSpace);
-        h[kFieldWrapS] = uint8_t(header.wrapS);
-        h[kFieldWrapT] = uint8_t(header.wrapT);
+        putSharedHeader(h, kBotVersion2);
         h[kFieldPageFilter] = uint8_t(pageFilter);
-        h[kFieldMipFilter] = uint8_t(mipFilter);
-        put32(h + kFieldLevelCount, levelCount);
         put64(h + kFieldLevelTable, kBotHeaderBytes);
         put64(h + kFieldRowTable, rowTableOffset);
         put64(h + kFieldPageTable, pageTableOffset);

@@ -219,10 +219,10 @@ INSTANTIATE_TEST_SUITE_P(
                botDictionaryName(std::get<2>(p.param));
     });
 
-// Constant areas (runs: blocks with sequences), white noise (incompressible: raw) and smooth noisy
-// areas (literals) in one file. Whole frames are what a zstd that writes other headers would leave;
-// FramePagesAreRead covers them.
-TEST(BotFile, EveryPageKindIsWrittenAndReadBack) {
+// A 256×192 RGB image of smooth noise with a constant top-left corner (channel c is constant(c))
+// and white noise in the bottom-right corner: pages of every kind.
+template <class Constant>
+std::vector<float> everyKindImage(Constant&& constant) {
     const uint32_t w = 256, h = 192, ch = 3;
     std::vector<float> src = noisyImage(w, h, ch, 21);
     std::mt19937 rng(4);
@@ -230,9 +230,18 @@ TEST(BotFile, EveryPageKindIsWrittenAndReadBack) {
         for (uint32_t x = 0; x < w; ++x)
             for (uint32_t c = 0; c < ch; ++c) {
                 float& v = src[(size_t(y) * w + x) * ch + c];
-                if (y < 48 && x < 64) v = 0.0f;                              // constant
-                if (y >= 144 && x >= 192) v = float(rng() % 256) / 255.0f;  // white noise
+                if (y < 48 && x < 64) v = constant(c);
+                if (y >= 144 && x >= 192) v = float(rng() % 256) / 255.0f;
             }
+    return src;
+}
+
+// Constant areas (runs: blocks with sequences), white noise (incompressible: raw) and smooth noisy
+// areas (literals) in one file. Whole frames are what a zstd that writes other headers would leave;
+// FramePagesAreRead covers them.
+TEST(BotFile, EveryPageKindIsWrittenAndReadBack) {
+    const uint32_t w = 256, h = 192, ch = 3;
+    const std::vector<float> src = everyKindImage([](uint32_t) { return 0.0f; });
     const fs::path path = tempDir() / "kinds.bot";
     BotWriteOptions opt;
     opt.pageFilter = PageFilter::Med;
@@ -881,15 +890,7 @@ INSTANTIATE_TEST_SUITE_P(
 // Constant areas (constant pages), white noise (raw pages) and smooth noisy areas (rANS pages).
 TEST(Bot3File, EveryPageKindIsWrittenAndReadBack) {
     const uint32_t w = 256, h = 192, ch = 3;
-    std::vector<float> src = noisyImage(w, h, ch, 21);
-    std::mt19937 rng(4);
-    for (uint32_t y = 0; y < h; ++y)
-        for (uint32_t x = 0; x < w; ++x)
-            for (uint32_t c = 0; c < ch; ++c) {
-                float& v = src[(size_t(y) * w + x) * ch + c];
-                if (y < 48 && x < 64) v = float(32 * (c + 1)) / 255.0f;        // constant
-                if (y >= 144 && x >= 192) v = float(rng() % 256) / 255.0f;  // white noise
-            }
+    const std::vector<float> src = everyKindImage([](uint32_t c) { return float(32 * (c + 1)) / 255.0f; });
     const fs::path path = tempDir() / "kinds3.bot";
     writeBot(path, src.data(), w, h, ch, version3Options());
     const auto file = BotFile::open(path);
