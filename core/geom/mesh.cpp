@@ -3,10 +3,9 @@
 
 #include "core/geom/union_find.h"
 #include "core/util/counting_sort.h"
+#include "core/util/parallel_runs.h"
 #include "core/util/release.h"
 
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include <array>
 
@@ -39,11 +38,8 @@ bool anyOf(size_t n, Bad&& bad) {
     };
     if (n <= 2 * kRun) return scan(0, n);
     std::atomic<bool> found{false};
-    tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(size_t(0), (n + kRun - 1) / kRun, [&](size_t r) {
-            if (!found.load(std::memory_order_relaxed) && scan(r * kRun, std::min(n, (r + 1) * kRun)))
-                found.store(true, std::memory_order_relaxed);
-        });
+    util::forEachRun(n, kRun, [&](size_t, size_t lo, size_t hi) {
+        if (!found.load(std::memory_order_relaxed) && scan(lo, hi)) found.store(true, std::memory_order_relaxed);
     });
     return found.load();
 }
@@ -274,14 +270,11 @@ MeshValidation Mesh::validate() const {
             if (isDegenerate(f, distinct)) v.degenerateFaces.push_back(static_cast<uint32_t>(f));
         return v;
     }
-    // Isolated: a thread waiting for the runs takes no other work of its caller's (a tile).
-    std::vector<std::vector<uint32_t>> found((faces + kRun - 1) / kRun);
-    tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(size_t(0), found.size(), [&](size_t r) {
-            std::vector<uint32_t> distinct;
-            for (size_t f = r * kRun; f < std::min(faces, (r + 1) * kRun); ++f)
-                if (isDegenerate(f, distinct)) found[r].push_back(static_cast<uint32_t>(f));
-        });
+    std::vector<std::vector<uint32_t>> found(util::runCount(faces, kRun));
+    util::forEachRun(faces, kRun, [&](size_t r, size_t lo, size_t hi) {
+        std::vector<uint32_t> distinct;
+        for (size_t f = lo; f < hi; ++f)
+            if (isDegenerate(f, distinct)) found[r].push_back(static_cast<uint32_t>(f));
     });
     for (const std::vector<uint32_t>& run : found)
         v.degenerateFaces.insert(v.degenerateFaces.end(), run.begin(), run.end());

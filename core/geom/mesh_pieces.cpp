@@ -1,8 +1,8 @@
 #include "core/geom/mesh_pieces.h"
 
+#include "core/util/parallel_runs.h"
 #include "core/util/release.h"
 
-#include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_invoke.h>
 #include <oneapi/tbb/parallel_sort.h>
 #include <oneapi/tbb/task_arena.h>
@@ -171,14 +171,10 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
     // Each face's triangle-id bound, worked out once on all threads (a byte a face; a face of 255
     // or more is worked out again where it is read).
     constexpr size_t kRun = 16384;
-    const size_t runCount = (faces + kRun - 1) / kRun;
-    auto eachRun = [&](auto&& body) {
-        tbb::this_task_arena::isolate([&] {
-            tbb::parallel_for(size_t(0), runCount, [&](size_t r) { body(r * kRun, std::min(faces, (r + 1) * kRun)); });
-        });
-    };
+    const size_t runCount = util::runCount(faces, kRun);
+    auto eachRun = [&](auto&& body) { util::forEachRun(faces, kRun, body); };
     std::vector<uint8_t> boundOf(faces);
-    eachRun([&](size_t lo, size_t hi) {
+    eachRun([&](size_t, size_t lo, size_t hi) {
         for (size_t f = lo; f < hi; ++f)
             boundOf[f] = uint8_t(std::min<uint32_t>(faceTriangleBound(mesh, faceMaterial, degenerate, f), 255));
     });
@@ -206,8 +202,7 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
         };
         std::vector<Bounds3> runBox(runCount);
         std::vector<size_t> runKeys(runCount + 1, 0);
-        eachRun([&](size_t lo, size_t hi) {
-            const size_t r = lo / kRun;
+        eachRun([&](size_t r, size_t lo, size_t hi) {
             for (size_t f = lo; f < hi; ++f)
                 if (boundOf[f] > 0) {
                     runBox[r].extend(centre(f));
@@ -223,8 +218,8 @@ MeshPieces MeshPieces::split(const Mesh& mesh, const std::vector<uint16_t>& face
         for (int a = 0; a < 3; ++a) extent = std::max(extent, box.hi[a] - box.lo[a]);
         const double scale = extent > 0.0 && std::isfinite(extent) ? 1024.0 / extent : 0.0;
         std::vector<uint64_t> keys(runKeys[runCount]);
-        eachRun([&](size_t lo, size_t hi) {
-            size_t at = runKeys[lo / kRun];
+        eachRun([&](size_t r, size_t lo, size_t hi) {
+            size_t at = runKeys[r];
             for (size_t f = lo; f < hi; ++f) {
                 if (boundOf[f] == 0) continue;
                 const glm::dvec3 c = (centre(f) - box.lo) * scale;

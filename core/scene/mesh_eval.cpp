@@ -15,6 +15,7 @@
 #include "core/scene/deformer_eval.h"
 #include "core/scene/detail/multi_elements.h"
 #include "core/scene/nurbs_eval.h"
+#include "core/util/parallel_runs.h"
 #include "core/util/release.h"
 
 #include <glm/geometric.hpp>
@@ -22,8 +23,6 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -1100,10 +1099,7 @@ template <class F>
 void forEachNumericOnThreads(const AttrData& a, uint64_t end, F&& fn) {
     constexpr uint64_t kRun = 65536;
     if (end <= 2 * kRun) return forEachNumericIn(a, 0, end, fn);
-    tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(uint64_t(0), (end + kRun - 1) / kRun,
-                          [&](uint64_t r) { forEachNumericIn(a, r * kRun, std::min(end, (r + 1) * kRun), fn); });
-    });
+    util::forEachRun(end, kRun, [&](size_t, uint64_t lo, uint64_t hi) { forEachNumericIn(a, lo, hi, fn); });
 }
 
 }  // namespace
@@ -1223,12 +1219,8 @@ std::optional<geom::Mesh> decodeStoredMesh(const Graph& g, NodeId shape, std::st
     // growth, no spare capacity), with the uv ids of each set and the colour ids when there are
     // colours. What a run finds is added up, and the first run with a broken face names it.
     constexpr size_t kRun = 8192;
-    const size_t runCount = (faceRun.size() + kRun - 1) / kRun;
-    auto eachRun = [&](auto&& body) {
-        tbb::this_task_arena::isolate([&] {
-            tbb::parallel_for(size_t(0), runCount, [&](size_t r) { body(r, r * kRun, std::min(faceRun.size(), (r + 1) * kRun)); });
-        });
-    };
+    const size_t runCount = util::runCount(faceRun.size(), kRun);
+    auto eachRun = [&](auto&& body) { util::forEachRun(faceRun.size(), kRun, body); };
     struct RunCounts {
         size_t faces = 0, loops = 0, corners = 0;
     };
