@@ -1,5 +1,7 @@
 #include "core/geom/geometry_handle.h"
 
+#include "core/geom/nurbs_pieces.h"
+
 #include <oneapi/tbb/parallel_invoke.h>
 #include <oneapi/tbb/task_arena.h>
 
@@ -7,6 +9,11 @@
 #include <cmath>
 
 namespace pushpin::geom {
+
+struct NurbsGridPieces {
+    NurbsGrid grid;
+    std::optional<NurbsPieces> pieces;
+};
 
 namespace {
 
@@ -155,19 +162,68 @@ std::shared_ptr<GeometryHandle> GeometryHandle::fromMeshCounts(std::shared_ptr<c
 }
 
 std::shared_ptr<GeometryHandle> GeometryHandle::fromNurbs(std::shared_ptr<const NurbsSurface> surface, int divU,
-                                                          int divV) {
+                                                          int divV, uint32_t pieceTriangles) {
     std::shared_ptr<GeometryHandle> h(new GeometryHandle());
     h->m_divU = std::max(divU, 1);
     h->m_divV = std::max(divV, 1);
     h->m_bounds = surface->bounds();
     h->m_triangles = nurbsTriangleCount(*surface, h->m_divU, h->m_divV);
     h->m_vertices = h->m_triangles / 2 + 1;
-    h->m_sourceBytes = uint64_t(surface->cvs().capacity()) * sizeof(glm::dvec4);
-    // The grid's positions, normals, point identities and vertex map, the adjacency sort.
-    const uint64_t gridPoints = h->m_triangles / 2 + 64;
-    h->m_workBytes = gridPoints * (2 * sizeof(glm::dvec3) + 2 * sizeof(uint32_t)) + h->m_triangles * 3 * (16 + sizeof(uint32_t));
+    h->m_pieceTriangles = pieceTriangles;
     h->m_surface = std::move(surface);
+    h->splitNurbs();
     return h;
+}
+
+namespace {
+
+// What tessellateNurbsCells holds while it makes `cells` besides its result: the positions of the
+// points it evaluates; the normals, shading normals and vertex map of its own; and for each
+// triangle it looks at for adjacency its slot, corner points (twice, one copy sorted) and
+// neighbours, and the edge uses buildTriangleNeighbors files.
+uint64_t nurbsCellsWorkBytes(const NurbsGrid& g, const NurbsCells& cells) {
+    const NurbsCellsWork w = nurbsCellsWork(g, cells);
+    return w.points * (3 * sizeof(glm::dvec3) + sizeof(uint32_t)) + w.triangles * (4 + 3 * 4 * 2 + 3 * 4 + 3 * 8);
+}
+
+}  // namespace
+
+void GeometryHandle::splitNurbs() {
+    m_nurbs.reset();
+    m_sourceBytes = uint64_t(m_surface->cvs().capacity()) * sizeof(glm::dvec4);
+    std::optional<NurbsGrid> grid = makeNurbsGrid(*m_surface, m_divU, m_divV, m_nurbsProblem);
+    if (!grid) {
+        m_workBytes = 0;
+        return;
+    }
+    auto made = std::make_shared<NurbsGridPieces>();
+    made->grid = std::move(*grid);
+    const NurbsGrid& g = made->grid;
+    if (m_pieceTriangles >= 2 && m_triangles > m_pieceTriangles && m_triangles < uint64_t(kHardNeighborBit) - 1)
+        made->pieces = NurbsPieces::split(*m_surface, g, m_pieceTriangles);
+    m_sourceBytes += uint64_t(g.us.capacity() + g.vs.capacity()) * sizeof(double) +
+                     uint64_t(g.spanOfU.capacity() + g.spanOfV.capacity()) * sizeof(uint32_t) +
+                     uint64_t(g.welds.capacity()) * 2 * sizeof(uint32_t) + (made->pieces ? made->pieces->bytes() : 0);
+    m_workBytes = nurbsCellsWorkBytes(g, {0, uint32_t(g.cellRows()), 0, uint32_t(g.cellColumns())});
+    m_nurbs = std::move(made);
+}
+
+size_t GeometryHandle::pieceCount() const {
+    if (m_pieces) return m_pieces->pieces().size();
+    if (m_nurbs && m_nurbs->pieces) return m_nurbs->pieces->pieces().size();
+    return 1;
+}
+
+const Bounds3& GeometryHandle::pieceBounds(size_t k) const {
+    if (m_pieces) return m_pieces->pieces()[k].bounds;
+    if (m_nurbs && m_nurbs->pieces) return m_nurbs->pieces->pieces()[k].bounds;
+    return m_bounds;
+}
+
+uint64_t GeometryHandle::pieceTriangleCount(size_t k) const {
+    if (m_pieces) return m_pieces->pieces()[k].slotCount;
+    if (m_nurbs && m_nurbs->pieces) return 2 * m_nurbs->pieces->pieces()[k].cells.count();
+    return m_triangles;
 }
 
 double GeometryHandle::trianglesPerScanline(double screenHeight) const {
@@ -193,6 +249,7 @@ std::shared_ptr<GeometryHandle> GeometryHandle::withPieces(uint32_t pieceTriangl
         h->m_bounds = Bounds3();
         h->measureMesh(*m_source->mesh());
     }
+    if (m_surface) h->splitNurbs();
     return h;
 }
 
@@ -203,24 +260,31 @@ const SlotRun kOneRun{};
 }  // namespace
 
 std::span<const SlotRun> GeometryHandle::slotRuns() const {
-    if (!m_pieces) return {&kOneRun, 1};
-    return m_pieces->slotRuns();
+    if (m_pieces) return m_pieces->slotRuns();
+    if (m_nurbs && m_nurbs->pieces) return m_nurbs->pieces->slotRuns();
+    return {&kOneRun, 1};
 }
 
 std::span<const SlotRun> GeometryHandle::pieceSlotRuns(size_t k) const {
-    if (!m_pieces) return {&kOneRun, 1};
-    return m_pieces->pieceSlotRuns(k);
+    if (m_pieces) return m_pieces->pieceSlotRuns(k);
+    if (m_nurbs && m_nurbs->pieces) return m_nurbs->pieces->pieceSlotRuns(k);
+    return {&kOneRun, 1};
 }
 
 GeometryHandle::PiecePlace GeometryHandle::placeOf(uint32_t triangle) const {
-    if (!m_pieces) return {0, triangle};
-    const std::vector<SlotRun>& runs = m_pieces->slotRuns();
+    if (pieceCount() == 1) return {0, triangle};
+    const std::span<const SlotRun> runs = slotRuns();
     const SlotRun* r = findSlotRun(runs.data(), runs.size(), triangle);
     if (!r) return {0, 0};
     return {r->piece, r->local + (triangle - r->firstSlot)};
 }
 
 uint64_t GeometryHandle::pieceBytesEstimate(size_t k) const {
+    if (m_nurbs && m_nurbs->pieces) {
+        const NurbsCells& c = m_nurbs->pieces->pieces()[k].cells;
+        const uint64_t vertices = uint64_t(c.i1 - c.i0 + 1) * uint64_t(c.j1 - c.j0 + 1);
+        return vertices * kVertexBytes + 2 * c.count() * kTriangleBytes;
+    }
     if (!m_pieces) return tessellationBytesEstimate();
     // The piece's share of the vertices, and a tenth more for those its borders repeat.
     const uint64_t slots = m_pieces->pieces()[k].slotCount;
@@ -229,6 +293,7 @@ uint64_t GeometryHandle::pieceBytesEstimate(size_t k) const {
 }
 
 uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
+    if (m_nurbs && m_nurbs->pieces) return nurbsCellsWorkBytes(m_nurbs->grid, m_nurbs->pieces->pieces()[k].cells);
     if (!m_pieces) return m_workBytes;
     const MeshPiece& p = m_pieces->pieces()[k];
     if (!makesPiecesAlone()) return meshPieceWorkBytes(p, m_meshPoints, m_smooth, m_meshNormals, m_pieces->mapsUvs());
@@ -244,6 +309,14 @@ uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
 }
 
 Tessellation GeometryHandle::tessellatePiece(size_t k, std::string* problem) const {
+    if (m_nurbs && m_nurbs->pieces) {
+        std::string why;
+        std::optional<Tessellation> t =
+            tessellateNurbsCells(*m_surface, m_nurbs->grid, m_nurbs->pieces->pieces()[k].cells, why);
+        if (t) return std::move(*t);
+        if (problem) *problem = why;
+        return {};
+    }
     if (!m_pieces) return tessellate(problem);
     if (makesPiecesAlone()) {
         static const std::vector<bool> kNone;
@@ -270,9 +343,13 @@ Tessellation GeometryHandle::tessellate(std::string* problem) const {
         return triangulateValidMesh(*mesh, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone);
     }
     if (m_surface) {
-        std::string why;
-        std::optional<Tessellation> t = tessellateNurbs(*m_surface, m_divU, m_divV, why);
-        if (t) return std::move(*t);
+        std::string why = m_nurbsProblem;
+        if (m_nurbs) {
+            const NurbsGrid& g = m_nurbs->grid;
+            std::optional<Tessellation> t =
+                tessellateNurbsCells(*m_surface, g, {0, uint32_t(g.cellRows()), 0, uint32_t(g.cellColumns())}, why);
+            if (t) return std::move(*t);
+        }
         if (problem) *problem = why;
     }
     return {};

@@ -7,7 +7,8 @@
 // Thread safety: immutable after creation; every method may be called from any thread at once.
 // Memory: a handle shares its source (std::shared_ptr) with the other handles of the same shape
 // and keeps no triangles; a MeshSource that evaluates on demand keeps no mesh either. A shape in
-// pieces keeps its piece table (MeshPieces), counted in sourceBytes().
+// pieces keeps its piece table (MeshPieces, or NurbsPieces with the surface's grid), counted in
+// sourceBytes().
 // sourceBytes() and tessellationBytesEstimate() are what it costs while it tessellates.
 #pragma once
 
@@ -26,6 +27,8 @@
 #include <vector>
 
 namespace pushpin::geom {
+
+struct NurbsGridPieces;
 
 // Where a handle gets its mesh when it tessellates: a mesh kept in memory, or one evaluated again
 // on demand (a creator or history result, a stored mesh decoded from the scene), so that no
@@ -69,8 +72,10 @@ public:
     // face takes material 0; the mesh is validated when it is made and its degenerate faces dropped.
     static std::shared_ptr<GeometryHandle> fromMeshCounts(std::shared_ptr<const MeshSource> source,
                                                           const PrimitiveCounts& counts, bool smoothShading);
-    // A NURBS surface tessellated on a uniform grid of divU × divV steps per span (material 0).
-    static std::shared_ptr<GeometryHandle> fromNurbs(std::shared_ptr<const NurbsSurface> surface, int divU, int divV);
+    // A NURBS surface tessellated on a uniform grid of divU × divV steps per span (material 0), in
+    // rectangles of at most `pieceTriangles` triangle ids when it has more (nurbs_pieces.h).
+    static std::shared_ptr<GeometryHandle> fromNurbs(std::shared_ptr<const NurbsSurface> surface, int divU, int divV,
+                                                     uint32_t pieceTriangles = kPieceTriangles);
 
     GeometryHandle& operator=(const GeometryHandle&) = delete;
 
@@ -108,10 +113,10 @@ public:
     // NaN/Inf the result is empty and `problem` (when given) says why.
     Tessellation tessellate(std::string* problem = nullptr) const;
 
-    // A mesh (kept or made on demand, not a primitive's counts) of more than kPieceTriangles
-    // triangles is tessellated in pieces of at most that many triangle ids (mesh_pieces.h), each
-    // made when a tile first needs it; every other shape is one piece, its whole tessellation.
-    // Triangle ids are the whole shape's either way.
+    // A mesh (kept or made on demand, not a primitive's counts) or a NURBS surface of more than
+    // kPieceTriangles triangles is tessellated in pieces of at most that many triangle ids
+    // (mesh_pieces.h, nurbs_pieces.h), each made when a tile first needs it; every other shape is
+    // one piece, its whole tessellation. Triangle ids are the whole shape's either way.
     static constexpr uint32_t kPieceTriangles = 1u << 18;
     // The piece size for a render under a memory cap of `capBytes` (0: none): kPieceTriangles, or
     // smaller, a power of two no smaller than 2^14, so that making one piece (its mesh window,
@@ -122,17 +127,17 @@ public:
     // depend on the piece size.
     static constexpr uint64_t kPieceMakingBytes = 256;
     static uint32_t pieceTrianglesFor(uint64_t capBytes);
-    size_t pieceCount() const { return m_pieces ? m_pieces->pieces().size() : 1; }
-    const Bounds3& pieceBounds(size_t k) const { return m_pieces ? m_pieces->pieces()[k].bounds : m_bounds; }
-    uint64_t pieceTriangleCount(size_t k) const { return m_pieces ? m_pieces->pieces()[k].slotCount : m_triangles; }
+    size_t pieceCount() const;
+    const Bounds3& pieceBounds(size_t k) const;
+    uint64_t pieceTriangleCount(size_t k) const;
     // Where triangle ids live (MeshPieces::slotRuns; one run from 0 for a shape in one piece), and
     // the runs of piece k in the order of its tessellation.
     std::span<const SlotRun> slotRuns() const;
     std::span<const SlotRun> pieceSlotRuns(size_t k) const;
-    // The pieces themselves (null for a shape in one piece).
+    // The pieces of a mesh (null for a NURBS surface or a shape in one piece).
     const MeshPieces* pieces() const { return m_pieces.get(); }
     // The same shape split into pieces of at most `pieceTriangles` triangle ids (0: one piece), for
-    // comparing piece sizes; a primitive's counts or a NURBS surface stays one piece.
+    // comparing piece sizes; a primitive's counts stays one piece.
     std::shared_ptr<GeometryHandle> withPieces(uint32_t pieceTriangles) const;
     // The piece that holds triangle id `triangle` (of one of the pieces), and the triangle's index
     // in that piece's tessellation.
@@ -187,6 +192,11 @@ private:
     bool m_meshNormals = false;  // the mesh has stored normals (per face-vertex)
     uint32_t m_pieceTriangles = kPieceTriangles;
     std::shared_ptr<const MeshPieces> m_pieces;  // null: one piece
+    // A NURBS surface's grid and, when it is in pieces, its piece table (null: no grid could be
+    // made, m_nurbsProblem says why).
+    std::shared_ptr<const NurbsGridPieces> m_nurbs;
+    std::string m_nurbsProblem;
+    void splitNurbs();
 };
 
 }  // namespace pushpin::geom

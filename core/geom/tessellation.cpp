@@ -96,30 +96,6 @@ bool sameBits(const glm::vec2& a, const glm::vec2& b) {
            std::bit_cast<uint32_t>(a.y) == std::bit_cast<uint32_t>(b.y);
 }
 
-// Sorted distinct knot values of a direction's domain [lo, hi] (the span boundaries).
-std::vector<double> spanBreaks(const std::vector<double>& knots, double lo, double hi) {
-    std::vector<double> breaks;
-    for (double k : knots)
-        if (k >= lo && k <= hi && (breaks.empty() || k > breaks.back())) breaks.push_back(k);
-    if (breaks.empty() || breaks.front() > lo) breaks.insert(breaks.begin(), lo);
-    if (breaks.back() < hi) breaks.push_back(hi);
-    return breaks;
-}
-
-// Grid parameters: `divisions` steps in every non-empty span; `span` receives each step's span.
-std::vector<double> gridParameters(const std::vector<double>& breaks, int divisions, std::vector<uint32_t>& span) {
-    std::vector<double> params;
-    span.clear();
-    for (size_t s = 0; s + 1 < breaks.size(); ++s) {
-        for (int d = 0; d < divisions; ++d) {
-            params.push_back(breaks[s] + (breaks[s + 1] - breaks[s]) * double(d) / double(divisions));
-            span.push_back(uint32_t(s));
-        }
-    }
-    params.push_back(breaks.back());
-    return params;
-}
-
 }  // namespace
 
 uint64_t Tessellation::bytes() const {
@@ -199,6 +175,10 @@ uint64_t meshTriangleCount(const Mesh& mesh, const std::vector<uint16_t>& faceMa
     uint64_t count = 0;
     for (size_t f = 0; f < mesh.faceCount(); ++f) count += faceTriangleBound(mesh, faceMaterial, degenerate, f);
     return count;
+}
+
+void buildTriangleNeighbors(Tessellation& t, const std::vector<uint32_t>& cornerPoint) {
+    buildNeighbors(t, cornerPoint, [](uint32_t, uint32_t, uint32_t, uint32_t) { return false; });
 }
 
 void computeTessellationBounds(Tessellation& t) {
@@ -307,133 +287,6 @@ Tessellation triangulateValidMesh(const Mesh& mesh, const std::vector<uint16_t>&
         if (!smoothShading) return true;
         return smoothness->find(a, b) == EdgeSmoothness::Kind::Hard;
     });
-    return out;
-}
-
-uint64_t nurbsTriangleCount(const NurbsSurface& s, int divU, int divV) {
-    const uint64_t spansU = spanBreaks(s.knotsU(), s.uMin(), s.uMax()).size() - 1;
-    const uint64_t spansV = spanBreaks(s.knotsV(), s.vMin(), s.vMax()).size() - 1;
-    return 2 * spansU * uint64_t(std::max(divU, 1)) * spansV * uint64_t(std::max(divV, 1));
-}
-
-std::optional<Tessellation> tessellateNurbs(const NurbsSurface& s, int divU, int divV, std::string& problem) {
-    std::vector<uint32_t> spanOfU, spanOfV;
-    const std::vector<double> breaksU = spanBreaks(s.knotsU(), s.uMin(), s.uMax());
-    const std::vector<double> breaksV = spanBreaks(s.knotsV(), s.vMin(), s.vMax());
-    const std::vector<double> us = gridParameters(breaksU, divU, spanOfU);
-    const std::vector<double> vs = gridParameters(breaksV, divV, spanOfV);
-    const size_t nu = us.size(), nv = vs.size();
-    const size_t spansV = breaksV.size() - 1;
-    if (nu < 2 || nv < 2) {
-        problem = "the surface has an empty parameter domain";
-        return std::nullopt;
-    }
-    std::vector<glm::dvec3> pos(nu * nv), nrm(nu * nv);
-    Bounds3 box;
-    for (size_t i = 0; i < nu; ++i)
-        for (size_t j = 0; j < nv; ++j) {
-            const glm::dvec3 p = s.point(us[i], vs[j]);
-            const glm::dvec3 n = s.normal(us[i], vs[j]);
-            if (!isFinite(p) || !isFinite(n)) {
-                problem = "the surface evaluates to NaN/Inf";
-                return std::nullopt;
-            }
-            pos[i * nv + j] = p;
-            nrm[i * nv + j] = n;
-            box.extend(p);
-        }
-    // Poles: the nearest grid normal that is not zero, searching outwards ring by ring.
-    for (size_t i = 0; i < nu; ++i)
-        for (size_t j = 0; j < nv; ++j) {
-            if (glm::dot(nrm[i * nv + j], nrm[i * nv + j]) > 0.0) continue;
-            bool found = false;
-            for (size_t r = 1; r < std::max(nu, nv) && !found; ++r)
-                for (size_t a = (i >= r ? i - r : 0); a <= std::min(nu - 1, i + r) && !found; ++a)
-                    for (size_t b = (j >= r ? j - r : 0); b <= std::min(nv - 1, j + r) && !found; ++b) {
-                        const glm::dvec3& q = nrm[a * nv + b];
-                        if (glm::dot(q, q) > 0.0) {
-                            nrm[i * nv + j] = q;
-                            found = true;
-                        }
-                    }
-        }
-
-    // Point identities for adjacency: seams of closed directions and collapsed rows (poles) are
-    // welded so that the triangles around them are neighbours.
-    const double tol = 1e-6 * std::max({box.size().x, box.size().y, box.size().z, 1e-30});
-    std::vector<uint32_t> id(nu * nv);
-    std::iota(id.begin(), id.end(), 0u);
-    auto close = [&](size_t a, size_t b) { return glm::length(pos[a] - pos[b]) <= tol; };
-    auto root = [&](uint32_t x) {
-        while (id[x] != x) x = id[x];
-        return x;
-    };
-    auto weld = [&](size_t a, size_t b) {
-        const uint32_t ra = root(uint32_t(a)), rb = root(uint32_t(b));
-        if (ra != rb) id[std::max(ra, rb)] = std::min(ra, rb);
-    };
-    for (size_t j = 0; j < nv; ++j)
-        if (close(j, (nu - 1) * nv + j)) weld(j, (nu - 1) * nv + j);
-    for (size_t i = 0; i < nu; ++i)
-        if (close(i * nv, i * nv + nv - 1)) weld(i * nv, i * nv + nv - 1);
-    for (size_t i = 0; i < nu; ++i) {
-        bool collapsed = true;
-        for (size_t j = 1; j < nv && collapsed; ++j) collapsed = close(i * nv, i * nv + j);
-        if (collapsed)
-            for (size_t j = 1; j < nv; ++j) weld(i * nv, i * nv + j);
-    }
-    for (size_t j = 0; j < nv; ++j) {
-        bool collapsed = true;
-        for (size_t i = 1; i < nu && collapsed; ++i) collapsed = close(j, i * nv + j);
-        if (collapsed)
-            for (size_t i = 1; i < nu; ++i) weld(j, i * nv + j);
-    }
-
-    Tessellation out;
-    const uint64_t cells = uint64_t(nu - 1) * uint64_t(nv - 1);
-    out.corners.reserve(6 * cells);
-    out.face.reserve(2 * cells);
-    out.material.reserve(2 * cells);
-    std::vector<uint32_t> cornerPoint;
-    cornerPoint.reserve(6 * cells);
-    // One vertex per grid point a triangle uses, made on first use.
-    std::vector<uint32_t> vertexOf(nu * nv, kNoNeighbor);
-    const double du = s.uMax() - s.uMin(), dv = s.vMax() - s.vMin();
-    const double minArea2 = 1e-24 * std::pow(std::max({box.size().x, box.size().y, box.size().z}), 4.0);
-    auto corner = [&](size_t i, size_t j) {
-        const size_t k = i * nv + j;
-        if (vertexOf[k] == kNoNeighbor) {
-            vertexOf[k] = uint32_t(out.positions.size());
-            out.positions.push_back(glm::vec3(pos[k]));
-            out.normals.push_back(
-                glm::vec3(glm::normalize(glm::dot(nrm[k], nrm[k]) > 0.0 ? nrm[k] : glm::dvec3(0, 0, 1))));
-            out.uvs.push_back(glm::vec2(float((us[i] - s.uMin()) / du), float((vs[j] - s.vMin()) / dv)));
-        }
-        out.corners.push_back(vertexOf[k]);
-        cornerPoint.push_back(root(uint32_t(k)));
-    };
-    // Quad (i, j)–(i+1, j+1) splits into (a, b, c) and (a, c, d), counter-clockwise in (u, v):
-    // their geometric normal is dP/du × dP/dv, the surface normal. Zero-area halves (poles) go.
-    for (size_t i = 0; i + 1 < nu; ++i)
-        for (size_t j = 0; j + 1 < nv; ++j) {
-            const size_t quad[4][2] = {{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}};
-            const int tris[2][3] = {{0, 1, 2}, {0, 2, 3}};
-            for (const auto& t : tris) {
-                const glm::dvec3& p0 = pos[quad[t[0]][0] * nv + quad[t[0]][1]];
-                const glm::dvec3& p1 = pos[quad[t[1]][0] * nv + quad[t[1]][1]];
-                const glm::dvec3& p2 = pos[quad[t[2]][0] * nv + quad[t[2]][1]];
-                const glm::dvec3 c = glm::cross(p1 - p0, p2 - p0);
-                if (!(glm::dot(c, c) > minArea2)) continue;
-                for (int k = 0; k < 3; ++k) corner(quad[t[k]][0], quad[t[k]][1]);
-                out.face.push_back(spanOfU[i] * uint32_t(spansV) + spanOfV[j]);
-                out.material.push_back(0);
-            }
-        }
-    out.positions.shrink_to_fit();
-    out.normals.shrink_to_fit();
-    out.uvs.shrink_to_fit();
-    computeTessellationBounds(out);
-    buildNeighbors(out, cornerPoint, [](uint32_t, uint32_t, uint32_t, uint32_t) { return false; });
     return out;
 }
 

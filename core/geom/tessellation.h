@@ -88,6 +88,11 @@ uint32_t faceTriangleBound(const Mesh& mesh, const std::vector<uint16_t>& faceMa
 uint32_t faceTriangleBound(const Mesh& mesh, size_t meshFace, const std::vector<uint16_t>& faceMaterial,
                            const std::vector<bool>& degenerate, size_t f);
 
+// Fills t.neighbors of t.triangleCount() triangles from the point each corner sits on
+// (`cornerPoint`, 3 per triangle): two triangles whose edges join the same two points are
+// neighbours (no edge hard); edges used by one triangle or by more than two get kNoNeighbor.
+void buildTriangleNeighbors(Tessellation& t, const std::vector<uint32_t>& cornerPoint);
+
 // Fills t.bounds and t.clusterBounds from the vertices and corners.
 void computeTessellationBounds(Tessellation& t);
 
@@ -103,9 +108,10 @@ Tessellation copyTriangles(const Tessellation& t, std::span<const uint32_t> tria
                            std::span<const uint32_t> vertices);
 
 // Uniform per-span grid tessellation of a NURBS surface (reference/algorithms.md §8, primary
-// pass) with `divU` × `divV` steps per span: positions and normals evaluated exactly, uvs the
-// normalised parameters, poles given a neighbouring normal, every grid edge soft, seams and poles
-// welded for adjacency, zero-area triangles dropped; material 0 throughout and face = the patch
+// pass) with `divU` × `divV` steps per span (nurbs_pieces.h): positions and normals evaluated
+// exactly, uvs the normalised parameters, poles given a neighbouring normal, every grid edge soft,
+// seams and poles welded for adjacency, two triangles a grid cell (one of zero area keeps its id
+// with its three corners on one vertex); material 0 throughout and face = the patch
 // (spanU · spansV + spanV). Returns nullopt with `problem` set when the surface evaluates to
 // non-finite values or has an empty parameter domain.
 std::optional<Tessellation> tessellateNurbs(const NurbsSurface& surface, int divU, int divV, std::string& problem);

@@ -193,11 +193,15 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
         return {};
     };
 
-    // Shapes straight from a primitive: their counts and bounds, read once.
+    // Shapes straight from a primitive: their counts and bounds, read once. One of more than
+    // kPieceTriangles triangles is evaluated like any other shape instead, so that it is
+    // tessellated in pieces (a smaller one is made whole, which costs less than making its mesh
+    // again for each piece).
     std::unordered_map<NodeId, geom::PrimitiveCounts> primitiveCounts;
     for (const scene::Node& node : g.nodes())
         if (node.type == "mesh")
-            if (std::optional<geom::PrimitiveCounts> c = scene::primitiveShapeCounts(ev, node.id))
+            if (std::optional<geom::PrimitiveCounts> c = scene::primitiveShapeCounts(ev, node.id);
+                c && c->triangles <= geom::GeometryHandle::kPieceTriangles)
                 primitiveCounts.emplace(node.id, *c);
 
     // Without a cap every shape's geometry stays resident anyway, so the shapes that render are
@@ -310,7 +314,8 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
                 if (!whole)
                     scene.notes.push_back(label + ": component shading assignment on a NURBS surface; " + sg->name +
                                           " used for the whole surface");
-                if (!shape.lastHandle) shape.lastHandle = geom::GeometryHandle::fromNurbs(shape.surface, shape.divU, shape.divV);
+                if (!shape.lastHandle)
+                    shape.lastHandle = geom::GeometryHandle::fromNurbs(shape.surface, shape.divU, shape.divV, pieceTriangles);
                 object.geometry = shape.lastHandle;
                 slotGroups.push_back(sg);
             } else {
@@ -377,6 +382,9 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
                 if (dropped > 0)
                     scene.notes.push_back(label + ": " + std::to_string(dropped) +
                                           " face(s) in no shading group not rendered");
+                // One material on every face is kept as none listed (2 bytes a face less).
+                if (std::all_of(faceMaterial.begin(), faceMaterial.end(), [](uint16_t m) { return m == 0; }))
+                    util::release(faceMaterial);
                 if (!shape.lastHandle || shape.lastMaterials != faceMaterial ||
                     shape.lastSmooth != object.smoothShading) {
                     if (!shape.source)

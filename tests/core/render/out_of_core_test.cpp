@@ -372,6 +372,78 @@ TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
     }
 }
 
+// A NURBS torus of 11 divisions a span (8 × 4 spans: 7,744 triangle ids), shown twice, tilted
+// towards the camera with a sphere in front of it.
+std::string nurbsTorusScene() {
+    return groundScene(R"(createNode transform -n "ground";
+	setAttr ".r" -type "double3" 60 0 15;
+	setAttr ".s" -type "double3" 2.5 2.5 2.5;
+createNode nurbsSurface -n "groundShape" -p "ground";
+	setAttr ".nu" 7;
+	setAttr ".nv" 7;
+createNode makeNurbTorus -n "groundCreator";
+	setAttr ".hr" 0.4;
+connectAttr "groundCreator.os" "groundShape.cr";
+)",
+                       kAgainTilted);
+}
+
+TEST(OutOfCore, ANurbsSurfaceInPiecesRendersAsItDoesWhole) {
+    const GroundRender g(nurbsTorusScene(), false);
+    const RenderSettings& settings = g.settings;
+    const FrameScene& whole = g.scene;
+    const RenderCamera& camera = g.camera;
+    ASSERT_EQ(whole.objects.size(), 3u);
+    const std::shared_ptr<const geom::GeometryHandle> torus = whole.objects[0].geometry;
+    ASSERT_EQ(whole.objects[1].geometry, torus);
+    ASSERT_FALSE(torus->isMesh());
+    ASSERT_EQ(torus->triangleCount(), 7744u);
+    ASSERT_EQ(torus->pieceCount(), 1u);
+    const std::shared_ptr<const geom::GeometryHandle> pieces = torus->withPieces(300);
+    ASSERT_GE(pieces->pieceCount(), 26u);
+    const FrameScene pieced = g.withGround(pieces);
+
+    RenderStats wholeStats;
+    const Framebuffer reference = renderFrame(whole, camera, settings, wholeStats);
+    const FrameMemory need = frameMemory(pieced, camera, settings, {}, 2);
+    EXPECT_LT(need.largestTessellationBytes, torus->tessellationBytesEstimate() / 8);
+    EXPECT_LT(need.largestTransientBytes, torus->tessellationWorkBytesEstimate() / 4);
+    struct Case {
+        int threads, tile;
+        uint64_t extra;  // bytes beyond the buffers; 0: unlimited
+    };
+    const Case cases[] = {{1, 16, 0},
+                          {2, 37, 0},
+                          {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes},
+                          {2, 23, 2 * need.largestTransientBytes + 6 * need.largestTessellationBytes + (3u << 20)}};
+    for (const Case& c : cases) {
+        RenderSettings s = settings;
+        s.numCpusToUse = c.threads;
+        s.tileWidth = s.tileHeight = c.tile;
+        const FrameMemory n = frameMemory(pieced, camera, s, {}, c.threads);
+        MemoryBudget budget(c.extra ? n.totalBytes() + kFragmentRoom + c.extra : 0);
+        RenderStats st;
+        RenderOptions options;
+        options.memoryBudget = &budget;
+        SCOPED_TRACE(std::to_string(c.threads) + " threads, tiles of " + std::to_string(c.tile) + ", " +
+                     std::to_string(c.extra) + " bytes over the buffers");
+        const Framebuffer image = renderFrame(pieced, camera, s, st, options);
+        EXPECT_TRUE(sameImage(image, reference));
+        EXPECT_EQ(budget.usedBytes(), 0u);
+        if (c.extra) {
+            EXPECT_LE(budget.peakBytes(), budget.capBytes());
+            // On one thread the tiles meet the pieces in one order: the cap holds a few at a time.
+            if (c.threads == 1) {
+                EXPECT_GT(st.tessellationsEvicted, 0u);
+            }
+        } else {
+            EXPECT_LE(st.tessellationsMade, pieces->pieceCount() + 1);
+            EXPECT_EQ(st.tessellationsRecomputed, 0u);
+        }
+        EXPECT_EQ(st.triangles, wholeStats.triangles);
+    }
+}
+
 TEST(OutOfCore, ATileThatMeetsMorePiecesThanTheCapHoldsCopiesTheirTriangles) {
     // The bumpy plane turned so that its rows of faces (and so its pieces) run up the screen: a
     // 16-pixel tile meets many pieces, and a small part of each.
