@@ -126,7 +126,10 @@ private:
     template <class Take>
     bool withRoom(TileWorker& w, uint64_t bytes, Take&& take);
     void holdCharge(TileWorker& w, cache::MemoryCharge& charge, uint64_t bytes);
-    void chargeBuffers(TileWorker& w);
+    // Charges what the worker's buffers hold beyond its share, and `more` bytes about to be
+    // allocated beside them.
+    void chargeBuffers(TileWorker& w, uint64_t more = 0);
+    void chargeBuffersAhead(TileWorker& w, uint64_t more);
     // The tessellation (pinned by the tile) holding triangle id `triangle` of `object`, and the
     // triangle's index in it.
     std::pair<const geom::Tessellation*, uint32_t> triangleAt(const TileWorker& w, uint32_t object, uint32_t triangle) const;
@@ -381,9 +384,23 @@ void FrameRenderer::holdCharge(TileWorker& w, cache::MemoryCharge& charge, uint6
 
 // Charges what the worker's tile buffers have grown to beyond the share frameMemory() charged up
 // front, as the tile goes.
-void FrameRenderer::chargeBuffers(TileWorker& w) {
-    const uint64_t held = w.bytes();
+void FrameRenderer::chargeBuffers(TileWorker& w, uint64_t more) {
+    const uint64_t held = w.bytes() + more;
     holdCharge(w, w.bufferCharge, held > m_perThreadBytes ? held - m_perThreadBytes : 0);
+}
+
+// The same while the rasterizer runs, before its buffers grow by `more`: room is made from what
+// the caches hold unpinned only (the tile's pinned triangles are being read), and when that is
+// not enough the growth goes ahead, charged by the next chargeBuffers.
+void FrameRenderer::chargeBuffersAhead(TileWorker& w, uint64_t more) {
+    const uint64_t held = w.bytes() + more;
+    const uint64_t bytes = held > m_perThreadBytes ? held - m_perThreadBytes : 0;
+    cache::MemoryCharge& charge = w.bufferCharge;
+    if (bytes <= charge.bytes() || charge.tryResize(bytes)) return;
+    if (m_lazy.reclaim(bytes - charge.bytes())) {
+        returnDroppedMemory();
+        charge.tryResize(bytes);
+    }
 }
 
 // Gives back the pins of the tile's units that a copy of the triangles they gave the rasterizer
@@ -784,6 +801,11 @@ void FrameRenderer::renderTile(size_t index, TileWorker& w) {
     w.groups.clear();
     w.members.clear();
     w.nearestDepth.assign(size_t(bw) * bh, std::numeric_limits<float>::infinity());
+    // The surfaces' members are fragments of the tile: room for all of them, charged first.
+    if (const size_t n = rast.fragmentCount(); n > w.members.capacity()) {
+        chargeBuffers(w, uint64_t(n) * sizeof(Fragment));
+        w.members.reserve(n);
+    }
     for (int y = base.y0; y < base.y1; ++y)
         for (int x = base.x0; x < base.x1; ++x) {
             size_t pi = baseIndex(x, y);
@@ -1079,6 +1101,10 @@ Framebuffer FrameRenderer::run() {
     tbb::enumerable_thread_specific<std::unique_ptr<TileWorker>> workers([&] {
         auto w = std::make_unique<TileWorker>(m_pattern, m_units.size(), objects);
         w->bufferCharge = cache::MemoryCharge(&m_budget, cache::MemoryCategory::Fragments, 0);
+        // Under a cap the fragment buffers are charged before they grow, old and new together,
+        // so that the process never holds more than the budget allows while they are copied.
+        if (m_budget.capBytes() > 0)
+            w->rasterizer.setGrowHook([this, worker = w.get()](uint64_t more) { chargeBuffersAhead(*worker, more); });
         return w;
     });
     // Tiles whose tessellations do not fit beside what the other threads' tiles hold are

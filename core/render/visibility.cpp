@@ -193,6 +193,16 @@ void clipByEdge(const ClipPolygon& in, ClipPolygon& out, double e00, double a, d
 
 TileRasterizer::TileRasterizer(const SubsamplePattern& pattern) : m_pattern(pattern) {}
 
+void TileRasterizer::reserveFragments(size_t fragments) {
+    if (fragments <= m_fragments.capacity() && fragments <= m_pixelOf.capacity()) return;
+    const size_t capacity = std::max(fragments, 2 * m_fragments.capacity());
+    if (m_growHook)
+        m_growHook((capacity > m_fragments.capacity() ? uint64_t(capacity) * sizeof(Fragment) : 0) +
+                   (capacity > m_pixelOf.capacity() ? uint64_t(capacity) * sizeof(uint32_t) : 0));
+    m_fragments.reserve(capacity);
+    m_pixelOf.reserve(capacity);
+}
+
 void TileRasterizer::reset(const PixelRect& region) {
     m_region = region;
     m_fragments.clear();
@@ -249,6 +259,7 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
     const uint32_t flags = tri.transparent ? kFragmentTransparent : 0u;
     const int regionWidth = m_region.width();
     const size_t before = m_fragments.size();
+    reserveFragments(before + size_t(bx1 - bx0) * size_t(by1 - by0));
 
     for (int py = by0; py < by1; ++py) {
         // Every value of a fragment is a fixed expression of its pixel's coordinates and the
@@ -361,6 +372,11 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
 
 void TileRasterizer::finish() {
     const size_t pixels = size_t(m_region.width()) * size_t(m_region.height());
+    if (m_growHook) {
+        const uint64_t sorted = m_fragments.size() > m_sorted.capacity() ? m_fragments.size() * sizeof(Fragment) : 0;
+        const uint64_t starts = pixels + 1 > m_pixelStart.capacity() ? (pixels + 1) * sizeof(uint32_t) : 0;
+        if (sorted + starts > 0) m_growHook(sorted + starts);
+    }
     util::fileByKey(
         pixels,
         [&](auto&& visit) {

@@ -17,6 +17,7 @@
 #include "core/render/fragment.h"
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -49,12 +50,18 @@ public:
     // Within a pixel, fragments keep the order in which their triangles were added.
     void finish();
     std::span<const Fragment> fragments(int x, int y) const;
+    // Fragments added since the last reset.
+    size_t fragmentCount() const { return m_fragments.size(); }
 
     const RasterStats& stats() const { return m_stats; }
     // Puts the counts back to `s` (a tile that is given up and rendered again later).
     void restoreStats(const RasterStats& s) { m_stats = s; }
     // Heap bytes the rasterizer's buffers hold (their capacities).
     uint64_t bytes() const;
+    // Called before a buffer grows, with the bytes the growth allocates while the old buffers are
+    // still held, so that a memory budget can make room first (it may throw to stop the tile).
+    // Buffers grow at least twofold, so the calls are few.
+    void setGrowHook(std::function<void(uint64_t)> hook) { m_growHook = std::move(hook); }
     // Gives the buffers' memory back (stats are kept); the next reset() starts from nothing.
     void releaseMemory();
 
@@ -66,6 +73,9 @@ private:
     std::vector<Fragment> m_sorted;         // grouped by pixel after finish()
     std::vector<uint32_t> m_pixelStart;     // region pixel index → first fragment in m_sorted (+1 end)
     RasterStats m_stats;
+    std::function<void(uint64_t)> m_growHook;
+    // Room for `fragments` fragments in m_fragments and m_pixelOf (the hook told first).
+    void reserveFragments(size_t fragments);
 };
 
 // One surface in one pixel: the merged fragments of one object joined by soft edges.

@@ -226,6 +226,35 @@ TEST(TileRasterizer, FullPixelsHaveUnitAreaAndAllActiveBits) {
     EXPECT_EQ(r.stats().trianglesRasterized, 1u);
 }
 
+TEST(TileRasterizer, TellsItsGrowHookBeforeEveryBufferGrows) {
+    // 200 layers of full-region triangles over 32 × 32 pixels: 204,800 fragments. Before each
+    // growth the hook hears what the new buffers take, so the bytes held never pass what it was
+    // told beside what was held before.
+    const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(1);
+    TileRasterizer r(p);
+    uint64_t told = 0;
+    int calls = 0;
+    r.setGrowHook([&](uint64_t more) {
+        told += more;
+        ++calls;
+    });
+    r.reset({0, 0, 32, 32});
+    for (uint32_t layer = 0; layer < 200; ++layer) {
+        const uint64_t before = r.bytes();
+        const uint64_t toldBefore = told;
+        r.add(makeTriangle({-100, -100}, {100, -100}, {0, 100}, 0, layer, 1.0 + layer));
+        EXPECT_LE(r.bytes(), before + (told - toldBefore)) << "layer " << layer;
+    }
+    const uint64_t before = r.bytes();
+    const uint64_t toldBefore = told;
+    r.finish();
+    EXPECT_LE(r.bytes(), before + (told - toldBefore));
+    EXPECT_EQ(r.stats().fragments, 200u * 32u * 32u);
+    EXPECT_EQ(r.fragments(5, 7).size(), 200u);
+    EXPECT_GT(calls, 2);
+    EXPECT_LT(calls, 40) << "buffers grow at least twofold";
+}
+
 TEST(TileRasterizer, HalfPixelTriangleHasExactAreaCentroidAndMask) {
     const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(0);
     TileRasterizer r(p);
