@@ -134,8 +134,10 @@ detail::Bot3Kind bot3KindOf(BotPageKind kind) {
     }
 }
 
-uint32_t page3Checksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex, BotPageKind kind) {
-    return uint32_t(detail::xxh64(stored, bytes, pageIndex | uint64_t(bot3KindOf(kind)) << 56) & 0xffffu);
+// A raw page's checksum covers its stored bytes; a rANS page's covers the packed page it decodes to
+// (after the channel coding) and rides in its rANS states, so that its entry needs none.
+uint32_t page3Checksum(const uint8_t* bytes, size_t count, uint64_t pageIndex, BotPageKind kind) {
+    return uint32_t(detail::xxh64(bytes, count, pageIndex | uint64_t(bot3KindOf(kind)) << 56) & 0xffffu);
 }
 
 cache::ZstdForm zstdFormOf(BotPageKind kind) {
@@ -520,15 +522,19 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
                     e.offsetBytes = offset;
                     continue;
                 }
-                if (end - at < 2) throw fail("truncated page table at " + pageName(l, px, py));
-                e.checksum = get16(at);
-                at += 2;
                 bool sizeOk = false;
                 switch (Bot3Kind(kind)) {
-                    case Bot3Kind::Raw: e.kind = BotPageKind::Raw; sizeOk = stored == rawBytes; break;
+                    case Bot3Kind::Raw:
+                        // Only a raw page has a checksum in its entry; a rANS page's rides in its states.
+                        if (end - at < 2) throw fail("truncated page table at " + pageName(l, px, py));
+                        e.checksum = get16(at);
+                        at += 2;
+                        e.kind = BotPageKind::Raw;
+                        sizeOk = stored == rawBytes;
+                        break;
                     case Bot3Kind::Rans:
                         e.kind = BotPageKind::Rans;
-                        sizeOk = stored >= prefixBytes - least + kRansStateBytes && stored < rawBytes;
+                        sizeOk = stored >= prefixBytes - least + kRansStateBytes + kRansStateBytesB && stored < rawBytes;
                         break;
                     default: throw fail("bad page kind " + std::to_string(kind) + " of " + pageName(l, px, py));
                 }
@@ -615,13 +621,16 @@ uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uin
             detail::unpackPageToFloat(scratch.packed.data(), m_header.channels, m_header.pixelType, band.filter, dst);
             return 0;
         }
-        if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum)
-            throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
         if (e.kind == BotPageKind::Rans) {
+            uint16_t check = 0;
             if (!band.tables->decode(stored, e.storedBytes, m_header.channels, m_header.pixelType,
-                                     scratch.packed.data()))
+                                     scratch.packed.data(), check))
                 throw FormatError(m_path, "corrupt rANS data in " + pageName(level, pageX, pageY));
             packed = scratch.packed.data();
+            if (page3Checksum(packed, m_pageRawBytes, index, e.kind) != check)
+                throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
+        } else if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum) {
+            throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
         }
         if (band.decorrelateTo) {
             if (packed != scratch.packed.data()) {
@@ -909,7 +918,8 @@ struct BotWriter::Impl {
                     kind = BotPageKind::Constant;  // its colour goes to the band's palette below
                     n = 0;
                 } else {
-                    n = tables->encode(page, header.channels, header.pixelType, dst, rawBytes - 1,
+                    const uint16_t check = uint16_t(page3Checksum(page, rawBytes, indexOf(k), kind));
+                    n = tables->encode(page, header.channels, header.pixelType, check, dst, rawBytes - 1,
                                        pageContexts.data() + k * symbolsPerPage);
                     if (n == 0) {
                         kind = BotPageKind::Raw;
@@ -920,7 +930,7 @@ struct BotWriter::Impl {
                 const uint64_t index = indexOf(k);
                 rowSizes[k] = uint32_t(n);
                 pageSizes[index] = uint32_t(n) << detail::kBot3KindBits | uint32_t(bot3KindOf(kind));
-                pageChecksums[index] = kind == BotPageKind::Constant ? 0 : page3Checksum(dst, n, index, kind);
+                pageChecksums[index] = kind == BotPageKind::Raw ? page3Checksum(dst, n, index, kind) : 0;
             }
         });
         // The band's constant colours in the order their first page comes, each stored once; a
@@ -989,7 +999,7 @@ struct BotWriter::Impl {
         for (const std::vector<uint8_t>& band : bandTables) trailer.insert(trailer.end(), band.begin(), band.end());
         for (size_t p = 0; p < pageSizes.size(); ++p) {
             appendVarint(trailer, pageSizes[p]);
-            if ((pageSizes[p] & 3) == uint32_t(Bot3Kind::Constant)) continue;  // no bytes, no checksum
+            if ((pageSizes[p] & 3) != uint32_t(Bot3Kind::Raw)) continue;  // the only kind with a checksum here
             put16(word, uint16_t(pageChecksums[p]));
             trailer.insert(trailer.end(), word, word + 2);
         }
