@@ -1097,20 +1097,16 @@ TEST(Bot3FileErrors, BadFieldsAndTablesAreRejectedNamingWhat) {
                   .find("level 0 page (0, 1) lies outside the page data"),
               std::string::npos);
     EXPECT_NE(with([&](auto& b) { put64(&b[rowTable], 3); }).find("level 0 page (0, 0) lies outside"), std::string::npos);
-    // Page (0, 0)'s entry: a kind that does not exist, then sizes a page of its kind cannot have.
+    // Page (0, 0)'s entry (one byte): a first byte no entry has, then a size a rANS page cannot
+    // have and a colour its band does not have.
     ASSERT_EQ(file->pageEntry(0).kind, BotPageKind::Rans);
-    const uint32_t stored = file->pageEntry(0).storedBytes;
-    ASSERT_GE(stored, 32u);  // a two-byte varint
-    auto entryWith = [&](uint32_t field) {
-        return with([&](auto& b) {
-            b[pageTable] = uint8_t(field | 0x80);
-            b[pageTable + 1] = uint8_t(field >> 7);
-        });
+    ASSERT_LT(file->pageEntry(0).storedBytes, 7u + 128u);  // one entry byte (RGB 8-bit: 7 bytes of states)
+    auto entryWith = [&](std::vector<uint8_t> entry) {
+        return with([&](auto& b) { std::copy(entry.begin(), entry.end(), b.begin() + std::ptrdiff_t(pageTable)); });
     };
-    EXPECT_NE(entryWith(stored << 2 | 3).find("bad page kind 3 of level 0 page (0, 0)"), std::string::npos);
-    EXPECT_NE(entryWith(192 << 2 | 1).find("bad stored size 192 of rans level 0 page (0, 0)"), std::string::npos);
-    EXPECT_NE(entryWith(100 << 2 | 0).find("bad stored size 100 of raw level 0 page (0, 0)"), std::string::npos);
-    EXPECT_NE(entryWith(200 << 2 | 2).find("bad constant colour 200 of level 0 page (0, 0)"), std::string::npos);
+    EXPECT_NE(entryWith({0xf8}).find("bad page entry 248 of level 0 page (0, 0)"), std::string::npos);
+    EXPECT_NE(entryWith({0x80, 57}).find("bad stored size 192 of rans level 0 page (0, 0)"), std::string::npos);
+    EXPECT_NE(entryWith({0xe0, 168}).find("bad constant colour 200 of level 0 page (0, 0)"), std::string::npos);
     EXPECT_NE(with([&](auto& b) {
                   b.push_back(0);
                   put64(&b[kField3TrailerBytes], b.size() - trailer);
