@@ -33,6 +33,8 @@ constexpr uint32_t kRansStateBytesB = 3;  // state B
 constexpr uint32_t kRansPayloadBytes = 5;  // 3 in state A, 2 in state B
 // The first bytes of the prefix that ride in the initial states (see ransPrefixInState).
 constexpr uint32_t kRansPrefixInStateMax = kRansPayloadBytes - 2;
+// Words of a context's decoding block (see RansTableSet::m_decode).
+constexpr uint32_t kRansDecodeBlockWords = 256 + kRansScale / 4;
 // ransCount's contexts carry the state that codes each symbol (0: A, 1: B) in this bit.
 constexpr uint32_t kRansStateBit = 7;
 
@@ -120,9 +122,10 @@ private:
     std::vector<uint64_t> m_reciprocals;  // fit() only: 256 per table, for encoding
     // Per context, kRansScale decoding steps (bot_rans.cpp), back to back; the steps of a context
     // without symbols mark the page corrupt.
-    std::vector<uint8_t> m_symbols;   // per context, the symbol of each of the kRansScale slots
-    std::vector<uint32_t> m_freqCum;  // per context, per symbol: frequency | cumulative frequency << 12
-    void index();  // fills m_symbols and m_freqCum
+    // Per context, one decoding block of kRansDecodeBlockWords: per symbol its frequency | cumulative
+    // frequency << 12 (256 words), then the symbol of each of the kRansScale slots (bytes).
+    std::vector<uint32_t> m_decode;
+    void index();  // fills m_decode
 public:
     ~RansTableSet();
     RansTableSet(RansTableSet&&) noexcept;
