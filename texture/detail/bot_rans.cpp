@@ -62,7 +62,8 @@ inline void walkPage(uint32_t channels, uint8_t* planes, Step&& step) {
         uint32_t z[kPageSizeTexels * kPageSizeTexels];
         z[0] = 0;
         uint8_t* plane = planes + size_t(c) * kBytes * kPageResiduals;
-        auto context = [&](uint32_t i, uint32_t k, uint32_t v) {
+        // Both helpers are inlined: called once a symbol, they are most of the counting pass's time.
+        auto context = [&](uint32_t i, uint32_t k, uint32_t v) __attribute__((always_inline)) {
             const uint32_t shift = 8 * (kBytes - 1 - k);
             if (k > 0 && (v >> (shift + 8)) != 0) return kRansHighContext;
             if (i == 1 || i == n || i == 4 * n) return kRansStartContext;
@@ -73,7 +74,7 @@ inline void walkPage(uint32_t channels, uint8_t* planes, Step&& step) {
             else act = magnitudeOf(z[i - 1] >> shift) + magnitudeOf(z[i - n] >> shift);
             return std::min(act, kRansActivityBuckets - 1);
         };
-        auto code = [&](uint32_t i, uint32_t k, uint32_t& v, uint32_t state) {
+        auto code = [&](uint32_t i, uint32_t k, uint32_t& v, uint32_t state) __attribute__((always_inline)) {
             const uint32_t b = kBytes - 1 - k;
             uint8_t& byte = plane[b * kPageResiduals + (i - 1)];
             byte = step(b * kRansContextsPerByte + context(i, k, v), byte, state);
@@ -410,13 +411,30 @@ size_t RansTableSet::encode(const uint8_t* packed, uint32_t channels, PixelType 
     // Contexts come from the symbols before each one, so they are found front to back; rANS codes
     // back to front so that the decoder reads front to back.
     size_t n = 0;
-    std::memcpy(planes.data(), packed + prefix, raw - prefix);
-    walkPageAnyType(type, channels, planes.data(), [&](uint32_t ctx, uint8_t byte, uint32_t state) {
-        if (!knownContexts) contexts[n] = uint8_t(ctx | state << kRansStateBit);
-        symbols[n] = byte;
-        ++n;
-        return byte;
-    });
+    if (knownContexts) {
+        // The symbols in walkPage's order, without finding their contexts again.
+        const uint32_t bytes = bytesPerSample(type);
+        for (uint32_t c = 0; c < channels; ++c) {
+            const uint8_t* plane = packed + prefix + size_t(c) * bytes * kPageResiduals;
+            auto residualByte = [&](uint32_t texel, uint32_t k) {
+                return plane[(bytes - 1 - k) * kPageResiduals + texel - 1];
+            };
+            for (uint32_t k = 0; k < bytes; ++k) symbols[n++] = residualByte(4 * kPageSizeTexels, k);
+            for (uint32_t t = 1; t < 4 * kPageSizeTexels; ++t)
+                for (uint32_t k = 0; k < bytes; ++k) {
+                    symbols[n++] = residualByte(t, k);
+                    symbols[n++] = residualByte(t + 4 * kPageSizeTexels, k);
+                }
+        }
+    } else {
+        std::memcpy(planes.data(), packed + prefix, raw - prefix);
+        walkPageAnyType(type, channels, planes.data(), [&](uint32_t ctx, uint8_t byte, uint32_t state) {
+            contexts[n] = uint8_t(ctx | state << kRansStateBit);
+            symbols[n] = byte;
+            ++n;
+            return byte;
+        });
+    }
     const uint8_t* ctxOf = knownContexts ? knownContexts : contexts.data();
     // The check value and the first prefix bytes ride in the initial states: the decoder ends in
     // them and reads them back.
