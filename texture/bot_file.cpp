@@ -135,7 +135,8 @@ detail::Bot3Kind bot3KindOf(BotPageKind kind) {
 }
 
 // A raw page's checksum covers its stored bytes; a rANS page's covers the packed page it decodes to
-// (after the channel coding) and rides in its rANS states, so that its entry needs none.
+// (after the channel coding) and rides in its rANS states (its low 15 bits), so that its entry needs
+// none.
 uint32_t page3Checksum(const uint8_t* bytes, size_t count, uint64_t pageIndex, BotPageKind kind) {
     return uint32_t(detail::xxh64(bytes, count, pageIndex | uint64_t(bot3KindOf(kind)) << 56) & 0xffffu);
 }
@@ -637,7 +638,7 @@ uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uin
                                      scratch.packed.data(), check))
                 throw FormatError(m_path, "corrupt rANS data in " + pageName(level, pageX, pageY));
             packed = scratch.packed.data();
-            if (page3Checksum(packed, m_pageRawBytes, index, e.kind) != check)
+            if ((page3Checksum(packed, m_pageRawBytes, index, e.kind) & ((1u << detail::kRansCheckBits) - 1)) != check)
                 throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
         } else if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum) {
             throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));

@@ -379,16 +379,16 @@ size_t RansTableSet::memoryBytes() const {
 
 namespace {
 
-// The bytes the two states carry from the encoder's start to the decoder's end (bot_rans.h).
+// What the two states carry from the encoder's start to the decoder's end (bot_rans.h): the check
+// value, then the first prefix bytes, as one 47-bit number.
 struct StatePayload {
-    uint8_t bytes[kRansPayloadBytes] = {};
+    uint64_t bits;
     StatePayload(uint16_t check, const uint8_t* prefix, uint32_t inState) {
-        bytes[0] = uint8_t(check);
-        bytes[1] = uint8_t(check >> 8);
-        std::memcpy(bytes + 2, prefix, inState);
+        bits = check & ((1u << kRansCheckBits) - 1);
+        for (uint32_t j = 0; j < inState; ++j) bits |= uint64_t(prefix[j]) << (kRansCheckBits + 8 * j);
     }
-    uint32_t stateA() const { return kRansLow | uint32_t(bytes[0]) | uint32_t(bytes[1]) << 8 | uint32_t(bytes[2]) << 16; }
-    uint32_t stateB() const { return kRansLowB | uint32_t(bytes[3]) | uint32_t(bytes[4]) << 8; }
+    uint32_t stateA() const { return kRansLow | uint32_t(bits & ((1u << kRansPayloadBitsA) - 1)); }
+    uint32_t stateB() const { return kRansLowB + uint32_t(bits >> kRansPayloadBitsA); }
 };
 
 inline void put32le(uint8_t* p, uint32_t v) {
@@ -630,13 +630,13 @@ bool RansTableSet::decode(const uint8_t* stored, size_t bytes, uint32_t channels
     }
     // A valid coding ends exactly where the encoder began, each state at kRansLow plus its payload,
     // with every byte read once.
-    if (((a.marks | b.marks) & kStepUnused) || a.p != b.p || (a.x >> 24) != 1 || (b.x >> 16) != 1) return false;
-    const uint8_t payload[kRansPayloadBytes] = {uint8_t(a.x), uint8_t(a.x >> 8), uint8_t(a.x >> 16), uint8_t(b.x),
-                                                uint8_t(b.x >> 8)};
-    for (uint32_t j = 2 + inState; j < kRansPayloadBytes; ++j)
-        if (payload[j] != 0) return false;
-    check = uint16_t(payload[0] | payload[1] << 8);
-    std::memcpy(packed, payload + 2, inState);
+    if (((a.marks | b.marks) & kStepUnused) || a.p != b.p || (a.x >> 24) != 1 ||
+        (b.x - kRansLowB) >> kRansPayloadBitsB != 0)
+        return false;
+    const uint64_t payload = (a.x & ((1u << kRansPayloadBitsA) - 1)) | uint64_t(b.x - kRansLowB) << kRansPayloadBitsA;
+    if (payload >> (kRansCheckBits + 8 * inState) != 0) return false;  // zeros past the prefix
+    check = uint16_t(payload & ((1u << kRansCheckBits) - 1));
+    for (uint32_t j = 0; j < inState; ++j) packed[j] = uint8_t(payload >> (kRansCheckBits + 8 * j));
     return true;
 }
 

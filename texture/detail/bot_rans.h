@@ -24,15 +24,16 @@ constexpr uint32_t kRansScaleBits = 11;                // frequencies sum to 204
 constexpr uint32_t kRansScale = 1u << kRansScaleBits;
 // A page is coded by two states. State A lies in [2^24, 2^32) between symbols and is stored in 4
 // bytes, state B in [2^16, 2^24), stored in 3. Each begins at its lower bound plus a payload the
-// decoder ends with: A's 3 bytes are the page's 16-bit check value and the first prefix byte, B's 2
-// bytes the next two prefix bytes (zeros past the prefix).
+// decoder ends with: 47 bits, the page's 15-bit check value and the first prefix bytes (zeros past
+// the prefix), A taking the low 24 bits and B the high 23.
 constexpr uint32_t kRansLow = 1u << 24;
 constexpr uint32_t kRansLowB = 1u << 16;
 constexpr uint32_t kRansStateBytes = 4;   // state A
 constexpr uint32_t kRansStateBytesB = 3;  // state B
-constexpr uint32_t kRansPayloadBytes = 5;  // 3 in state A, 2 in state B
+constexpr uint32_t kRansCheckBits = 15;
+constexpr uint32_t kRansPayloadBitsA = 24, kRansPayloadBitsB = 23;
 // The first bytes of the prefix that ride in the initial states (see ransPrefixInState).
-constexpr uint32_t kRansPrefixInStateMax = kRansPayloadBytes - 2;
+constexpr uint32_t kRansPrefixInStateMax = (kRansPayloadBitsA + kRansPayloadBitsB - kRansCheckBits) / 8;
 // Words of a context's decoding block (see RansTableSet::m_decode).
 constexpr uint32_t kRansDecodeBlockWords = 256 + kRansScale / 4;
 // ransCount's contexts carry the state that codes each symbol (0: A, 1: B) in this bit.
@@ -98,8 +99,8 @@ public:
 
     // Codes one packed page into `out` (capacity bytes): the prefix bytes past the first
     // ransPrefixInState of them, the final states A and B (4 and 3 bytes, little-endian), state A's
-    // renormalisation bytes in reading order, then state B's in reverse reading order. `check`
-    // rides in the states and comes back out of decode. Returns the bytes written, or 0 when they
+    // renormalisation bytes in reading order, then state B's in reverse reading order. The low
+    // kRansCheckBits of `check` ride in the states and come back out of decode. Returns the bytes written, or 0 when they
     // would not fit in `capacity`. Every symbol of the page must have a frequency in its context
     // (pages counted into the fitted histogram). `contexts`: the page's contexts as ransCount wrote
     // them, which saves finding them again.
