@@ -134,8 +134,11 @@ detail::Bot3Kind bot3KindOf(BotPageKind kind) {
     }
 }
 
-uint32_t page3Checksum(const uint8_t* stored, size_t bytes, uint64_t pageIndex, BotPageKind kind) {
-    return uint32_t(detail::xxh64(stored, bytes, pageIndex | uint64_t(bot3KindOf(kind)) << 56) & 0xffffu);
+// A raw page's checksum covers its stored bytes; a rANS page's covers the packed page it decodes to
+// (after the channel coding) and rides in its rANS states (its low 15 bits), so that its entry needs
+// none.
+uint32_t page3Checksum(const uint8_t* bytes, size_t count, uint64_t pageIndex, BotPageKind kind) {
+    return uint32_t(detail::xxh64(bytes, count, pageIndex | uint64_t(bot3KindOf(kind)) << 56) & 0xffffu);
 }
 
 cache::ZstdForm zstdFormOf(BotPageKind kind) {
@@ -496,7 +499,7 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
         }
     }
     file.m_pages.resize(size_t(pageCount));
-    const uint32_t least = ransPrefixInState(prefixBytes);
+    const uint32_t leastRans = prefixBytes - ransPrefixInState(prefixBytes) + kRansStateBytes + kRansStateBytesB;
     uint64_t row = 0, index = 0;
     for (uint32_t l = 0; l < levelCount; ++l) {
         const BotLevel& lv = hd.levels[l];
@@ -504,37 +507,51 @@ void BotFile::parseVersion3(BotFile& file, const uint8_t* h, const Source& sourc
             uint64_t offset = get64(rowTable + row * kBotRowEntryBytes);
             for (uint32_t px = 0; px < lv.pagesX; ++px, ++index) {
                 BotPageEntry& e = file.m_pages[index];
-                uint32_t field = 0;
-                if (!readVarint(at, end, field)) throw fail("truncated page table at " + pageName(l, px, py));
-                const uint32_t kind = field & ((1u << kBot3KindBits) - 1);
-                const uint32_t stored = field >> kBot3KindBits;
-                if (Bot3Kind(kind) == Bot3Kind::Constant) {
+                auto truncated = [&] { return fail("truncated page table at " + pageName(l, px, py)); };
+                if (at == end) throw truncated();
+                const uint32_t first = *at++;
+                auto next = [&](uint32_t bytes) {
+                    if (uint64_t(end - at) < bytes) throw truncated();
+                    uint32_t v = 0;
+                    for (uint32_t k = 0; k < bytes; ++k) v |= uint32_t(*at++) << (8 * k);
+                    return v;
+                };
+                if (first >= kBot3EntryConstant && first < kBot3EntryRaw) {
                     // No stored bytes: the entry names one of the band's constant colours, which the
                     // trailer's checksum covers.
+                    uint32_t colour = 0;
+                    if (first < kBot3EntryConstant2) {
+                        colour = first - kBot3EntryConstant;
+                    } else if (first < kBot3EntryConstant3) {
+                        colour = kBot3ConstantShortColours + ((first & 0x0f) << 8 | next(1));
+                    } else if (first < kBot3EntryConstant3 + 8) {
+                        colour = kBot3ConstantShortColours + kBot3ConstantMidColours + ((first & 0x07) << 16 | next(2));
+                    } else {
+                        throw fail("bad page entry " + std::to_string(first) + " of " + pageName(l, px, py));
+                    }
                     const Band& band = file.m_bands[file.m_levelFirstBand[l] + py / file.m_levelBandRows[l]];
-                    if (uint64_t(stored) * prefixBytes >= band.palette.size())
-                        throw fail("bad constant colour " + std::to_string(stored) + " of " + pageName(l, px, py));
+                    if (uint64_t(colour) * prefixBytes >= band.palette.size())
+                        throw fail("bad constant colour " + std::to_string(colour) + " of " + pageName(l, px, py));
                     e.kind = BotPageKind::Constant;
-                    e.checksum = stored;  // the colour's index
+                    e.checksum = colour;  // the colour's index
                     e.storedBytes = 0;
                     e.offsetBytes = offset;
                     continue;
                 }
-                if (end - at < 2) throw fail("truncated page table at " + pageName(l, px, py));
-                e.checksum = get16(at);
-                at += 2;
-                bool sizeOk = false;
-                switch (Bot3Kind(kind)) {
-                    case Bot3Kind::Raw: e.kind = BotPageKind::Raw; sizeOk = stored == rawBytes; break;
-                    case Bot3Kind::Rans:
-                        e.kind = BotPageKind::Rans;
-                        sizeOk = stored >= prefixBytes - least + kRansStateBytes && stored < rawBytes;
-                        break;
-                    default: throw fail("bad page kind " + std::to_string(kind) + " of " + pageName(l, px, py));
+                uint32_t stored = 0;
+                if (first == kBot3EntryRaw) {
+                    // Only a raw page has a checksum in its entry; a rANS page's rides in its states.
+                    e.kind = BotPageKind::Raw;
+                    stored = rawBytes;
+                    e.checksum = next(2);
+                } else {
+                    e.kind = BotPageKind::Rans;
+                    stored = leastRans + (first < kBot3EntryRansLong
+                                              ? first
+                                              : kBot3RansShortSizes + ((first & 0x3f) << 8 | next(1)));
+                    if (stored >= rawBytes)
+                        throw fail("bad stored size " + std::to_string(stored) + " of rans " + pageName(l, px, py));
                 }
-                if (!sizeOk)
-                    throw fail("bad stored size " + std::to_string(stored) + " of " + pageKindName(e.kind) + " " +
-                               pageName(l, px, py));
                 e.storedBytes = uint16_t(stored);
                 e.offsetBytes = offset;
                 if (offset < kBotHeaderBytes || offset > trailerOffset || stored > trailerOffset - offset)
@@ -615,13 +632,16 @@ uint64_t BotFile::decodePage(uint64_t index, uint32_t level, uint32_t pageX, uin
             detail::unpackPageToFloat(scratch.packed.data(), m_header.channels, m_header.pixelType, band.filter, dst);
             return 0;
         }
-        if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum)
-            throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
         if (e.kind == BotPageKind::Rans) {
+            uint16_t check = 0;
             if (!band.tables->decode(stored, e.storedBytes, m_header.channels, m_header.pixelType,
-                                     scratch.packed.data()))
+                                     scratch.packed.data(), check))
                 throw FormatError(m_path, "corrupt rANS data in " + pageName(level, pageX, pageY));
             packed = scratch.packed.data();
+            if ((page3Checksum(packed, m_pageRawBytes, index, e.kind) & ((1u << detail::kRansCheckBits) - 1)) != check)
+                throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
+        } else if (page3Checksum(stored, e.storedBytes, index, e.kind) != e.checksum) {
+            throw FormatError(m_path, "checksum mismatch in " + pageName(level, pageX, pageY));
         }
         if (band.decorrelateTo) {
             if (packed != scratch.packed.data()) {
@@ -909,7 +929,8 @@ struct BotWriter::Impl {
                     kind = BotPageKind::Constant;  // its colour goes to the band's palette below
                     n = 0;
                 } else {
-                    n = tables->encode(page, header.channels, header.pixelType, dst, rawBytes - 1,
+                    const uint16_t check = uint16_t(page3Checksum(page, rawBytes, indexOf(k), kind));
+                    n = tables->encode(page, header.channels, header.pixelType, check, dst, rawBytes - 1,
                                        pageContexts.data() + k * symbolsPerPage);
                     if (n == 0) {
                         kind = BotPageKind::Raw;
@@ -920,7 +941,7 @@ struct BotWriter::Impl {
                 const uint64_t index = indexOf(k);
                 rowSizes[k] = uint32_t(n);
                 pageSizes[index] = uint32_t(n) << detail::kBot3KindBits | uint32_t(bot3KindOf(kind));
-                pageChecksums[index] = kind == BotPageKind::Constant ? 0 : page3Checksum(dst, n, index, kind);
+                pageChecksums[index] = kind == BotPageKind::Raw ? page3Checksum(dst, n, index, kind) : 0;
             }
         });
         // The band's constant colours in the order their first page comes, each stored once; a
@@ -987,11 +1008,42 @@ struct BotWriter::Impl {
             trailer.insert(trailer.end(), word, word + 8);
         }
         for (const std::vector<uint8_t>& band : bandTables) trailer.insert(trailer.end(), band.begin(), band.end());
+        // Page entries (bot_layout.h): most rANS pages of up to 134 bytes (RGB 8-bit) and most
+        // constant pages take one byte.
+        const uint32_t leastRans = prefixBytes - ransPrefixInState(prefixBytes) + kRansStateBytes + kRansStateBytesB;
         for (size_t p = 0; p < pageSizes.size(); ++p) {
-            appendVarint(trailer, pageSizes[p]);
-            if ((pageSizes[p] & 3) == uint32_t(Bot3Kind::Constant)) continue;  // no bytes, no checksum
-            put16(word, uint16_t(pageChecksums[p]));
-            trailer.insert(trailer.end(), word, word + 2);
+            const uint32_t v = pageSizes[p] >> kBot3KindBits;
+            switch (Bot3Kind(pageSizes[p] & 3)) {
+                case Bot3Kind::Raw:
+                    trailer.push_back(uint8_t(kBot3EntryRaw));
+                    put16(word, uint16_t(pageChecksums[p]));
+                    trailer.insert(trailer.end(), word, word + 2);
+                    break;
+                case Bot3Kind::Rans: {
+                    const uint32_t d = v - leastRans;
+                    if (d < kBot3RansShortSizes) {
+                        trailer.push_back(uint8_t(d));
+                    } else {
+                        trailer.push_back(uint8_t(kBot3EntryRansLong | (d - kBot3RansShortSizes) >> 8));
+                        trailer.push_back(uint8_t(d - kBot3RansShortSizes));
+                    }
+                    break;
+                }
+                case Bot3Kind::Constant:
+                    if (v < kBot3ConstantShortColours) {
+                        trailer.push_back(uint8_t(kBot3EntryConstant + v));
+                    } else if (v < kBot3ConstantShortColours + kBot3ConstantMidColours) {
+                        const uint32_t d = v - kBot3ConstantShortColours;
+                        trailer.push_back(uint8_t(kBot3EntryConstant2 | d >> 8));
+                        trailer.push_back(uint8_t(d));
+                    } else {
+                        const uint32_t d = v - kBot3ConstantShortColours - kBot3ConstantMidColours;
+                        trailer.push_back(uint8_t(kBot3EntryConstant3 | d >> 16));
+                        trailer.push_back(uint8_t(d));
+                        trailer.push_back(uint8_t(d >> 8));
+                    }
+                    break;
+            }
         }
         uint8_t h[kBotHeaderBytes] = {};
         putSharedHeader(h, kBotVersion3);

@@ -5,9 +5,9 @@
 // concurrently. A BotWriter belongs to one thread (it parallelises page encoding internally with
 // oneTBB).
 // Memory: a BotFile holds 16 bytes per page plus the file's dictionary (version 2) or its bands'
-// coding tables and palettes (version 3: about 9 KiB per context in use, 14 contexts a byte of a
-// sample; a band holds up to 16384 pages); readPage uses thread-local buffers bounded by the
-// largest possible page (64 channels of float: 16 KiB raw). A BotWriter holds 8 rows per level, 8
+// coding tables and palettes (version 3: 3 KiB of decoding tables per context, 14 contexts a byte of
+// a sample, and 1 KiB per context in use; a band holds up to 16384 pages); readPage uses
+// thread-local buffers bounded by the largest possible page (64 channels of float: 16 KiB raw). A BotWriter holds 8 rows per level, 8
 // bytes per page for its tables, and while it trains its dictionary (version 2) at most
 // kDictionarySampleBytes of pending pages; version 3 holds one band per level as samples (at most
 // 8 MiB each) and, while coding it, its packed pages and their contexts, plus the tail band's levels
@@ -85,7 +85,8 @@ std::optional<PageFilter> parsePageFilter(const std::string& name);  // none, me
 struct BotPageEntry {
     uint64_t offsetBytes = 0;
     // Low 32 (version 3: 16) bits of XXH64(stored bytes, seed = page index | kind << 56); for a
-    // version-3 constant page, the index of its colour in its band's palette.
+    // version-3 constant page, the index of its colour in its band's palette; 0 for a version-3
+    // rANS page, whose checksum rides in its stored bytes.
     uint32_t checksum = 0;
     uint16_t storedBytes = 0;  // bytes on disk (at most 16384)
     BotPageKind kind = BotPageKind::Raw;
@@ -189,8 +190,8 @@ struct BotWriteOptions {
     // entropy; version 3, the one whose residuals of each band code smaller.
     std::optional<PageFilter> pageFilter;
     // The file version: 2 (zstd pages, BOT_FORMAT.md "Version 2"; the default) or 3 (rANS-coded
-    // pages in bands: smaller files whose pages take about 2.5 times as long to decode).
-    // compressionLevel and dictionary apply to version 2 only.
+    // pages in bands: files about 0.63 times the size, pages taking about 1.15 times as long to
+    // decode). compressionLevel and dictionary apply to version 2 only.
     uint32_t version = 2;
 };
 

@@ -60,25 +60,39 @@ TEST(RansTableSet, FittedTablesCodeEveryPageAndStoredTablesDecodeIt) {
         std::vector<uint8_t> again;
         parsed->serialize(again);
         EXPECT_EQ(again, stored);
-        std::vector<uint8_t> coded(2 * raw + 16), back(raw);
+        std::vector<uint8_t> coded(2 * raw + 16), back(raw), contexts(ransSymbolsPerPage(c.channels, c.type));
         uint64_t total = 0;
         for (uint32_t p = 0; p < pages; ++p) {
             const uint8_t* page = packed.data() + size_t(p) * raw;
-            const size_t n = fitted->encode(page, c.channels, c.type, coded.data(), coded.size());
+            const uint16_t check = uint16_t(p * 977 + 13) & ((1u << kRansCheckBits) - 1);
+            const size_t n = fitted->encode(page, c.channels, c.type, check, coded.data(), coded.size());
             ASSERT_GT(n, 0u) << "page " << p;
             total += n;
-            ASSERT_TRUE(parsed->decode(coded.data(), n, c.channels, c.type, back.data())) << "page " << p;
+            // The contexts the counting pass found code the same bytes.
+            RansHistogram scratch(ransContextCount(c.type));
+            ransCount(page, c.channels, c.type, scratch, contexts.data());
+            std::vector<uint8_t> recoded(coded.size());
+            ASSERT_EQ(fitted->encode(page, c.channels, c.type, check, recoded.data(), recoded.size(), contexts.data()), n);
+            EXPECT_EQ(0, std::memcmp(recoded.data(), coded.data(), n)) << "page " << p;
+            uint16_t decodedCheck = 0;
+            ASSERT_TRUE(parsed->decode(coded.data(), n, c.channels, c.type, back.data(), decodedCheck)) << "page " << p;
             ASSERT_EQ(0, std::memcmp(back.data(), page, raw)) << "page " << p << ", " << c.channels << " channels";
-            // One byte more or less is not a valid coding.
-            EXPECT_FALSE(parsed->decode(coded.data(), n - 1, c.channels, c.type, back.data()));
+            EXPECT_EQ(decodedCheck, check);
+            // One byte more or less is refused, or decodes to something else than the page with its
+            // check value (the reader compares the check with the decoded page).
+            auto decodesBack = [&](size_t bytes) {
+                return parsed->decode(coded.data(), bytes, c.channels, c.type, back.data(), decodedCheck) &&
+                       decodedCheck == check && std::memcmp(back.data(), page, raw) == 0;
+            };
+            EXPECT_FALSE(decodesBack(n - 1));
             coded[n] = 0;
-            EXPECT_FALSE(parsed->decode(coded.data(), n + 1, c.channels, c.type, back.data()));
+            EXPECT_FALSE(decodesBack(n + 1));
         }
         // The estimate the writer chooses filters by is close to what the coder stores (besides the
-        // tables: 4 bytes of final state and the prefix bytes it does not carry a page, and rounding).
+        // tables: 7 bytes of final states and the prefix bytes they do not carry a page, and rounding).
         const double estimate = histogram.codedBits() / 8.0;
         const uint32_t prefix = pagePrefixBytes(c.channels, c.type);
-        const double perPage = kRansStateBytes + prefix - ransPrefixInState(prefix);
+        const double perPage = kRansStateBytes + kRansStateBytesB + prefix - ransPrefixInState(prefix);
         EXPECT_NEAR(double(total) + double(stored.size()), estimate + perPage * pages, 0.02 * estimate + 2.0 * pages)
             << c.channels << " channels of " << pixelTypeName(c.type);
     }

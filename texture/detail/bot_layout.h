@@ -22,10 +22,27 @@ constexpr uint32_t kBotPageKindShift = 14;    // kind in bits 14-15, stored size
 constexpr uint32_t kBotMaxStoredBytes = (1u << kBotPageKindShift) - 1;
 constexpr uint32_t kBotMaxDictionaryBytes = 1u << 20;
 
-// Version 3 (BOT_FORMAT.md "Version 3"): page entries are varint(stored size << 2 | kind) and a u16
-// checksum (a constant page: varint(colour << 2 | 2) alone); pages are grouped into bands of whole page rows, each with its own filter and tables.
-constexpr uint32_t kBot3KindBits = 2;
-constexpr uint32_t kBot3MinPageEntryBytes = 1;       // a constant page's varint
+// Version 3 (BOT_FORMAT.md "Version 3"): pages are grouped into bands of whole page rows, each with
+// its own filter and tables. A page entry is 1 to 3 bytes, by its first byte b:
+//   0x00-0x7f  rANS page of (least size + b) bytes
+//   0x80-0xbf  rANS page of (least size + 128 + ((b & 0x3f) << 8 | next byte)) bytes
+//   0xc0-0xdf  constant page of colour b - 0xc0
+//   0xe0-0xef  constant page of colour 32 + ((b & 0x0f) << 8 | next byte)
+//   0xf0-0xf7  constant page of colour 4128 + ((b & 0x07) << 16 | next two bytes, little-endian)
+//   0xff       raw page, then its u16 checksum
+// The least size of a rANS page is its states' 7 bytes and the prefix bytes they do not carry.
+constexpr uint32_t kBot3KindBits = 2;  // the writer keeps stored size << 2 | kind per page
+constexpr uint32_t kBot3MinPageEntryBytes = 1;
+constexpr uint32_t kBot3EntryRansLong = 0x80;
+constexpr uint32_t kBot3EntryConstant = 0xc0;
+constexpr uint32_t kBot3EntryConstant2 = 0xe0;
+constexpr uint32_t kBot3EntryConstant3 = 0xf0;
+constexpr uint32_t kBot3EntryRaw = 0xff;
+constexpr uint32_t kBot3RansShortSizes = 128;                      // sizes coded in one byte
+constexpr uint32_t kBot3RansLongSizes = 1u << 14;                  // ... and in two more
+constexpr uint32_t kBot3ConstantShortColours = 32;
+constexpr uint32_t kBot3ConstantMidColours = 1u << 12;
+constexpr uint32_t kBot3ConstantLongColours = 1u << 19;
 constexpr uint32_t kBot3BandMaxPages = 16384;        // a band holds at most this many pages...
 constexpr uint32_t kBot3BandMaxRawBytes = 8u << 20;  // ...and at most this many raw page bytes
 enum class Bot3Kind : uint8_t { Raw = 0, Rans = 1, Constant = 2 };

@@ -2,10 +2,13 @@
 // "Version 3"): a static rANS coder with 11-bit frequencies, one table per context, the contexts
 // taken from the magnitudes of the residuals already coded around each sample (LOCO-I and CALIC
 // choose their contexts from the local gradient the same way).
+// A page is coded by two rANS states, one per half of each channel's grid, so that a decoder can run
+// them side by side.
 // A RansTableSet is immutable once built and may be read by any number of threads; the page
 // functions work on caller-owned buffers and never allocate.
-// Memory: a RansTableSet holds RansTableSet::memoryBytes() (about 9 KiB per context in use; those
-// built by fit() also 2 KiB per context of reciprocals for encoding).
+// Memory: a RansTableSet holds RansTableSet::memoryBytes() (8 KiB of decoding steps per context, 14
+// contexts a byte of a sample, and 1 KiB per context in use; those built by fit() also 2 KiB per
+// context of reciprocals for encoding).
 #pragma once
 
 #include <cstddef>
@@ -19,10 +22,22 @@ namespace pushpin::texture::detail {
 
 constexpr uint32_t kRansScaleBits = 11;                // frequencies sum to 2048
 constexpr uint32_t kRansScale = 1u << kRansScaleBits;
-constexpr uint32_t kRansLow = 1u << 24;                // the state lies in [2^24, 2^32) between symbols
-constexpr uint32_t kRansStateBytes = 4;                // the final encoder state, stored first
-// The first bytes of the prefix that ride in the initial state (see ransPrefixInState).
-constexpr uint32_t kRansPrefixInStateMax = 3;
+// A page is coded by two states. State A lies in [2^24, 2^32) between symbols and is stored in 4
+// bytes, state B in [2^16, 2^24), stored in 3. Each begins at its lower bound plus a payload the
+// decoder ends with: 47 bits, the page's 15-bit check value and the first prefix bytes (zeros past
+// the prefix), A taking the low 24 bits and B the high 23.
+constexpr uint32_t kRansLow = 1u << 24;
+constexpr uint32_t kRansLowB = 1u << 16;
+constexpr uint32_t kRansStateBytes = 4;   // state A
+constexpr uint32_t kRansStateBytesB = 3;  // state B
+constexpr uint32_t kRansCheckBits = 15;
+constexpr uint32_t kRansPayloadBitsA = 24, kRansPayloadBitsB = 23;
+// The first bytes of the prefix that ride in the initial states (see ransPrefixInState).
+constexpr uint32_t kRansPrefixInStateMax = (kRansPayloadBitsA + kRansPayloadBitsB - kRansCheckBits) / 8;
+// Words of a context's decoding block (see RansTableSet::m_decode).
+constexpr uint32_t kRansDecodeBlockWords = 256 + kRansScale / 4;
+// ransCount's contexts carry the state that codes each symbol (0: A, 1: B) in this bit.
+constexpr uint32_t kRansStateBit = 7;
 
 // Contexts per byte of a sample: kRansActivityBuckets by the neighbours' residual magnitudes, one
 // for the two texels whose only neighbour is texel 0, one for a byte whose sample already has a
@@ -56,7 +71,8 @@ struct RansHistogram {
     double codedBits() const;
 };
 // Adds the symbols of one packed page, each under its context. With `contexts`, also writes each
-// symbol's context there, in coding order (ransSymbolsPerPage bytes), for RansTableSet::encode.
+// symbol's context and state (context | state << kRansStateBit) there, in the order of walking the
+// page (ransSymbolsPerPage bytes), for RansTableSet::encode.
 void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram,
                uint8_t* contexts = nullptr);
 
@@ -82,16 +98,20 @@ public:
     size_t memoryBytes() const;
 
     // Codes one packed page into `out` (capacity bytes): the prefix bytes past the first
-    // ransPrefixInState of them, the final state (4 bytes, little-endian), then the renormalisation
-    // bytes. Returns the bytes written, or 0 when they would not fit in `capacity`. Every symbol
-    // of the page must have a frequency in its context (pages counted into the fitted histogram).
-    // `contexts`: the page's contexts as ransCount wrote them, which saves finding them again.
-    size_t encode(const uint8_t* packed, uint32_t channels, PixelType type, uint8_t* out, size_t capacity,
-                  const uint8_t* contexts = nullptr) const;
-    // Inverse of encode: rebuilds the packed page from `bytes` stored bytes. Returns false when
-    // the bytes are not a valid coding (the state does not end where encode began it, bytes left
-    // over or missing, a symbol without frequency). Never reads outside [stored, stored + bytes).
-    bool decode(const uint8_t* stored, size_t bytes, uint32_t channels, PixelType type, uint8_t* packed) const;
+    // ransPrefixInState of them, the final states A and B (4 and 3 bytes, little-endian), state A's
+    // renormalisation bytes in reading order, then state B's in reverse reading order. The low
+    // kRansCheckBits of `check` ride in the states and come back out of decode. Returns the bytes written, or 0 when they
+    // would not fit in `capacity`. Every symbol of the page must have a frequency in its context
+    // (pages counted into the fitted histogram). `contexts`: the page's contexts as ransCount wrote
+    // them, which saves finding them again.
+    size_t encode(const uint8_t* packed, uint32_t channels, PixelType type, uint16_t check, uint8_t* out,
+                  size_t capacity, const uint8_t* contexts = nullptr) const;
+    // Inverse of encode: rebuilds the packed page from `bytes` stored bytes and returns the check
+    // value encode was given in `check`. Returns false when the bytes are not a valid coding (a
+    // state does not end where encode began it, bytes left over or missing, a symbol without
+    // frequency). Never reads outside [stored, stored + bytes).
+    bool decode(const uint8_t* stored, size_t bytes, uint32_t channels, PixelType type, uint8_t* packed,
+                uint16_t& check) const;
 
     struct Table;  // one context's frequencies and lookup tables (bot_rans.cpp)
 
@@ -101,8 +121,12 @@ private:
     std::vector<int32_t> m_tableOf;  // per context: index into m_tables, or -1 when unused
     std::vector<Table> m_tables;
     std::vector<uint64_t> m_reciprocals;  // fit() only: 256 per table, for encoding
-    std::vector<const Table*> m_decodeTables;  // per context: its table, or one that marks misuse
-    void index();                              // fills m_decodeTables
+    // Per context, kRansScale decoding steps (bot_rans.cpp), back to back; the steps of a context
+    // without symbols mark the page corrupt.
+    // Per context, one decoding block of kRansDecodeBlockWords: per symbol its frequency | cumulative
+    // frequency << 12 (256 words), then the symbol of each of the kRansScale slots (bytes).
+    std::vector<uint32_t> m_decode;
+    void index();  // fills m_decode
 public:
     ~RansTableSet();
     RansTableSet(RansTableSet&&) noexcept;

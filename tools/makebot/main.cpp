@@ -50,7 +50,7 @@ const char* kUsage =
     "                                   metadata, else linear\n"
     "  --threads N                      worker threads (default: all)\n"
     "  --bot-version 2|3                file version (default 2: zstd pages; 3: rANS-coded pages,\n"
-    "                                   smaller, about 2.5x as slow to decode a page)\n"
+    "                                   smaller, about 1.15x as long to decode a page)\n"
     "  --zstd-level N                   version 2: zstd level for pages with a trained or no dictionary\n"
     "                                   (default 1; literal-dictionary pages use zstd's fast level)\n"
     "  --dictionary auto|none|trained|literal\n"
