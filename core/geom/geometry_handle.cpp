@@ -7,12 +7,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 namespace pushpin::geom {
 
+// A surface's grid (its parameters at once; its welds, which evaluate the boundary, when it is
+// first tessellated, so that a surface never made costs no evaluation) and its pieces.
 struct NurbsGridPieces {
-    NurbsGrid grid;
+    mutable NurbsGrid grid;
     std::optional<NurbsPieces> pieces;
+    mutable std::once_flag weldOnce;
+    mutable bool welded = false;
+    mutable std::string problem;
+    // The grid with its welds, or null with `why` set when the boundary evaluates to NaN/Inf.
+    const NurbsGrid* withWelds(const NurbsSurface& s, std::string& why) const {
+        std::call_once(weldOnce, [&] { welded = weldNurbsGrid(s, grid, problem); });
+        if (!welded) why = problem;
+        return welded ? &grid : nullptr;
+    }
 };
 
 namespace {
@@ -191,7 +203,7 @@ uint64_t nurbsCellsWorkBytes(const NurbsGrid& g, const NurbsCells& cells) {
 void GeometryHandle::splitNurbs() {
     m_nurbs.reset();
     m_sourceBytes = uint64_t(m_surface->cvs().capacity()) * sizeof(glm::dvec4);
-    std::optional<NurbsGrid> grid = makeNurbsGrid(*m_surface, m_divU, m_divV, m_nurbsProblem);
+    std::optional<NurbsGrid> grid = nurbsGridParameters(*m_surface, m_divU, m_divV, m_nurbsProblem);
     if (!grid) {
         m_workBytes = 0;
         return;
@@ -203,7 +215,8 @@ void GeometryHandle::splitNurbs() {
         made->pieces = NurbsPieces::split(*m_surface, g, m_pieceTriangles);
     m_sourceBytes += uint64_t(g.us.capacity() + g.vs.capacity()) * sizeof(double) +
                      uint64_t(g.spanOfU.capacity() + g.spanOfV.capacity()) * sizeof(uint32_t) +
-                     uint64_t(g.welds.capacity()) * 2 * sizeof(uint32_t) + (made->pieces ? made->pieces->bytes() : 0);
+                     uint64_t(2 * (g.us.size() + g.vs.size())) * 2 * sizeof(uint32_t) +  // the welds, at most
+                     (made->pieces ? made->pieces->bytes() : 0);
     m_workBytes = nurbsCellsWorkBytes(g, {0, uint32_t(g.cellRows()), 0, uint32_t(g.cellColumns())});
     m_nurbs = std::move(made);
 }
@@ -311,9 +324,9 @@ uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
 Tessellation GeometryHandle::tessellatePiece(size_t k, std::string* problem) const {
     if (m_nurbs && m_nurbs->pieces) {
         std::string why;
-        std::optional<Tessellation> t =
-            tessellateNurbsCells(*m_surface, m_nurbs->grid, m_nurbs->pieces->pieces()[k].cells, why);
-        if (t) return std::move(*t);
+        if (const NurbsGrid* g = m_nurbs->withWelds(*m_surface, why))
+            if (std::optional<Tessellation> t = tessellateNurbsCells(*m_surface, *g, m_nurbs->pieces->pieces()[k].cells, why))
+                return std::move(*t);
         if (problem) *problem = why;
         return {};
     }
@@ -344,12 +357,11 @@ Tessellation GeometryHandle::tessellate(std::string* problem) const {
     }
     if (m_surface) {
         std::string why = m_nurbsProblem;
-        if (m_nurbs) {
-            const NurbsGrid& g = m_nurbs->grid;
-            std::optional<Tessellation> t =
-                tessellateNurbsCells(*m_surface, g, {0, uint32_t(g.cellRows()), 0, uint32_t(g.cellColumns())}, why);
-            if (t) return std::move(*t);
-        }
+        if (m_nurbs)
+            if (const NurbsGrid* g = m_nurbs->withWelds(*m_surface, why))
+                if (std::optional<Tessellation> t = tessellateNurbsCells(
+                        *m_surface, *g, {0, uint32_t(g->cellRows()), 0, uint32_t(g->cellColumns())}, why))
+                    return std::move(*t);
         if (problem) *problem = why;
     }
     return {};

@@ -82,6 +82,12 @@ uint32_t NurbsGrid::root(uint32_t p) const {
 }
 
 std::optional<NurbsGrid> makeNurbsGrid(const NurbsSurface& s, int divU, int divV, std::string& problem) {
+    std::optional<NurbsGrid> g = nurbsGridParameters(s, divU, divV, problem);
+    if (g && !weldNurbsGrid(s, *g, problem)) return std::nullopt;
+    return g;
+}
+
+std::optional<NurbsGrid> nurbsGridParameters(const NurbsSurface& s, int divU, int divV, std::string& problem) {
     NurbsGrid g;
     const std::vector<double> breaksU = spanBreaks(s.knotsU(), s.uMin(), s.uMax());
     const std::vector<double> breaksV = spanBreaks(s.knotsV(), s.vMin(), s.vMax());
@@ -97,7 +103,12 @@ std::optional<NurbsGrid> makeNurbsGrid(const NurbsSurface& s, int divU, int divV
     const double size = std::max({hull.size().x, hull.size().y, hull.size().z, 1e-30});
     g.tolerance = 1e-6 * size;
     g.minArea2 = 1e-24 * std::pow(size, 4.0);
+    return g;
+}
 
+bool weldNurbsGrid(const NurbsSurface& s, NurbsGrid& g, std::string& problem) {
+    const size_t nu = g.us.size(), nv = g.vs.size();
+    g.welds.clear();
     // The boundary points, each once, and their positions.
     std::vector<uint32_t> boundary;
     boundary.reserve(2 * (nu + nv));
@@ -110,7 +121,7 @@ std::optional<NurbsGrid> makeNurbsGrid(const NurbsSurface& s, int divU, int divV
         pos[k] = s.point(g.us[boundary[k] / nv], g.vs[boundary[k] % nv]);
         if (!isFinite(pos[k])) {
             problem = "the surface evaluates to NaN/Inf";
-            return std::nullopt;
+            return false;
         }
     }
     auto at = [&](size_t i, size_t j) {
@@ -147,7 +158,7 @@ std::optional<NurbsGrid> makeNurbsGrid(const NurbsSurface& s, int divU, int divV
     // Boundary positions are sorted by point, so the lowest index of a group is its lowest point.
     for (size_t k = 0; k < boundary.size(); ++k)
         if (const uint32_t r = find(uint32_t(k)); r != k) g.welds.emplace_back(boundary[k], boundary[r]);
-    return g;
+    return true;
 }
 
 NurbsCellsWork nurbsCellsWork(const NurbsGrid& g, const NurbsCells& c) {

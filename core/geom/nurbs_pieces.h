@@ -57,6 +57,11 @@ struct NurbsGrid {
 // The grid of `s` with `divU` × `divV` steps per span (at least 1). nullopt with `problem` set
 // when the domain is empty or the boundary evaluates to NaN/Inf.
 std::optional<NurbsGrid> makeNurbsGrid(const NurbsSurface& s, int divU, int divV, std::string& problem);
+// The same in two steps: the parameters, tolerances and spans alone (no evaluation: what cutting
+// the grid into pieces needs), then the welds, from the boundary rows and columns evaluated
+// (false with `problem` set when they evaluate to NaN/Inf).
+std::optional<NurbsGrid> nurbsGridParameters(const NurbsSurface& s, int divU, int divV, std::string& problem);
+bool weldNurbsGrid(const NurbsSurface& s, NurbsGrid& g, std::string& problem);
 
 // Cells [i0, i1) × [j0, j1) of a grid.
 struct NurbsCells {

@@ -193,15 +193,11 @@ FrameScene buildFrameSceneHere(scene::Evaluator& ev, const scene::RenderSetup& s
         return {};
     };
 
-    // Shapes straight from a primitive: their counts and bounds, read once. One of more than
-    // kPieceTriangles triangles is evaluated like any other shape instead, so that it is
-    // tessellated in pieces (a smaller one is made whole, which costs less than making its mesh
-    // again for each piece).
+    // Shapes straight from a primitive: their counts and bounds, read once.
     std::unordered_map<NodeId, geom::PrimitiveCounts> primitiveCounts;
     for (const scene::Node& node : g.nodes())
         if (node.type == "mesh")
-            if (std::optional<geom::PrimitiveCounts> c = scene::primitiveShapeCounts(ev, node.id);
-                c && c->triangles <= geom::GeometryHandle::kPieceTriangles)
+            if (std::optional<geom::PrimitiveCounts> c = scene::primitiveShapeCounts(ev, node.id))
                 primitiveCounts.emplace(node.id, *c);
 
     // Without a cap every shape's geometry stays resident anyway, so the shapes that render are
