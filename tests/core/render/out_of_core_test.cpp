@@ -21,6 +21,7 @@
 
 #include <cstring>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -314,6 +315,49 @@ TEST(OutOfCore, WithoutACapADenseTileOfTheGridIsSplit) {
     EXPECT_EQ(st.tiles, planTiles({0, 0, 160, 112}, 64, 64).size());
 }
 
+// One render of the ground scene with its ground in pieces: threads, tile size, and the bytes the
+// budget allows beyond the frame's buffers and kFragmentRoom (0: no cap).
+struct PiecedCase {
+    int threads, tile;
+    uint64_t extra;
+};
+
+// Renders `pieced` (g's scene with the ground given `pieces`) for each case and checks that the
+// image is g's whole-ground image, that every charge is given back and the cap held, that without
+// a cap each piece is made once for both instances, and that the triangles are the whole shape's.
+// Returns each case's stats.
+std::vector<RenderStats> expectPiecesRenderAsWhole(const GroundRender& g, const FrameScene& pieced,
+                                                   const geom::GeometryHandle& pieces,
+                                                   std::span<const PiecedCase> cases) {
+    RenderStats wholeStats;
+    const Framebuffer reference = renderFrame(g.scene, g.camera, g.settings, wholeStats);
+    std::vector<RenderStats> out;
+    for (const PiecedCase& c : cases) {
+        SCOPED_TRACE(std::to_string(c.threads) + " threads, tiles of " + std::to_string(c.tile) + ", " +
+                     std::to_string(c.extra) + " bytes over the buffers");
+        RenderSettings s = g.settings;
+        s.numCpusToUse = c.threads;
+        s.tileWidth = s.tileHeight = c.tile;
+        const FrameMemory n = frameMemory(pieced, g.camera, s, {}, c.threads);
+        MemoryBudget budget(c.extra ? n.totalBytes() + kFragmentRoom + c.extra : 0);
+        RenderStats st;
+        RenderOptions options;
+        options.memoryBudget = &budget;
+        const Framebuffer image = renderFrame(pieced, g.camera, s, st, options);
+        EXPECT_TRUE(sameImage(image, reference));
+        EXPECT_EQ(budget.usedBytes(), 0u);
+        if (c.extra) {
+            EXPECT_LE(budget.peakBytes(), budget.capBytes());
+        } else {
+            EXPECT_LE(st.tessellationsMade, pieces.pieceCount() + 1);
+            EXPECT_EQ(st.tessellationsRecomputed, 0u);
+        }
+        EXPECT_EQ(st.triangles, wholeStats.triangles);
+        out.push_back(st);
+    }
+    return out;
+}
+
 TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
     for (const bool onDemand : {false, true}) {
         SCOPED_TRACE(onDemand ? "meshes evaluated on demand" : "meshes kept");
@@ -332,43 +376,15 @@ TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
         ASSERT_GE(pieces->pieceCount(), 14u);
         const FrameScene pieced = g.withGround(pieces);
 
-        RenderStats wholeStats;
-        const Framebuffer reference = renderFrame(whole, camera, settings, wholeStats);
         const FrameMemory need = frameMemory(pieced, camera, settings, {}, 2);
         EXPECT_LT(need.largestTessellationBytes, plane->tessellationBytesEstimate() / 8);
-        struct Case {
-            int threads, tile;
-            uint64_t extra;  // bytes beyond the buffers; 0: unlimited
-        };
-        const Case cases[] = {{1, 16, 0},
-                              {2, 16, 0},
-                              {2, 37, 0},
-                              {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes},
-                              {2, 23, need.largestTransientBytes + 6 * need.largestTessellationBytes + plane->meshMakingBytes()}};
-        for (const Case& c : cases) {
-            RenderSettings s = settings;
-            s.numCpusToUse = c.threads;
-            s.tileWidth = s.tileHeight = c.tile;
-            const FrameMemory n = frameMemory(pieced, camera, s, {}, c.threads);
-            MemoryBudget budget(c.extra ? n.totalBytes() + kFragmentRoom + c.extra : 0);
-            RenderStats st;
-            RenderOptions options;
-            options.memoryBudget = &budget;
-            const Framebuffer image = renderFrame(pieced, camera, s, st, options);
-            EXPECT_TRUE(sameImage(image, reference))
-                << c.threads << " threads, tiles of " << c.tile << ", " << c.extra << " bytes over the buffers";
-            EXPECT_EQ(budget.usedBytes(), 0u);
-            if (c.extra) {
-                EXPECT_LE(budget.peakBytes(), budget.capBytes());
-            }
-            // Each piece is made once for both instances (when nothing is dropped), and the
-            // pieces hold the whole shape's triangles.
-            if (c.extra == 0) {
-                EXPECT_LE(st.tessellationsMade, pieces->pieceCount() + 1);
-                EXPECT_EQ(st.tessellationsRecomputed, 0u);
-            }
-            EXPECT_EQ(st.triangles, wholeStats.triangles);
-        }
+        const PiecedCase cases[] = {
+            {1, 16, 0},
+            {2, 16, 0},
+            {2, 37, 0},
+            {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes},
+            {2, 23, need.largestTransientBytes + 6 * need.largestTessellationBytes + plane->meshMakingBytes()}};
+        expectPiecesRenderAsWhole(g, pieced, *pieces, cases);
     }
 }
 
@@ -403,45 +419,17 @@ TEST(OutOfCore, ANurbsSurfaceInPiecesRendersAsItDoesWhole) {
     ASSERT_GE(pieces->pieceCount(), 26u);
     const FrameScene pieced = g.withGround(pieces);
 
-    RenderStats wholeStats;
-    const Framebuffer reference = renderFrame(whole, camera, settings, wholeStats);
     const FrameMemory need = frameMemory(pieced, camera, settings, {}, 2);
     EXPECT_LT(need.largestTessellationBytes, torus->tessellationBytesEstimate() / 8);
     EXPECT_LT(need.largestTransientBytes, torus->tessellationWorkBytesEstimate() / 4);
-    struct Case {
-        int threads, tile;
-        uint64_t extra;  // bytes beyond the buffers; 0: unlimited
-    };
-    const Case cases[] = {{1, 16, 0},
-                          {2, 37, 0},
-                          {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes},
-                          {2, 23, 2 * need.largestTransientBytes + 6 * need.largestTessellationBytes + (3u << 20)}};
-    for (const Case& c : cases) {
-        RenderSettings s = settings;
-        s.numCpusToUse = c.threads;
-        s.tileWidth = s.tileHeight = c.tile;
-        const FrameMemory n = frameMemory(pieced, camera, s, {}, c.threads);
-        MemoryBudget budget(c.extra ? n.totalBytes() + kFragmentRoom + c.extra : 0);
-        RenderStats st;
-        RenderOptions options;
-        options.memoryBudget = &budget;
-        SCOPED_TRACE(std::to_string(c.threads) + " threads, tiles of " + std::to_string(c.tile) + ", " +
-                     std::to_string(c.extra) + " bytes over the buffers");
-        const Framebuffer image = renderFrame(pieced, camera, s, st, options);
-        EXPECT_TRUE(sameImage(image, reference));
-        EXPECT_EQ(budget.usedBytes(), 0u);
-        if (c.extra) {
-            EXPECT_LE(budget.peakBytes(), budget.capBytes());
-            // On one thread the tiles meet the pieces in one order: the cap holds a few at a time.
-            if (c.threads == 1) {
-                EXPECT_GT(st.tessellationsEvicted, 0u);
-            }
-        } else {
-            EXPECT_LE(st.tessellationsMade, pieces->pieceCount() + 1);
-            EXPECT_EQ(st.tessellationsRecomputed, 0u);
-        }
-        EXPECT_EQ(st.triangles, wholeStats.triangles);
-    }
+    const PiecedCase cases[] = {
+        {1, 16, 0},
+        {2, 37, 0},
+        {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes},
+        {2, 23, 2 * need.largestTransientBytes + 6 * need.largestTessellationBytes + (3u << 20)}};
+    const std::vector<RenderStats> st = expectPiecesRenderAsWhole(g, pieced, *pieces, cases);
+    // On one thread the tiles meet the pieces in one order: the cap holds a few at a time.
+    EXPECT_GT(st[2].tessellationsEvicted, 0u);
 }
 
 TEST(OutOfCore, ATileThatMeetsMorePiecesThanTheCapHoldsCopiesTheirTriangles) {
