@@ -74,12 +74,36 @@ struct Textures {
     fs::path bot2;  // the same texture as a version-2 file, for its page read time and one table row
 };
 
+// Whether a BOT file written by an earlier run still reads with this build: its tables and every
+// page of its largest level (a file of an older layout of the same version number does not).
+bool botReadsBack(const fs::path& path) {
+    try {
+        const std::shared_ptr<const BotFile> bot = BotFile::open(path);
+        const int fd = ::open(path.c_str(), O_RDONLY);
+        if (fd < 0) return false;
+        std::vector<float> page(size_t(kPageSizeTexels) * kPageSizeTexels * bot->header().channels);
+        const uint32_t pagesX = (bot->header().width + kPageSizeTexels - 1) / kPageSizeTexels;
+        const uint32_t pagesY = (bot->header().height + kPageSizeTexels - 1) / kPageSizeTexels;
+        bool ok = true;
+        try {
+            for (uint32_t py = 0; py < pagesY; ++py)
+                for (uint32_t px = 0; px < pagesX; ++px) bot->readPage(fd, 0, px, py, page.data());
+        } catch (const std::exception&) {
+            ok = false;
+        }
+        ::close(fd);
+        return ok;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
 Textures makeTextures(const Config& cfg) {
     fs::create_directories(cfg.dir);
     const uint32_t n = cfg.textureSize;
     Textures t{cfg.dir / ("bench_" + std::to_string(n) + "_v3.bot"), cfg.dir / ("bench_" + std::to_string(n) + ".tx"),
                cfg.dir / ("bench_" + std::to_string(n) + "_v2.bot")};
-    if (fs::exists(t.bot) && fs::exists(t.bot2) && fs::exists(t.tx)) return t;
+    if (fs::exists(t.tx) && botReadsBack(t.bot) && botReadsBack(t.bot2)) return t;
     std::fprintf(stderr, "writing %u×%u RGB test textures to %s ...\n", n, n, cfg.dir.c_str());
     std::vector<float> px(size_t(n) * n * 3);
     for (uint32_t y = 0; y < n; ++y)
