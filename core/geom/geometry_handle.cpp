@@ -217,7 +217,7 @@ void GeometryHandle::splitNurbs() {
                      uint64_t(g.spanOfU.capacity() + g.spanOfV.capacity()) * sizeof(uint32_t) +
                      uint64_t(2 * (g.us.size() + g.vs.size())) * 2 * sizeof(uint32_t) +  // the welds, at most
                      (made->pieces ? made->pieces->bytes() : 0);
-    m_workBytes = nurbsCellsWorkBytes(g, {0, uint32_t(g.cellRows()), 0, uint32_t(g.cellColumns())});
+    m_workBytes = nurbsCellsWorkBytes(g, g.allCells());
     m_nurbs = std::move(made);
 }
 
@@ -322,14 +322,7 @@ uint64_t GeometryHandle::pieceWorkBytesEstimate(size_t k) const {
 }
 
 Tessellation GeometryHandle::tessellatePiece(size_t k, std::string* problem) const {
-    if (m_nurbs && m_nurbs->pieces) {
-        std::string why;
-        if (const NurbsGrid* g = m_nurbs->withWelds(*m_surface, why))
-            if (std::optional<Tessellation> t = tessellateNurbsCells(*m_surface, *g, m_nurbs->pieces->pieces()[k].cells, why))
-                return std::move(*t);
-        if (problem) *problem = why;
-        return {};
-    }
+    if (m_nurbs && m_nurbs->pieces) return tessellateSurface(k, problem);
     if (!m_pieces) return tessellate(problem);
     if (makesPiecesAlone()) {
         static const std::vector<bool> kNone;
@@ -355,15 +348,18 @@ Tessellation GeometryHandle::tessellate(std::string* problem) const {
         if (m_validate) return triangulateMesh(*mesh, m_faceMaterial, m_smooth);
         return triangulateValidMesh(*mesh, m_faceMaterial, m_smooth, m_degenerate ? *m_degenerate : kNone);
     }
-    if (m_surface) {
-        std::string why = m_nurbsProblem;
-        if (m_nurbs)
-            if (const NurbsGrid* g = m_nurbs->withWelds(*m_surface, why))
-                if (std::optional<Tessellation> t = tessellateNurbsCells(
-                        *m_surface, *g, {0, uint32_t(g->cellRows()), 0, uint32_t(g->cellColumns())}, why))
-                    return std::move(*t);
-        if (problem) *problem = why;
-    }
+    if (m_surface) return tessellateSurface(std::nullopt, problem);
+    return {};
+}
+
+Tessellation GeometryHandle::tessellateSurface(std::optional<size_t> piece, std::string* problem) const {
+    std::string why = m_nurbsProblem;
+    if (m_nurbs)
+        if (const NurbsGrid* g = m_nurbs->withWelds(*m_surface, why)) {
+            const NurbsCells cells = piece ? m_nurbs->pieces->pieces()[*piece].cells : g->allCells();
+            if (std::optional<Tessellation> t = tessellateNurbsCells(*m_surface, *g, cells, why)) return std::move(*t);
+        }
+    if (problem) *problem = why;
     return {};
 }
 

@@ -197,6 +197,8 @@ private:
     std::shared_ptr<const NurbsGridPieces> m_nurbs;
     std::string m_nurbsProblem;
     void splitNurbs();
+    // The surface's tessellation: piece `piece`'s cells, or the whole grid.
+    Tessellation tessellateSurface(std::optional<size_t> piece, std::string* problem) const;
 };
 
 }  // namespace pushpin::geom

@@ -1,12 +1,12 @@
 #include "core/geom/nurbs_pieces.h"
 
 #include "core/geom/finite.h"
+#include "core/geom/union_find.h"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 namespace pushpin::geom {
 
@@ -74,6 +74,15 @@ std::vector<uint32_t> pointsOfCells(const std::vector<uint32_t>& cells) {
 constexpr int kQuad[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
 constexpr int kHalves[2][3] = {{0, 1, 2}, {0, 2, 3}};
 
+// The grid point of corner k of half h of cell (i, j).
+struct GridPoint {
+    size_t i, j;
+};
+GridPoint cornerOf(size_t i, size_t j, int h, int k) {
+    const int q = kHalves[h][k];
+    return {i + size_t(kQuad[q][0]), j + size_t(kQuad[q][1])};
+}
+
 }  // namespace
 
 uint32_t NurbsGrid::root(uint32_t p) const {
@@ -127,18 +136,10 @@ bool weldNurbsGrid(const NurbsSurface& s, NurbsGrid& g, std::string& problem) {
     auto at = [&](size_t i, size_t j) {
         return size_t(std::lower_bound(boundary.begin(), boundary.end(), g.point(i, j)) - boundary.begin());
     };
-    // Union-find over the boundary points; each group's root is its lowest point.
-    std::vector<uint32_t> parent(boundary.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](uint32_t x) {
-        while (parent[x] != x) x = parent[x];
-        return x;
-    };
+    // Sets of boundary points; each group's root is its lowest point.
+    LowestRootSets sets(boundary.size());
     auto close = [&](size_t a, size_t b) { return glm::length(pos[a] - pos[b]) <= g.tolerance; };
-    auto weld = [&](size_t a, size_t b) {
-        const uint32_t ra = find(uint32_t(a)), rb = find(uint32_t(b));
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-    };
+    auto weld = [&](size_t a, size_t b) { sets.join(uint32_t(a), uint32_t(b)); };
     for (size_t j = 0; j < nv; ++j)
         if (close(at(0, j), at(nu - 1, j))) weld(at(0, j), at(nu - 1, j));
     for (size_t i = 0; i < nu; ++i)
@@ -157,7 +158,7 @@ bool weldNurbsGrid(const NurbsSurface& s, NurbsGrid& g, std::string& problem) {
     }
     // Boundary positions are sorted by point, so the lowest index of a group is its lowest point.
     for (size_t k = 0; k < boundary.size(); ++k)
-        if (const uint32_t r = find(uint32_t(k)); r != k) g.welds.emplace_back(boundary[k], boundary[r]);
+        if (const uint32_t r = sets.find(uint32_t(k)); r != k) g.welds.emplace_back(boundary[k], boundary[r]);
     return true;
 }
 
@@ -188,7 +189,7 @@ std::optional<Tessellation> tessellateNurbsCells(const NurbsSurface& s, const Nu
                 return std::nullopt;
             }
         }
-    auto position = [&](size_t i, size_t j) -> const glm::dvec3& { return pos[rowAt[i] * width + colAt[j]]; };
+    auto position = [&](GridPoint p) -> const glm::dvec3& { return pos[rowAt[p.i] * width + colAt[p.j]]; };
 
     // Normals of the cells' own points; a vanishing one takes the nearest non-vanishing normal of
     // the grid, ring by ring up to kNormalRings (evaluated where it lies outside these points).
@@ -235,11 +236,10 @@ std::optional<Tessellation> tessellateNurbsCells(const NurbsSurface& s, const Nu
     for (size_t a = 0; a < rowCells.size(); ++a)
         for (size_t b = 0; b < colCells.size(); ++b)
             for (int h = 0; h < 2; ++h) {
-                const int* half = kHalves[h];
                 const size_t i = rowCells[a], j = colCells[b];
-                const glm::dvec3& p0 = position(i + size_t(kQuad[half[0]][0]), j + size_t(kQuad[half[0]][1]));
-                const glm::dvec3& p1 = position(i + size_t(kQuad[half[1]][0]), j + size_t(kQuad[half[1]][1]));
-                const glm::dvec3& p2 = position(i + size_t(kQuad[half[2]][0]), j + size_t(kQuad[half[2]][1]));
+                const glm::dvec3& p0 = position(cornerOf(i, j, h, 0));
+                const glm::dvec3& p1 = position(cornerOf(i, j, h, 1));
+                const glm::dvec3& p2 = position(cornerOf(i, j, h, 2));
                 const glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
                 if (!(glm::dot(n, n) > g.minArea2)) flat[a * colCells.size() + b] |= uint8_t(1u << h);
             }
@@ -253,25 +253,24 @@ std::optional<Tessellation> tessellateNurbsCells(const NurbsSurface& s, const Nu
     out.face.reserve(triangles);
     out.material.reserve(triangles);
     std::vector<uint32_t> vertexOf(pointsU * pointsV, kNone);
-    auto vertex = [&](size_t i, size_t j) {
-        const size_t k = (i - c.i0) * pointsV + (j - c.j0);
+    auto vertex = [&](GridPoint p) {
+        const size_t k = (p.i - c.i0) * pointsV + (p.j - c.j0);
         if (vertexOf[k] == kNone) {
             vertexOf[k] = uint32_t(out.positions.size());
-            out.positions.push_back(glm::vec3(position(i, j)));
+            out.positions.push_back(glm::vec3(position(p)));
             out.normals.push_back(glm::vec3(shading[k]));
-            out.uvs.push_back(glm::vec2(float((g.us[i] - s.uMin()) / du), float((g.vs[j] - s.vMin()) / dv)));
+            out.uvs.push_back(glm::vec2(float((g.us[p.i] - s.uMin()) / du), float((g.vs[p.j] - s.vMin()) / dv)));
         }
         return vertexOf[k];
     };
     for (uint32_t i = c.i0; i < c.i1; ++i)
         for (uint32_t j = c.j0; j < c.j1; ++j)
             for (int h = 0; h < 2; ++h) {
-                const int* half = kHalves[h];
                 if (zeroArea(i, j, h)) {
-                    const uint32_t v = vertex(i + size_t(kQuad[half[0]][0]), j + size_t(kQuad[half[0]][1]));
+                    const uint32_t v = vertex(cornerOf(i, j, h, 0));
                     out.corners.insert(out.corners.end(), {v, v, v});
                 } else {
-                    for (int k = 0; k < 3; ++k) out.corners.push_back(vertex(i + size_t(kQuad[half[k]][0]), j + size_t(kQuad[half[k]][1])));
+                    for (int k = 0; k < 3; ++k) out.corners.push_back(vertex(cornerOf(i, j, h, k)));
                 }
                 out.face.push_back(g.spanOfU[i] * g.spansV + g.spanOfV[j]);
                 out.material.push_back(0);
@@ -290,7 +289,8 @@ std::optional<Tessellation> tessellateNurbsCells(const NurbsSurface& s, const Nu
         if (rowAt[root / nv] == kNone || colAt[root % nv] == kNone) outside.push_back(root);
     std::sort(outside.begin(), outside.end());
     outside.erase(std::unique(outside.begin(), outside.end()), outside.end());
-    auto pointId = [&](size_t i, size_t j) {
+    auto pointId = [&](GridPoint p) {
+        size_t i = p.i, j = p.j;
         if (i == 0 || i + 1 == nu || j == 0 || j + 1 == nv) {
             const uint32_t r = g.root(g.point(i, j));
             i = r / nv, j = r % nv;
@@ -308,8 +308,7 @@ std::optional<Tessellation> tessellateNurbsCells(const NurbsSurface& s, const Nu
             for (int h = 0; h < 2; ++h) {
                 if (zeroArea(i, j, h)) continue;
                 slots.push_back(g.slot(i, j) + uint32_t(h));
-                for (int k = 0; k < 3; ++k)
-                    cornerPoint.push_back(pointId(i + size_t(kQuad[kHalves[h][k]][0]), j + size_t(kQuad[kHalves[h][k]][1])));
+                for (int k = 0; k < 3; ++k) cornerPoint.push_back(pointId(cornerOf(i, j, h, k)));
             }
     around.face.resize(slots.size());
     buildTriangleNeighbors(around, cornerPoint);
@@ -384,7 +383,7 @@ uint64_t nurbsTriangleCount(const NurbsSurface& s, int divU, int divV) {
 std::optional<Tessellation> tessellateNurbs(const NurbsSurface& s, int divU, int divV, std::string& problem) {
     const std::optional<NurbsGrid> g = makeNurbsGrid(s, divU, divV, problem);
     if (!g) return std::nullopt;
-    return tessellateNurbsCells(s, *g, {0, uint32_t(g->cellRows()), 0, uint32_t(g->cellColumns())}, problem);
+    return tessellateNurbsCells(s, *g, g->allCells(), problem);
 }
 
 }  // namespace pushpin::geom

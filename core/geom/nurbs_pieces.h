@@ -35,6 +35,12 @@
 
 namespace pushpin::geom {
 
+// Cells [i0, i1) × [j0, j1) of a grid.
+struct NurbsCells {
+    uint32_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+    uint64_t count() const { return uint64_t(i1 - i0) * uint64_t(j1 - j0); }
+};
+
 struct NurbsGrid {
     std::vector<double> us, vs;               // parameters of the point rows and columns
     std::vector<uint32_t> spanOfU, spanOfV;   // per cell row (column): its span, counted from 0
@@ -52,6 +58,8 @@ struct NurbsGrid {
     // The point a grid point is one with (itself when it is welded to no lower one).
     uint32_t root(uint32_t point) const;
     uint32_t slot(size_t i, size_t j) const { return uint32_t(2 * (i * cellColumns() + j)); }
+    // Every cell of the grid.
+    NurbsCells allCells() const { return {0, uint32_t(cellRows()), 0, uint32_t(cellColumns())}; }
 };
 
 // The grid of `s` with `divU` × `divV` steps per span (at least 1). nullopt with `problem` set
@@ -62,12 +70,6 @@ std::optional<NurbsGrid> makeNurbsGrid(const NurbsSurface& s, int divU, int divV
 // (false with `problem` set when they evaluate to NaN/Inf).
 std::optional<NurbsGrid> nurbsGridParameters(const NurbsSurface& s, int divU, int divV, std::string& problem);
 bool weldNurbsGrid(const NurbsSurface& s, NurbsGrid& g, std::string& problem);
-
-// Cells [i0, i1) × [j0, j1) of a grid.
-struct NurbsCells {
-    uint32_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
-    uint64_t count() const { return uint64_t(i1 - i0) * uint64_t(j1 - j0); }
-};
 
 // The triangles of `cells`, two per cell in slot order (triangle 2·((i − i0)·(j1 − j0) + j − j0)
 // + h is slot g.slot(i, j) + h), vertices numbered in order of first use, face = the cell's patch,

@@ -124,12 +124,14 @@ private:
         return ObjectTopology{nullptr, 0, pieces.data(), uint32_t(pieces.size()), runs.data(), uint32_t(runs.size())};
     }
     template <class Take>
-    bool withRoom(TileWorker& w, uint64_t bytes, Take&& take);
+    bool withRoom(TileWorker& w, uint64_t bytes, Take&& take, bool copyPinned = true);
     void holdCharge(TileWorker& w, cache::MemoryCharge& charge, uint64_t bytes);
     // Charges what the worker's buffers hold beyond its share, and `more` bytes about to be
     // allocated beside them.
     void chargeBuffers(TileWorker& w, uint64_t more = 0);
     void chargeBuffersAhead(TileWorker& w, uint64_t more);
+    // What the worker's buffers hold, with `more` bytes beside them, beyond its share.
+    uint64_t bufferBytesOverShare(const TileWorker& w, uint64_t more) const;
     // The tessellation (pinned by the tile) holding triangle id `triangle` of `object`, and the
     // triangle's index in it.
     std::pair<const geom::Tessellation*, uint32_t> triangleAt(const TileWorker& w, uint32_t object, uint32_t triangle) const;
@@ -356,17 +358,17 @@ std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const T
 
 // Calls `take` (which tries to charge `bytes` more to the budget) until it succeeds: as things
 // stand, then after dropping unpinned tessellations and meshes (their memory handed back), then
-// once more after copying the tile's pinned units (copyPinnedUnits) and dropping those too.
-// Returns whether it succeeded.
+// once more after copying the tile's pinned units (copyPinnedUnits) and dropping those too (when
+// `copyPinned`: not while the tile's pinned triangles are being read). Returns whether it succeeded.
 template <class Take>
-bool FrameRenderer::withRoom(TileWorker& w, uint64_t bytes, Take&& take) {
+bool FrameRenderer::withRoom(TileWorker& w, uint64_t bytes, Take&& take, bool copyPinned) {
     for (bool copied = false;;) {
         if (take()) return true;
         if (m_lazy.reclaim(bytes)) {
             returnDroppedMemory();
             if (take()) return true;
         }
-        if (copied || !copyPinnedUnits(w)) return false;
+        if (!copyPinned || copied || !copyPinnedUnits(w)) return false;
         copied = true;
     }
 }
@@ -385,22 +387,22 @@ void FrameRenderer::holdCharge(TileWorker& w, cache::MemoryCharge& charge, uint6
 // Charges what the worker's tile buffers have grown to beyond the share frameMemory() charged up
 // front, as the tile goes.
 void FrameRenderer::chargeBuffers(TileWorker& w, uint64_t more) {
-    const uint64_t held = w.bytes() + more;
-    holdCharge(w, w.bufferCharge, held > m_perThreadBytes ? held - m_perThreadBytes : 0);
+    holdCharge(w, w.bufferCharge, bufferBytesOverShare(w, more));
 }
 
-// The same while the rasterizer runs, before its buffers grow by `more`: room is made from what
+uint64_t FrameRenderer::bufferBytesOverShare(const TileWorker& w, uint64_t more) const {
+    const uint64_t held = w.bytes() + more;
+    return held > m_perThreadBytes ? held - m_perThreadBytes : 0;
+}
+
+// chargeBuffers while the rasterizer runs, before its buffers grow by `more`: room is made from what
 // the caches hold unpinned only (the tile's pinned triangles are being read), and when that is
 // not enough the growth goes ahead, charged by the next chargeBuffers.
 void FrameRenderer::chargeBuffersAhead(TileWorker& w, uint64_t more) {
-    const uint64_t held = w.bytes() + more;
-    const uint64_t bytes = held > m_perThreadBytes ? held - m_perThreadBytes : 0;
+    const uint64_t bytes = bufferBytesOverShare(w, more);
     cache::MemoryCharge& charge = w.bufferCharge;
-    if (bytes <= charge.bytes() || charge.tryResize(bytes)) return;
-    if (m_lazy.reclaim(bytes - charge.bytes())) {
-        returnDroppedMemory();
-        charge.tryResize(bytes);
-    }
+    if (bytes <= charge.bytes()) return;
+    withRoom(w, bytes - charge.bytes(), [&] { return charge.tryResize(bytes); }, false);
 }
 
 // Gives back the pins of the tile's units that a copy of the triangles they gave the rasterizer
