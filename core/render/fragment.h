@@ -76,6 +76,7 @@ struct Fragment {
     uint32_t object = 0;
     uint32_t triangle = 0;
     uint32_t flags = 0;      // kFragmentTransparent …
+    uint32_t pixel = 0;      // the rasterizer's region pixel, row by row (what the struct's padding held)
     float depthAt(float u, float v) const { return z0 + dzdu * u + dzdv * v; }
 };
 constexpr uint32_t kFragmentTransparent = 1u;

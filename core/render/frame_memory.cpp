@@ -39,12 +39,12 @@ FrameLayout frameLayout(const FrameScene& scene, const RenderCamera& camera, con
 }
 
 uint64_t tileBytesPerCrossing(const RenderSettings& settings) {
-    // The fragment of each crossing held four times (the rasterizer's list and its copy sorted by
-    // pixel, the tile's members, the resolver's scratch), its surface group, and a shading result
-    // per sample it may take (the adaptive maximum at the Highest level).
+    // The fragment of each crossing held twice (the rasterizer's list, which becomes the tile's
+    // surface members, and the resolver's scratch), its surface group, and a shading result per
+    // sample it may take (the adaptive maximum at the Highest level).
     const bool adaptive = settings.edgeAntiAliasing == 0 && settings.maxShadingSamples > settings.shadingSamples;
     const int samples = std::max(1, adaptive ? settings.maxShadingSamples : settings.shadingSamples);
-    uint64_t bytes = 4 * sizeof(Fragment) + sizeof(SurfaceGroup) + sizeof(SurfaceShade) + sizeof(SurfaceContribution) +
+    uint64_t bytes = 2 * sizeof(Fragment) + sizeof(SurfaceGroup) + sizeof(SurfaceShade) + sizeof(SurfaceContribution) +
                      uint64_t(samples) * sizeof(SampleResult);
     // A multi-pixel filter keeps the surfaces of the pixels near the tile's edges for the end
     // (FilterBorders); counted for every crossing, as if every pixel were near an edge.

@@ -720,7 +720,7 @@ void FrameRenderer::requestSamples(TileWorker& w, uint32_t groupIndex, int px, i
     uint32_t slot = firstTarget;
     if (g.visibleMask == 0) {
         if (first == 0 && last > 0) {
-            const Fragment* largest = &surfaceMemberAt(w.members, g, -1);
+            const Fragment* largest = &surfaceMemberAt(w.rasterizer.sortedFragments(), g, -1);
             addSample(w, g.object, largest->triangle, px + double(largest->cu), py + double(largest->cv),
                       extra ? (slot | 0x80000000u) : slot);
         }
@@ -730,7 +730,7 @@ void FrameRenderer::requestSamples(TileWorker& w, uint32_t groupIndex, int px, i
         int bit = m_pattern.order[size_t(o)];
         if (!((g.visibleMask >> bit) & 1u)) continue;
         if (k >= first) {
-            const Fragment* member = &surfaceMemberAt(w.members, g, bit);
+            const Fragment* member = &surfaceMemberAt(w.rasterizer.sortedFragments(), g, bit);
             double rx = px + ((bit % kSubsampleGrid) + 0.5) / kSubsampleGrid;
             double ry = py + ((bit / kSubsampleGrid) + 0.5) / kSubsampleGrid;
             addSample(w, g.object, member->triangle, rx, ry, extra ? (slot | 0x80000000u) : slot);
@@ -797,17 +797,13 @@ void FrameRenderer::renderTile(size_t index, TileWorker& w) {
     chargeBuffers(w);
     w.stats.rasterSeconds += secondsSince(tRaster);
 
-    // Resolve every pixel of the base region and keep its surfaces.
+    // Resolve every pixel of the base region and keep its surfaces. A surface's members are the
+    // pixel's fragments, put in the order of the surfaces where the rasterizer holds them.
     auto tResolve = Clock::now();
     w.pixelGroupStart.assign(size_t(bw) * bh + 1, 0);
     w.groups.clear();
-    w.members.clear();
     w.nearestDepth.assign(size_t(bw) * bh, std::numeric_limits<float>::infinity());
-    // The surfaces' members are fragments of the tile: room for all of them, charged first.
-    if (const size_t n = rast.fragmentCount(); n > w.members.capacity()) {
-        chargeBuffers(w, uint64_t(n) * sizeof(Fragment));
-        w.members.reserve(n);
-    }
+    const Fragment* const sorted = rast.sortedFragments().data();
     for (int y = base.y0; y < base.y1; ++y)
         for (int x = base.x0; x < base.x1; ++x) {
             size_t pi = baseIndex(x, y);
@@ -815,9 +811,8 @@ void FrameRenderer::renderTile(size_t index, TileWorker& w) {
             std::span<const Fragment> frags = rast.fragments(x, y);
             if (frags.empty()) continue;
             w.resolver.resolve(frags);
-            uint32_t memberBase = uint32_t(w.members.size());
-            std::span<const Fragment> members = w.resolver.members();
-            w.members.insert(w.members.end(), members.begin(), members.end());
+            const uint32_t memberBase = uint32_t(frags.data() - sorted);
+            rast.reorderPixel(x, y, w.resolver.members());
             for (SurfaceGroup g : w.resolver.groups()) {
                 g.memberBegin += memberBase;
                 w.groups.push_back(g);
@@ -886,7 +881,7 @@ void FrameRenderer::renderTile(size_t index, TileWorker& w) {
     auto compositePixel = [&](size_t pi) {
         uint32_t g0 = w.pixelGroupStart[pi], g1 = w.pixelGroupStart[pi + 1];
         if (g0 == g1) return;
-        compositeSurfaces(m_pattern, std::span<const SurfaceGroup>(w.groups.data() + g0, g1 - g0), w.members,
+        compositeSurfaces(m_pattern, std::span<const SurfaceGroup>(w.groups.data() + g0, g1 - g0), rast.sortedFragments(),
                           std::span<const SurfaceShade>(w.shades.data() + g0, g1 - g0),
                           std::span<SurfaceContribution>(w.contributions.data() + g0, g1 - g0));
     };

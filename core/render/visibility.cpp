@@ -24,14 +24,14 @@ uint64_t capacityBytes(const std::vector<T>& v) {
 }  // namespace
 
 uint64_t TileRasterizer::bytes() const {
-    return capacityBytes(m_fragments) + capacityBytes(m_pixelOf) + capacityBytes(m_sorted) + capacityBytes(m_pixelStart);
+    return capacityBytes(m_fragments) + capacityBytes(m_pixelStart) + capacityBytes(m_pixelFill);
 }
 
 void TileRasterizer::releaseMemory() {
     util::release(m_fragments);
-    util::release(m_pixelOf);
-    util::release(m_sorted);
+    m_finished = 0;
     util::release(m_pixelStart);
+    util::release(m_pixelFill);
     m_region = {};
 }
 
@@ -194,20 +194,16 @@ void clipByEdge(const ClipPolygon& in, ClipPolygon& out, double e00, double a, d
 TileRasterizer::TileRasterizer(const SubsamplePattern& pattern) : m_pattern(pattern) {}
 
 void TileRasterizer::reserveFragments(size_t fragments) {
-    if (fragments <= m_fragments.capacity() && fragments <= m_pixelOf.capacity()) return;
+    if (fragments <= m_fragments.capacity()) return;
     const size_t capacity = std::max(fragments, 2 * m_fragments.capacity());
-    if (m_growHook)
-        m_growHook((capacity > m_fragments.capacity() ? uint64_t(capacity) * sizeof(Fragment) : 0) +
-                   (capacity > m_pixelOf.capacity() ? uint64_t(capacity) * sizeof(uint32_t) : 0));
+    if (m_growHook) m_growHook(uint64_t(capacity) * sizeof(Fragment));
     m_fragments.reserve(capacity);
-    m_pixelOf.reserve(capacity);
 }
 
 void TileRasterizer::reset(const PixelRect& region) {
     m_region = region;
     m_fragments.clear();
-    m_pixelOf.clear();
-    m_sorted.clear();
+    m_finished = 0;
     m_pixelStart.clear();
 }
 
@@ -359,8 +355,8 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
                 }
                 f.mask = mask;
             }
+            f.pixel = uint32_t((py - m_region.y0) * regionWidth + (px - m_region.x0));
             m_fragments.push_back(f);
-            m_pixelOf.push_back(uint32_t((py - m_region.y0) * regionWidth + (px - m_region.x0)));
         }
     }
     const size_t added = m_fragments.size() - before;
@@ -373,26 +369,31 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
 void TileRasterizer::finish() {
     const size_t pixels = size_t(m_region.width()) * size_t(m_region.height());
     if (m_growHook) {
-        const uint64_t sorted = m_fragments.size() > m_sorted.capacity() ? m_fragments.size() * sizeof(Fragment) : 0;
         const uint64_t starts = pixels + 1 > m_pixelStart.capacity() ? (pixels + 1) * sizeof(uint32_t) : 0;
-        if (sorted + starts > 0) m_growHook(sorted + starts);
+        const uint64_t fill = pixels > m_pixelFill.capacity() ? pixels * sizeof(uint32_t) : 0;
+        if (starts + fill > 0) m_growHook(starts + fill);
     }
-    util::fileByKey(
-        pixels,
-        [&](auto&& visit) {
-            for (size_t i = 0; i < m_fragments.size(); ++i) visit(m_pixelOf[i], m_fragments[i]);
-        },
-        m_pixelStart, m_sorted);
+    util::fileByKeyInPlace(pixels, m_fragments, [](const Fragment& f) { return f.pixel; }, m_pixelStart, m_pixelFill);
+    m_finished = m_fragments.size();
+}
+
+std::span<const Fragment> TileRasterizer::sortedFragments() const {
+    if (m_finished != m_fragments.size()) return {};
+    return m_fragments;
 }
 
 std::span<const Fragment> TileRasterizer::fragments(int x, int y) const {
     const size_t pixels = size_t(m_region.width()) * size_t(m_region.height());
-    if (!m_region.contains(x, y) || m_pixelStart.size() != pixels + 1 ||
-        m_sorted.size() != m_fragments.size()) {
-        return {};
-    }
+    if (!m_region.contains(x, y) || m_pixelStart.size() != pixels + 1 || m_finished != m_fragments.size()) return {};
     const size_t p = size_t(y - m_region.y0) * size_t(m_region.width()) + size_t(x - m_region.x0);
-    return std::span<const Fragment>(m_sorted.data() + m_pixelStart[p], m_pixelStart[p + 1] - m_pixelStart[p]);
+    return std::span<const Fragment>(m_fragments.data() + m_pixelStart[p], m_pixelStart[p + 1] - m_pixelStart[p]);
+}
+
+void TileRasterizer::reorderPixel(int x, int y, std::span<const Fragment> reordered) {
+    const std::span<const Fragment> at = fragments(x, y);
+    if (at.size() != reordered.size())
+        throw std::invalid_argument("TileRasterizer::reorderPixel: not the pixel's fragment count");
+    std::copy(reordered.begin(), reordered.end(), m_fragments.begin() + (at.data() - m_fragments.data()));
 }
 
 // ---------------------------------------------------------------------------------------------

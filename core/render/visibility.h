@@ -4,7 +4,8 @@
 // of one surface, and composites shaded surfaces into pixel contributions.
 // Thread safety: a TileRasterizer or PixelResolver is used by one thread at a time; make one per
 // thread and reuse it across tiles (buffers are kept, so steady state allocates nothing).
-// Memory: the rasterizer's fragment buffer grows with the fragments of the tile (48 bytes each).
+// Memory: the rasterizer's fragment buffer grows with the fragments of the tile (48 bytes each),
+// sorted by pixel in place; a tile keeps its resolved surfaces' members in it (reorderPixel).
 //
 // Coverage rule (what makes an isolated edge exact): a surface's coverage in a pixel is its exact
 // clipped area scaled by the fraction of its mask sub-samples that stay visible. A surface that
@@ -46,10 +47,17 @@ public:
     // area. Triangles with zero area or non-finite coordinates add nothing and are counted.
     void add(const ScreenTriangle& triangle);
 
-    // Groups the fragments by pixel; afterwards fragments(x, y) is valid until the next reset/add.
-    // Within a pixel, fragments keep the order in which their triangles were added.
+    // Groups the fragments by pixel, in place; afterwards fragments(x, y) is valid until the next
+    // reset/add. The order within a pixel depends only on the order of the adds.
     void finish();
     std::span<const Fragment> fragments(int x, int y) const;
+    // After finish(): every fragment, pixel by pixel; each fragments(x, y) is a part of it.
+    std::span<const Fragment> sortedFragments() const;
+    // Overwrites pixel (x, y)'s fragments with `reordered`, the same fragments in another order (as
+    // PixelResolver::members() gives them), so that a tile keeps its surfaces' members where the
+    // fragments are instead of in a copy. Throws std::invalid_argument when the counts differ or
+    // the fragments are not finished.
+    void reorderPixel(int x, int y, std::span<const Fragment> reordered);
     // Fragments added since the last reset.
     size_t fragmentCount() const { return m_fragments.size(); }
 
@@ -68,13 +76,13 @@ public:
 private:
     SubsamplePattern m_pattern;
     PixelRect m_region;
-    std::vector<Fragment> m_fragments;      // in insertion order until finish()
-    std::vector<uint32_t> m_pixelOf;        // region pixel index of each fragment
-    std::vector<Fragment> m_sorted;         // grouped by pixel after finish()
-    std::vector<uint32_t> m_pixelStart;     // region pixel index → first fragment in m_sorted (+1 end)
+    std::vector<Fragment> m_fragments;      // in insertion order until finish(), then by pixel
+    size_t m_finished = 0;                  // fragments grouped by the last finish()
+    std::vector<uint32_t> m_pixelStart;     // region pixel index → first fragment after finish() (+1 end)
+    std::vector<uint32_t> m_pixelFill;      // finish()'s scratch
     RasterStats m_stats;
     std::function<void(uint64_t)> m_growHook;
-    // Room for `fragments` fragments in m_fragments and m_pixelOf (the hook told first).
+    // Room for `fragments` fragments in m_fragments (the hook told first).
     void reserveFragments(size_t fragments);
 };
 

@@ -112,8 +112,7 @@ struct TileWorker {
     std::unordered_map<uint64_t, uint32_t> pendingIndex;  // (object << 32 | slot) → entry
     // tile storage
     std::vector<uint32_t> pixelGroupStart;   // base region pixel → first group (+1 end)
-    std::vector<SurfaceGroup> groups;        // memberBegin rebased into `members`
-    std::vector<Fragment> members;
+    std::vector<SurfaceGroup> groups;        // memberBegin rebased into rasterizer.sortedFragments()
     std::vector<float> nearestDepth;         // per base-region pixel
     std::vector<uint32_t> groupSampleStart;  // group → first base sample result (+1 end)
     std::vector<SampleResult> samples;       // base samples, group by group, in order
@@ -141,7 +140,6 @@ struct TileWorker {
         resolver.releaseMemory();
         util::release(pixelGroupStart);
         util::release(groups);
-        util::release(members);
         util::release(nearestDepth);
         util::release(groupSampleStart);
         util::release(samples);
@@ -165,7 +163,7 @@ struct TileWorker {
 
     uint64_t bytes() const {
         auto cap = [](const auto& v) { return uint64_t(v.capacity()) * sizeof(v[0]); };
-        uint64_t b = rasterizer.bytes() + resolver.bytes() + cap(pixelGroupStart) + cap(groups) + cap(members) +
+        uint64_t b = rasterizer.bytes() + resolver.bytes() + cap(pixelGroupStart) + cap(groups) +
                      cap(nearestDepth) + cap(groupSampleStart) + cap(samples) + cap(groupExtraStart) + cap(extraSamples) +
                      cap(shades) + cap(contributions) + cap(contributionNorm) + cap(baseColor) + cap(adaptive) +
                      cap(tileObjects) + cap(pins) + cap(pinnedUnits) + cap(tessellation) + cap(topology) +

@@ -279,10 +279,10 @@ struct GroundRender {
 };
 
 TEST(OutOfCore, WithoutACapADenseTileOfTheGridIsSplit) {
-    // 480,000 triangles in a 48×32 frame: the one 64×64 tile of the grid would hold every
-    // fragment. Without a cap it is split (to 16×16 at most here), the threads share the pieces,
+    // 811,200 triangles in a 48×32 frame: the one 64×64 tile of the grid would hold every
+    // fragment. Without a cap it is split (to 32×32 at most here), the threads share the pieces,
     // and the image is the one the single forced tile gives.
-    const Grid g(3, 2, 200, 1.2, 48, 32);
+    const Grid g(3, 2, 260, 1.2, 48, 32);
     RenderSettings one = g.settings;
     one.tileWidth = one.tileHeight = 64;
     RenderStats wholeStats;
@@ -316,10 +316,11 @@ TEST(OutOfCore, WithoutACapADenseTileOfTheGridIsSplit) {
 }
 
 // One render of the ground scene with its ground in pieces: threads, tile size, and the bytes the
-// budget allows beyond the frame's buffers and kFragmentRoom (0: no cap).
+// budget allows beyond the frame's buffers and the room left for fragments (0: no cap).
 struct PiecedCase {
     int threads, tile;
     uint64_t extra;
+    uint64_t fragmentRoom = kFragmentRoom;
 };
 
 // Renders `pieced` (g's scene with the ground given `pieces`) for each case and checks that the
@@ -339,7 +340,7 @@ std::vector<RenderStats> expectPiecesRenderAsWhole(const GroundRender& g, const 
         s.numCpusToUse = c.threads;
         s.tileWidth = s.tileHeight = c.tile;
         const FrameMemory n = frameMemory(pieced, g.camera, s, {}, c.threads);
-        MemoryBudget budget(c.extra ? n.totalBytes() + kFragmentRoom + c.extra : 0);
+        MemoryBudget budget(c.extra ? n.totalBytes() + c.fragmentRoom + c.extra : 0);
         RenderStats st;
         RenderOptions options;
         options.memoryBudget = &budget;
@@ -382,7 +383,7 @@ TEST(OutOfCore, AShapeInPiecesRendersAsItDoesWhole) {
             {1, 16, 0},
             {2, 16, 0},
             {2, 37, 0},
-            {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes},
+            {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes, kFragmentRoom / 2},
             {2, 23, need.largestTransientBytes + 6 * need.largestTessellationBytes + plane->meshMakingBytes()}};
         expectPiecesRenderAsWhole(g, pieced, *pieces, cases);
     }
@@ -425,7 +426,7 @@ TEST(OutOfCore, ANurbsSurfaceInPiecesRendersAsItDoesWhole) {
     const PiecedCase cases[] = {
         {1, 16, 0},
         {2, 37, 0},
-        {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes},
+        {1, 16, need.largestTransientBytes + 4 * need.largestTessellationBytes, kFragmentRoom / 2},
         {2, 23, 2 * need.largestTransientBytes + 6 * need.largestTessellationBytes + (3u << 20)}};
     const std::vector<RenderStats> st = expectPiecesRenderAsWhole(g, pieced, *pieces, cases);
     // On one thread the tiles meet the pieces in one order: the cap holds a few at a time.

@@ -12,6 +12,8 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace pushpin::render {
@@ -53,6 +55,16 @@ double exactArea(const std::vector<Pt>& polygon, int px, int py) {
         a2 += a.x * b.y - b.x * a.y;
     }
     return std::fabs(0.5 * a2);
+}
+
+// A pixel's fragments in (object, triangle) order: the rasterizer files them by pixel without
+// keeping their order.
+std::vector<Fragment> byObjectAndTriangle(std::span<const Fragment> fragments) {
+    std::vector<Fragment> v(fragments.begin(), fragments.end());
+    std::sort(v.begin(), v.end(), [](const Fragment& a, const Fragment& b) {
+        return a.object != b.object ? a.object < b.object : a.triangle < b.triangle;
+    });
+    return v;
 }
 
 ScreenTriangle makeTriangle(Pt a, Pt b, Pt c, uint32_t object, uint32_t triangle, double z = 1.0) {
@@ -396,7 +408,7 @@ TEST(TileRasterizer, HugeCoordinatesAreClampedToTheRegion) {
     EXPECT_EQ(r.stats().trianglesRasterized, 2u);
     for (int y = -4; y < 4; ++y) {
         for (int x = -4; x < 4; ++x) {
-            const auto f = r.fragments(x, y);
+            const std::vector<Fragment> f = byObjectAndTriangle(r.fragments(x, y));
             ASSERT_GE(f.size(), 1u);
             EXPECT_EQ(f[0].object, 0u);
             EXPECT_EQ(f[0].area, 1.0f);
@@ -410,7 +422,8 @@ TEST(TileRasterizer, HugeCoordinatesAreClampedToTheRegion) {
 
 TEST(TileRasterizer, FragmentsDoNotDependOnTheRegionThatRendersThem) {
     // The same triangles rasterized once over the whole area and once tile by tile (odd tile
-    // sizes, offsets that cut triangles anywhere) give bit-identical fragments in every pixel.
+    // sizes, offsets that cut triangles anywhere) give bit-identical fragments in every pixel
+    // (but for the region pixel each is filed under, and their order).
     std::mt19937 rng(23);
     std::uniform_real_distribution<double> pos(-3.0, 53.0), size(0.05, 20.0), depth(-1.0, -0.01);
     std::vector<ScreenTriangle> tris;
@@ -439,9 +452,12 @@ TEST(TileRasterizer, FragmentsDoNotDependOnTheRegionThatRendersThem) {
                 tile.finish();
                 for (int y = ty; y < std::min(ty + 13, 50); ++y)
                     for (int x = tx; x < std::min(tx + 17, 50); ++x) {
-                        auto a = whole.fragments(x, y), b = tile.fragments(x, y);
+                        std::vector<Fragment> a = byObjectAndTriangle(whole.fragments(x, y)),
+                                              b = byObjectAndTriangle(tile.fragments(x, y));
                         ASSERT_EQ(a.size(), b.size()) << x << "," << y;
-                        EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size_bytes())) << x << "," << y;
+                        for (Fragment& f : a) f.pixel = 0;
+                        for (Fragment& f : b) f.pixel = 0;
+                        EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(Fragment))) << x << "," << y;
                     }
             }
     }
@@ -476,30 +492,52 @@ TEST(TileRasterizer, RegionOffsetFromTheOrigin) {
     EXPECT_TRUE(r.fragments(0, 0).empty());
 }
 
-TEST(TileRasterizer, GroupsFragmentsPerPixelInInsertionOrder) {
+TEST(TileRasterizer, GroupsFragmentsPerPixel) {
     const SubsamplePattern p = SubsamplePattern::forEdgeAntiAliasing(1);
     TileRasterizer r(p);
-    r.reset({0, 0, 4, 4});
-    r.add(makeTriangle({-1, -1}, {5, -1}, {-1, 5}, 5, 0));   // upper-left, added first
-    r.add(makeTriangle({5, 5}, {-1, 5}, {5, -1}, 2, 0));     // lower-right, across the same edge
-    r.add(makeTriangle({-10, -10}, {10, -10}, {0, 10}, 7, 3));
-    r.finish();
+    auto addAll = [&] {
+        r.reset({0, 0, 4, 4});
+        r.add(makeTriangle({-1, -1}, {5, -1}, {-1, 5}, 5, 0));   // upper-left
+        r.add(makeTriangle({5, 5}, {-1, 5}, {5, -1}, 2, 0));     // lower-right, across the same edge
+        r.add(makeTriangle({-10, -10}, {10, -10}, {0, 10}, 7, 3));
+        r.finish();
+    };
+    addAll();
+    std::vector<Fragment> first(r.sortedFragments().begin(), r.sortedFragments().end());
+    size_t seen = 0;
     for (int y = 0; y < 4; ++y) {
         for (int x = 0; x < 4; ++x) {
-            const auto f = r.fragments(x, y);
+            const std::span<const Fragment> at = r.fragments(x, y);
+            EXPECT_EQ(size_t(at.data() - r.sortedFragments().data()), seen) << "pixels follow one another";
+            seen += at.size();
+            for (const Fragment& f : at) EXPECT_EQ(f.pixel, uint32_t(4 * y + x));
+            const std::vector<Fragment> f = byObjectAndTriangle(at);
             ASSERT_GE(f.size(), 2u);
             EXPECT_EQ(f.back().object, 7u);
             if (f.size() == 3) {
-                EXPECT_EQ(f[0].object, 5u);
-                EXPECT_EQ(f[1].object, 2u);
+                EXPECT_EQ(f[0].object, 2u);
+                EXPECT_EQ(f[1].object, 5u);
             }
         }
     }
+    EXPECT_EQ(seen, r.sortedFragments().size());
     // Pixels on the diagonal x + y = 3 hold both halves.
     EXPECT_EQ(r.fragments(1, 2).size(), 3u);
     EXPECT_EQ(r.fragments(0, 0).size(), 2u);
-    EXPECT_EQ(r.fragments(0, 0)[0].object, 5u);
-    EXPECT_EQ(r.fragments(3, 3)[0].object, 2u);
+    EXPECT_EQ(byObjectAndTriangle(r.fragments(0, 0))[0].object, 5u);
+    EXPECT_EQ(byObjectAndTriangle(r.fragments(3, 3))[0].object, 2u);
+    // The order within a pixel depends on the adds only.
+    addAll();
+    ASSERT_EQ(r.sortedFragments().size(), first.size());
+    EXPECT_EQ(0, std::memcmp(first.data(), r.sortedFragments().data(), first.size() * sizeof(Fragment)));
+
+    // A pixel's fragments can be put in another order; not in another number.
+    std::vector<Fragment> reversed(r.fragments(1, 2).rbegin(), r.fragments(1, 2).rend());
+    r.reorderPixel(1, 2, reversed);
+    EXPECT_EQ(r.fragments(1, 2)[0].object, reversed[0].object);
+    EXPECT_EQ(r.fragments(1, 2)[2].object, reversed[2].object);
+    reversed.pop_back();
+    EXPECT_THROW(r.reorderPixel(1, 2, reversed), std::invalid_argument);
 
     // reset clears the fragments; fragments() is empty before finish().
     r.reset({0, 0, 4, 4});
