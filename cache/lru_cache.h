@@ -82,6 +82,24 @@ public:
         std::shared_ptr<const Value> m_value;
     };
 
+    // The value of `key`, pinned, when it is resident now (counted as a hit); nullopt, without
+    // waiting, when it is not or another caller is making it. A caller that must make room before
+    // a value is made (and may wait for that) asks here first, so that it holds no key's making
+    // while it waits.
+    std::optional<Pin> tryPin(const Key& key) {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        const auto it = m_entries.find(key);
+        if (it == m_entries.end() || !it->second.value) return std::nullopt;
+        Entry& e = it->second;
+        ++e.pins;
+        if (e.inLru) {
+            m_lru.erase(e.lruPosition);
+            e.inLru = false;
+        }
+        ++m_stats.hits;
+        return Pin(this, &e, e.value);
+    }
+
     // The value of `key`, pinned, made by `make()` (returning Value) when it is not resident, with
     // `bytes(value)` charged. Room is made by dropping unpinned values, least recently used first;
     // nullopt (nothing made resident, nothing charged) when the value does not fit even then.

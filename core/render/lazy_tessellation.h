@@ -9,7 +9,9 @@
 // cannot make a piece's part of it alone, has its mesh made once for the pieces made while the
 // mesh stays resident: a second LRU, charged as `geometry`. Before a tessellation is made, room for
 // its making (the mesh evaluated again when it is not kept or shared, the working memory, and the
-// tessellation itself) is taken through the caller's TakeRoom, and given back once it is made.
+// tessellation itself) is taken through the caller's TakeRoom, and given back once it is made;
+// no piece or mesh is claimed for making while TakeRoom runs, so TakeRoom may wait for other
+// threads to give memory back.
 //
 // Thread safety: acquire and reclaim may be called by any number of threads at once; a piece that
 // several threads need together is made once while the others wait for it.

@@ -11,7 +11,7 @@ void writeRenderStats(util::JsonWriter& j, const RenderStats& s) {
     j.endObject();
     j.key("tiles").beginObject();
     j.field("count", s.tiles).field("minSize", uint64_t(s.tileMinSize)).field("maxSize", uint64_t(s.tileMaxSize));
-    j.field("maxTileCost", s.maxTileCost).field("deferred", s.tilesDeferred);
+    j.field("maxTileCost", s.maxTileCost).field("deferred", s.tilesDeferred).field("waitedForRoom", s.roomWaits);
     j.endObject();
     j.key("tessellation").beginObject();
     j.field("objects", s.tessellationShapes).field("instances", s.tessellationInstances);

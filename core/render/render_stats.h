@@ -33,6 +33,7 @@ struct RenderStats {
     int tileMinSize = 0, tileMaxSize = 0;  // shortest and longest tile side, pixels
     double maxTileCost = 0.0;              // the plan's cost limit (triangles per tile scanline); 0: fixed tiles
     uint64_t tilesDeferred = 0;            // rendered again alone: their triangles did not fit beside other tiles'
+    uint64_t roomWaits = 0;                // times a tile waited for other threads' tiles to end to find room (RoomGate)
     // tessellation (made per tile on first need, shared by instances, dropped under memory pressure)
     uint64_t tessellationShapes = 0;       // distinct shapes among the objects kept
     uint64_t tessellationInstances = 0;    // objects kept (instances of those shapes)

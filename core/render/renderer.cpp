@@ -3,6 +3,7 @@
 #include "core/geom/tessellation.h"
 #include "core/render/camera_space.h"
 #include "core/render/contrast_borders.h"
+#include "core/render/room_gate.h"
 #include "core/render/detail/tile_worker.h"
 #include "core/render/tile_index.h"
 #include "core/render/tile_plan.h"
@@ -161,6 +162,7 @@ private:
     std::deque<UnitView> m_units;           // per piece of each object's shape, object by object
     std::vector<PixelRect> m_tiles;
     LazyTessellations m_lazy;               // the tessellations, made when a tile first needs them
+    RoomGate m_gate;                        // the threads' turns when a tile finds no room
     std::optional<TileIndex> m_tileIndex;    // which tile holds a pixel, for m_borders and m_contrast
     std::optional<FilterBorders> m_borders;  // with a multi-pixel filter: what tiles share for it
     std::vector<cache::MemoryCharge> m_borderCharges;  // per tile: what m_borders keeps of it
@@ -362,17 +364,23 @@ std::pair<const geom::Tessellation*, uint32_t> FrameRenderer::triangleAt(const T
 // Calls `take` (which tries to charge `bytes` more to the budget) until it succeeds: as things
 // stand, then after dropping unpinned tessellations and meshes (their memory handed back), then
 // once more after copying the tile's pinned units (copyPinnedUnits) and dropping those too (when
-// `copyPinned`: not while the tile's pinned triangles are being read). Returns whether it succeeded.
+// `copyPinned`: not while the tile's pinned triangles are being read), then each time a tile of
+// another thread has ended (RoomGate), while one is running. Returns whether it succeeded.
 template <class Take>
 bool FrameRenderer::withRoom(TileWorker& w, uint64_t bytes, Take&& take, bool copyPinned) {
+    std::optional<RoomGate::Turn> turn;
     for (bool copied = false;;) {
         if (take()) return true;
         if (m_lazy.reclaim(bytes)) {
             returnDroppedMemory();
             if (take()) return true;
         }
-        if (!copyPinned || copied || !copyPinnedUnits(w)) return false;
-        copied = true;
+        if (copyPinned && !copied && copyPinnedUnits(w)) {
+            copied = true;
+            continue;
+        }
+        if (!turn) turn.emplace(m_gate);
+        if (!turn->wait()) return false;
     }
 }
 
@@ -1107,8 +1115,9 @@ Framebuffer FrameRenderer::run() {
             w->rasterizer.setGrowHook([this, worker = w.get()](uint64_t more) { chargeBuffersAhead(*worker, more); });
         return w;
     });
-    // Tiles whose tessellations do not fit beside what the other threads' tiles hold are
-    // rendered again afterwards, one at a time, with the whole budget to themselves.
+    // A tile that finds no room waits for the other threads' tiles to end (withRoom, RoomGate).
+    // Tiles that do not fit even so, beside what tiles waiting like them hold, are rendered again
+    // afterwards, one at a time, with the whole budget to themselves.
     std::mutex deferredMutex;
     std::vector<size_t> deferred;
     // The threads take the tiles in the plan's order from one counter, in runs of at most `chunk`
@@ -1143,6 +1152,8 @@ Framebuffer FrameRenderer::run() {
             return next < runEnd ? next++ : m_tiles.size();
         };
         for (size_t i = take(); i < m_tiles.size(); i = take()) {
+            // A tile searching for room gets what this thread's buffers grew to beyond its share.
+            const RoomGate::Tile turn(m_gate, [&] { w.releaseBuffers(m_perThreadBytes); });
             const RenderStats before = w.stats;
             const RasterStats rasterBefore = w.rasterizer.stats();
             const ResolveStats resolveBefore = w.resolver.stats();
@@ -1162,6 +1173,7 @@ Framebuffer FrameRenderer::run() {
     });
     std::sort(deferred.begin(), deferred.end());
     m_stats.tilesDeferred = deferred.size();
+    m_stats.roomWaits = m_gate.waits();
     if (!deferred.empty()) {
         // One tile at a time now: what the tile buffers grew to goes back (the deferred tiles grow
         // them again as they need).
