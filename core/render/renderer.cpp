@@ -120,7 +120,7 @@ private:
     std::vector<ScreenCost> screenCosts() const;
     void rasterizeTile(const PixelRect& base, TileWorker& w);
     void addObjectTriangles(uint32_t unit, const PixelRect& base, TileWorker& w);
-    const std::vector<glm::dvec4>& clusterBoxes(uint32_t unit, const geom::Tessellation& g);
+    const std::vector<glm::vec4>& clusterBoxes(TileWorker& w, uint32_t unit, const geom::Tessellation& g);
     bool copyPinnedUnits(TileWorker& w);
     // The topology of object `object` made in pieces, from the worker's table of its pieces.
     ObjectTopology piecesTopology(uint32_t object, const std::vector<TopologyPiece>& pieces) const {
@@ -319,8 +319,34 @@ std::vector<ScreenCost> FrameRenderer::screenCosts() const {
     return costs;
 }
 
-const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t unit, const geom::Tessellation& g) {
+namespace {
+// The nearest float at or below (floatBelow) or above (floatAbove) d, so that a box kept in floats
+// holds the box it was computed as.
+float floatBelow(double d) {
+    float f = float(d);
+    if (double(f) > d) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+float floatAbove(double d) {
+    float f = float(d);
+    if (double(f) < d) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+}  // namespace
+
+// Made once per unit and kept for the frame, charged as geometry. The room is taken before the
+// boxes are claimed for making: a thread that waits for room (withRoom) must not hold the
+// once_flag another thread waits on.
+const std::vector<glm::vec4>& FrameRenderer::clusterBoxes(TileWorker& w, uint32_t unit, const geom::Tessellation& g) {
     UnitView& u = m_units[unit];
+    if (u.clustersReady.load(std::memory_order_acquire)) return u.clusterBoxes;
+    const uint64_t bytes = uint64_t(g.clusterBounds.size()) * sizeof(glm::vec4);
+    std::optional<cache::MemoryCharge> room;
+    if (!withRoom(w, bytes, [&] {
+            room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
+            return room.has_value();
+        }))
+        throw TileDoesNotFit{m_scene.objects[u.object].name, bytes};
     const ObjectView& v = m_views[u.object];
     std::call_once(u.clustersMade, [&] {
         u.clusterBoxes.resize(g.clusterBounds.size());
@@ -340,8 +366,10 @@ const std::vector<glm::dvec4>& FrameRenderer::clusterBoxes(uint32_t unit, const 
                     box = glm::dvec4(std::min(box.x, r.x), std::min(box.y, r.y), std::max(box.z, r.x), std::max(box.w, r.y));
                 }
             }
-            u.clusterBoxes[c] = box;
+            u.clusterBoxes[c] = glm::vec4(floatBelow(box.x), floatBelow(box.y), floatAbove(box.z), floatAbove(box.w));
         }
+        u.clusterCharge = std::move(*room);
+        u.clustersReady.store(true, std::memory_order_release);
     });
     return u.clusterBoxes;
 }
@@ -492,7 +520,7 @@ void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Til
         while (run + 1 < runs.size() && runs[run + 1].local <= t) ++run;
         return runs[run].firstSlot + (t - runs[run].local);
     };
-    const std::vector<glm::dvec4>& boxes = clusterBoxes(unit, g);
+    const std::vector<glm::vec4>& boxes = clusterBoxes(w, unit, g);
     RenderStats& st = w.stats;
     const double nearZ = -m_camera.nearClipPlane;
     const size_t triangles = g.triangleCount();
@@ -501,7 +529,7 @@ void FrameRenderer::addObjectTriangles(uint32_t unit, const PixelRect& base, Til
     const bool record = m_budget.capBytes() != 0 && m_options.copyPinnedTriangles;
     const uint32_t runBegin = uint32_t(w.submitted.size());
     for (size_t cluster = 0; cluster < boxes.size(); ++cluster) {
-        const glm::dvec4& box = boxes[cluster];
+        const glm::vec4& box = boxes[cluster];
         if (box.z < base.x0 || box.x > base.x1 || box.w < base.y0 || box.y > base.y1) continue;
         const size_t end = std::min(triangles, (cluster + 1) * geom::Tessellation::kClusterTriangles);
         for (size_t t = cluster * geom::Tessellation::kClusterTriangles; t < end; ++t) {

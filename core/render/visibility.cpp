@@ -24,11 +24,11 @@ uint64_t capacityBytes(const std::vector<T>& v) {
 }  // namespace
 
 uint64_t TileRasterizer::bytes() const {
-    return capacityBytes(m_fragments) + capacityBytes(m_pixelStart) + capacityBytes(m_pixelFill);
+    return m_fragments.bytes() + capacityBytes(m_pixelStart) + capacityBytes(m_pixelFill);
 }
 
 void TileRasterizer::releaseMemory() {
-    util::release(m_fragments);
+    m_fragments.release();
     m_finished = 0;
     util::release(m_pixelStart);
     util::release(m_pixelFill);
@@ -195,8 +195,10 @@ TileRasterizer::TileRasterizer(const SubsamplePattern& pattern) : m_pattern(patt
 
 void TileRasterizer::reserveFragments(size_t fragments) {
     if (fragments <= m_fragments.capacity()) return;
-    const size_t capacity = std::max(fragments, 2 * m_fragments.capacity());
-    if (m_growHook) m_growHook(uint64_t(capacity) * sizeof(Fragment));
+    // The pages grow in place, so the growth is all a budget is told, and a step of half the
+    // capacity keeps the calls few without leaving much spare.
+    const size_t capacity = std::max(fragments, m_fragments.capacity() + m_fragments.capacity() / 2);
+    if (m_growHook) m_growHook(util::PageArray<Fragment>::bytesFor(capacity) - m_fragments.bytes());
     m_fragments.reserve(capacity);
 }
 
@@ -356,7 +358,7 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
                 f.mask = mask;
             }
             f.pixel = uint32_t((py - m_region.y0) * regionWidth + (px - m_region.x0));
-            m_fragments.push_back(f);
+            m_fragments.pushWithinCapacity(f);
         }
     }
     const size_t added = m_fragments.size() - before;
@@ -379,7 +381,7 @@ void TileRasterizer::finish() {
 
 std::span<const Fragment> TileRasterizer::sortedFragments() const {
     if (m_finished != m_fragments.size()) return {};
-    return m_fragments;
+    return std::span<const Fragment>(m_fragments.data(), m_fragments.size());
 }
 
 std::span<const Fragment> TileRasterizer::fragments(int x, int y) const {
@@ -393,7 +395,7 @@ void TileRasterizer::reorderPixel(int x, int y, std::span<const Fragment> reorde
     const std::span<const Fragment> at = fragments(x, y);
     if (at.size() != reordered.size())
         throw std::invalid_argument("TileRasterizer::reorderPixel: not the pixel's fragment count");
-    std::copy(reordered.begin(), reordered.end(), m_fragments.begin() + (at.data() - m_fragments.data()));
+    std::copy(reordered.begin(), reordered.end(), m_fragments.data() + (at.data() - m_fragments.data()));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -5,7 +5,8 @@
 // Thread safety: a TileRasterizer or PixelResolver is used by one thread at a time; make one per
 // thread and reuse it across tiles (buffers are kept, so steady state allocates nothing).
 // Memory: the rasterizer's fragment buffer grows with the fragments of the tile (48 bytes each),
-// sorted by pixel in place; a tile keeps its resolved surfaces' members in it (reorderPixel).
+// in place (util::PageArray: growing holds no second copy), and is sorted by pixel in place; a
+// tile keeps its resolved surfaces' members in it (reorderPixel).
 //
 // Coverage rule (what makes an isolated edge exact): a surface's coverage in a pixel is its exact
 // clipped area scaled by the fraction of its mask sub-samples that stay visible. A surface that
@@ -16,6 +17,7 @@
 #pragma once
 
 #include "core/render/fragment.h"
+#include "core/util/page_array.h"
 
 #include <cstdint>
 #include <functional>
@@ -64,11 +66,12 @@ public:
     const RasterStats& stats() const { return m_stats; }
     // Puts the counts back to `s` (a tile that is given up and rendered again later).
     void restoreStats(const RasterStats& s) { m_stats = s; }
-    // Heap bytes the rasterizer's buffers hold (their capacities).
+    // Bytes the rasterizer's buffers hold (their capacities).
     uint64_t bytes() const;
     // Called before a buffer grows, with the bytes the growth allocates while the old buffers are
-    // still held, so that a memory budget can make room first (it may throw to stop the tile).
-    // Buffers grow at least twofold, so the calls are few.
+    // still held (for the fragments, grown in place, only what they grow by), so that a memory
+    // budget can make room first (it may throw to stop the tile). Buffers grow at least by half,
+    // so the calls are few.
     void setGrowHook(std::function<void(uint64_t)> hook) { m_growHook = std::move(hook); }
     // Gives the buffers' memory back (stats are kept); the next reset() starts from nothing.
     void releaseMemory();
@@ -76,7 +79,7 @@ public:
 private:
     SubsamplePattern m_pattern;
     PixelRect m_region;
-    std::vector<Fragment> m_fragments;      // in insertion order until finish(), then by pixel
+    util::PageArray<Fragment> m_fragments;  // in insertion order until finish(), then by pixel
     size_t m_finished = 0;                  // fragments grouped by the last finish()
     std::vector<uint32_t> m_pixelStart;     // region pixel index → first fragment after finish() (+1 end)
     std::vector<uint32_t> m_pixelFill;      // finish()'s scratch

@@ -30,17 +30,18 @@ void fileByKey(size_t keyCount, ForEach&& forEach, std::vector<uint32_t>& start,
 // one item where it belongs), so that no second copy of the items is held. The order within a key
 // is not kept, but it depends only on the input order. `keyOf(item)` gives an item's key;
 // afterwards `start` bounds the keys as fileByKey's does. `fill` is scratch (keyCount entries).
-template <class Item, class KeyOf>
-void fileByKeyInPlace(size_t keyCount, std::vector<Item>& items, KeyOf&& keyOf, std::vector<uint32_t>& start,
+// `items`: any contiguous container with size(), operator[] and begin()/end().
+template <class Items, class KeyOf>
+void fileByKeyInPlace(size_t keyCount, Items& items, KeyOf&& keyOf, std::vector<uint32_t>& start,
                       std::vector<uint32_t>& fill) {
     start.assign(keyCount + 1, 0);
-    for (const Item& item : items) ++start[size_t(keyOf(item)) + 1];
+    for (const auto& item : items) ++start[size_t(keyOf(item)) + 1];
     for (size_t k = 0; k < keyCount; ++k) start[k + 1] += start[k];
     fill.assign(start.begin(), start.end() - 1);
     for (size_t k = 0; k < keyCount; ++k) {
         const uint32_t end = start[k + 1];
         while (fill[k] < end) {
-            Item& here = items[fill[k]];
+            auto& here = items[fill[k]];
             const size_t key = size_t(keyOf(here));
             if (key == k) {
                 ++fill[k];

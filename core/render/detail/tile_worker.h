@@ -22,6 +22,7 @@
 #include <glm/vec4.hpp>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -46,9 +47,12 @@ struct ObjectView : ObjectPlacement {
 struct UnitView : ScreenBox {
     uint32_t object = 0, piece = 0;
     bool kept = false;
-    // Screen boxes of the tessellation's clusters, made by the first tile that needs them.
+    // Screen boxes of the tessellation's clusters, made by the first tile that needs them (rounded
+    // outwards to floats) and charged as geometry for the frame.
     std::once_flag clustersMade;
-    std::vector<glm::dvec4> clusterBoxes;  // (x0, y0, x1, y1)
+    std::atomic<bool> clustersReady{false};
+    std::vector<glm::vec4> clusterBoxes;  // (x0, y0, x1, y1)
+    cache::MemoryCharge clusterCharge;
 };
 
 // ---------------------------------------------------------------- shading requests

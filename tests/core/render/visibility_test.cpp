@@ -264,7 +264,7 @@ TEST(TileRasterizer, TellsItsGrowHookBeforeEveryBufferGrows) {
     EXPECT_EQ(r.stats().fragments, 200u * 32u * 32u);
     EXPECT_EQ(r.fragments(5, 7).size(), 200u);
     EXPECT_GT(calls, 2);
-    EXPECT_LT(calls, 40) << "buffers grow at least twofold";
+    EXPECT_LT(calls, 40) << "buffers grow at least by half";
 }
 
 TEST(TileRasterizer, HalfPixelTriangleHasExactAreaCentroidAndMask) {

@@ -35,11 +35,14 @@ TEST(CountingSort, FileByKeyKeepsTheOrderWithinAKey) {
         start, out);
     ASSERT_EQ(start.size(), 38u);
     ASSERT_EQ(out.size(), items.size());
-    for (uint32_t k = 0; k < 37; ++k)
+    for (uint32_t k = 0; k < 37; ++k) {
         for (uint32_t i = start[k]; i < start[k + 1]; ++i) {
             EXPECT_EQ(out[i].key, k);
-            if (i > start[k]) EXPECT_LT(out[i - 1].id, out[i].id);
+            if (i > start[k]) {
+                EXPECT_LT(out[i - 1].id, out[i].id);
+            }
         }
+    }
 }
 
 TEST(CountingSort, InPlaceFilesEveryItemOnceUnderItsKey) {
