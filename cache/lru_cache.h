@@ -90,14 +90,7 @@ public:
         std::lock_guard<std::mutex> lock(m_mutex);
         const auto it = m_entries.find(key);
         if (it == m_entries.end() || !it->second.value) return std::nullopt;
-        Entry& e = it->second;
-        ++e.pins;
-        if (e.inLru) {
-            m_lru.erase(e.lruPosition);
-            e.inLru = false;
-        }
-        ++m_stats.hits;
-        return Pin(this, &e, e.value);
+        return pinResident(it->second);
     }
 
     // The value of `key`, pinned, made by `make()` (returning Value) when it is not resident, with
@@ -109,15 +102,7 @@ public:
         std::unique_lock<std::mutex> lock(m_mutex);
         Entry& e = m_entries[key];
         for (;;) {
-            if (e.value) {
-                ++e.pins;
-                if (e.inLru) {
-                    m_lru.erase(e.lruPosition);
-                    e.inLru = false;
-                }
-                ++m_stats.hits;
-                return Pin(this, &e, e.value);
-            }
+            if (e.value) return pinResident(e);
             if (!e.making) break;
             m_made.wait(lock);
         }
@@ -190,6 +175,17 @@ private:
         bool inLru = false;
         typename std::list<Entry*>::iterator lruPosition;
     };
+
+    // Pins resident entry `e` (a hit). Called with the mutex held.
+    Pin pinResident(Entry& e) {
+        ++e.pins;
+        if (e.inLru) {
+            m_lru.erase(e.lruPosition);
+            e.inLru = false;
+        }
+        ++m_stats.hits;
+        return Pin(this, &e, e.value);
+    }
 
     // Charges `size`, dropping unpinned values (oldest first) while the budget refuses. Called
     // with the mutex held.

@@ -24,7 +24,8 @@ uint64_t capacityBytes(const std::vector<T>& v) {
 }  // namespace
 
 uint64_t TileRasterizer::bytes() const {
-    return m_fragments.bytes() + capacityBytes(m_pixelStart) + capacityBytes(m_pixelFill);
+    return m_fragments.bytes() + capacityBytes(m_pixelStart) + capacityBytes(m_pixelFill) + capacityBytes(m_rowStart) +
+           capacityBytes(m_columnStart);
 }
 
 void TileRasterizer::releaseMemory() {
@@ -32,6 +33,8 @@ void TileRasterizer::releaseMemory() {
     m_finished = 0;
     util::release(m_pixelStart);
     util::release(m_pixelFill);
+    util::release(m_rowStart);
+    util::release(m_columnStart);
     m_region = {};
 }
 
@@ -369,13 +372,28 @@ void TileRasterizer::add(const ScreenTriangle& tri) {
 }
 
 void TileRasterizer::finish() {
-    const size_t pixels = size_t(m_region.width()) * size_t(m_region.height());
+    const size_t width = size_t(m_region.width()), rows = size_t(m_region.height()), pixels = width * rows;
     if (m_growHook) {
-        const uint64_t starts = pixels + 1 > m_pixelStart.capacity() ? (pixels + 1) * sizeof(uint32_t) : 0;
-        const uint64_t fill = pixels > m_pixelFill.capacity() ? pixels * sizeof(uint32_t) : 0;
-        if (starts + fill > 0) m_growHook(starts + fill);
+        auto growth = [](const std::vector<uint32_t>& v, size_t n) {
+            return n > v.capacity() ? uint64_t(n) * sizeof(uint32_t) : 0;
+        };
+        const uint64_t more = growth(m_pixelStart, pixels + 1) + growth(m_pixelFill, std::max(width, rows)) +
+                              growth(m_rowStart, rows + 1) + growth(m_columnStart, width + 1);
+        if (more > 0) m_growHook(more);
     }
-    util::fileByKeyInPlace(pixels, m_fragments, [](const Fragment& f) { return f.pixel; }, m_pixelStart, m_pixelFill);
+    m_pixelStart.assign(pixels + 1, 0);
+    if (pixels > 0) {
+        // By row first, then each row by column: each pass files into a few places at a time, which
+        // stay in the caches, where filing straight by pixel would scatter over the whole tile.
+        const uint32_t w = uint32_t(width);
+        util::fileByKeyInPlace(rows, m_fragments, [w](const Fragment& f) { return f.pixel / w; }, m_rowStart, m_pixelFill);
+        for (size_t r = 0; r < rows; ++r) {
+            std::span<Fragment> row(m_fragments.data() + m_rowStart[r], m_rowStart[r + 1] - m_rowStart[r]);
+            util::fileByKeyInPlace(width, row, [w](const Fragment& f) { return f.pixel % w; }, m_columnStart, m_pixelFill);
+            for (size_t c = 0; c < width; ++c) m_pixelStart[r * width + c] = m_rowStart[r] + m_columnStart[c];
+        }
+    }
+    m_pixelStart[pixels] = uint32_t(m_fragments.size());
     m_finished = m_fragments.size();
 }
 

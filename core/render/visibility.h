@@ -82,7 +82,7 @@ private:
     util::PageArray<Fragment> m_fragments;  // in insertion order until finish(), then by pixel
     size_t m_finished = 0;                  // fragments grouped by the last finish()
     std::vector<uint32_t> m_pixelStart;     // region pixel index → first fragment after finish() (+1 end)
-    std::vector<uint32_t> m_pixelFill;      // finish()'s scratch
+    std::vector<uint32_t> m_pixelFill, m_rowStart, m_columnStart;  // finish()'s scratch
     RasterStats m_stats;
     std::function<void(uint64_t)> m_growHook;
     // Room for `fragments` fragments in m_fragments (the hook told first).

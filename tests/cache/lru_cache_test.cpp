@@ -41,6 +41,33 @@ TEST(LruCache, MakesOnceAndSharesTheValue) {
     EXPECT_EQ(cache.stats().hits, 1u);
 }
 
+TEST(LruCache, TryPinFindsOnlyResidentValuesAndNeverMakes) {
+    MemoryBudget budget(250);
+    Maker m;
+    Cache cache(&budget, MemoryCategory::Tessellation);
+    EXPECT_FALSE(cache.tryPin(1));
+    EXPECT_EQ(cache.keyCount(), 0u) << "asking makes no entry";
+    {
+        auto a = cache.tryAcquire(1, m.make(1, 100), sizeOf);
+        ASSERT_TRUE(a);
+        auto b = cache.tryPin(1);
+        ASSERT_TRUE(b);
+        EXPECT_EQ(b->get(), a->get());
+        EXPECT_EQ(cache.stats().hits, 1u);
+    }
+    // Unpinned and resident: found (and pinned again: it is not the one dropped next).
+    auto again = cache.tryPin(1);
+    ASSERT_TRUE(again);
+    auto other = cache.tryAcquire(2, m.make(2, 100), sizeOf);
+    ASSERT_TRUE(other);
+    other.reset();
+    auto third = cache.tryAcquire(3, m.make(3, 100), sizeOf);  // 1 is pinned: 2 goes
+    ASSERT_TRUE(third);
+    EXPECT_TRUE(cache.tryPin(1));
+    EXPECT_FALSE(cache.tryPin(2));
+    EXPECT_EQ(m.calls, 3);
+}
+
 TEST(LruCache, ConcurrentCallersOfOneKeyWaitForOneMaker) {
     MemoryBudget budget;
     Cache cache(&budget, MemoryCategory::Tessellation);
