@@ -104,6 +104,22 @@ TEST(Makebot, ConvertsPngAndBotinfoReportsIt) {
         EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
 }
 
+// The default thread count runs in an arena of its own; the bytes are those of one thread.
+TEST(Makebot, WritesTheSameBytesWhateverTheThreadCount) {
+    const fs::path png = makePng("threads.png", 150, 90);
+    std::string bytes[3];
+    const char* counts[3] = {"", "--threads 1 ", "--threads 2 "};
+    for (int k = 0; k < 3; ++k) {
+        const fs::path bot = tempDir() / ("threads" + std::to_string(k) + ".bot");
+        const Result r = run(quote(binary("makebot")) + " " + counts[k] + quote(png) + " " + quote(bot));
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        bytes[k] = readAll(bot);
+    }
+    EXPECT_FALSE(bytes[0].empty());
+    EXPECT_EQ(bytes[0], bytes[1]);
+    EXPECT_EQ(bytes[0], bytes[2]);
+}
+
 TEST(Makebot, HonoursFormatWrapAndColorspaceOptions) {
     const fs::path png = makePng("opts.png", 16, 16);
     const fs::path bot = tempDir() / "opts.bot";

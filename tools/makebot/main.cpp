@@ -254,12 +254,11 @@ int run(const Options& o) {
         levels = writer.header().levels;
         stats = writer.finish();
     };
-    if (o.threads > 0) {
-        tbb::task_arena arena(o.threads);
-        arena.execute(convert);
-    } else {
-        convert();
-    }
+    // An arena of its own even at the default thread count: run from the implicit arena, the
+    // conversion of a 4096^2 WebP image measured as slow as on one thread (1.69 s against 1.15 s in
+    // an arena of two on two cores).
+    tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
+    arena.execute(convert);
     in->close();
 
     if (o.verbose) {
