@@ -99,17 +99,18 @@ struct alignas(64) Shard {
 struct alignas(64) SlotMeta {
     std::atomic<uint64_t> generation{1};  // odd: empty or being filled; even: holds `key`
     // Changed under Impl::evictMutex, except that the thread filling a slot publishes it (key,
-    // resident, then loading = false with release) without the lock; the evictor reads loading
-    // first with acquire, so a slot it sees as not loading shows its key.
+    // then SlotStamp's resident and loading = false with release) without the lock; the evictor
+    // reads loading first with acquire, so a slot it sees as not loading shows its key.
     std::atomic<uint64_t> key{kNoKey};
-    std::atomic<bool> loading{false};
-    std::atomic<bool> resident{false};
 };
 
-// Written by every hit; kept on its own line so those writes do not invalidate the generation
-// line other readers are loading.
+// The stamp is written by every hit; kept on its own line so those writes do not invalidate the
+// generation line other readers are loading. The slot's state flags share the stamp's line, so
+// that the victim scan (Impl::acquireSlot) reads one line per slot instead of two.
 struct alignas(64) SlotStamp {
     std::atomic<uint64_t> stamp{0};
+    std::atomic<bool> loading{false};   // being filled (or chosen as a victim)
+    std::atomic<bool> resident{false};  // holds a published page
 };
 
 }  // namespace
@@ -199,7 +200,7 @@ struct TextureCache::Impl {
             if (!freeSlots.empty()) {
                 const uint32_t s = freeSlots.back();
                 freeSlots.pop_back();
-                slots[s].loading.store(true, std::memory_order_relaxed);
+                stamps[s].loading.store(true, std::memory_order_relaxed);
                 return s;
             }
             // The victim is the least recently stamped of the next kVictimWindow slots from the
@@ -214,8 +215,8 @@ struct TextureCache::Impl {
                 for (uint32_t k = 0; k < window && scanned < n; ++k, ++scanned) {
                     const uint32_t s = hand;
                     hand = (hand + 1 == n) ? 0 : hand + 1;
-                    if (slots[s].loading.load(std::memory_order_acquire) ||
-                        !slots[s].resident.load(std::memory_order_relaxed))
+                    if (stamps[s].loading.load(std::memory_order_acquire) ||
+                        !stamps[s].resident.load(std::memory_order_relaxed))
                         continue;
                     const uint64_t st = stamps[s].stamp.load(std::memory_order_relaxed);
                     if (st < oldest) {
@@ -243,8 +244,8 @@ struct TextureCache::Impl {
             }
             meta.generation.fetch_add(1, std::memory_order_relaxed);  // now odd
             meta.key.store(kNoKey, std::memory_order_relaxed);
-            meta.resident.store(false, std::memory_order_relaxed);
-            meta.loading.store(true, std::memory_order_relaxed);
+            stamps[victim].resident.store(false, std::memory_order_relaxed);
+            stamps[victim].loading.store(true, std::memory_order_relaxed);
             evicted = true;
             return victim;
         }
@@ -253,16 +254,16 @@ struct TextureCache::Impl {
     void releaseFailedSlot(uint32_t s) {
         std::lock_guard lock(evictMutex);
         slots[s].key.store(kNoKey, std::memory_order_relaxed);
-        slots[s].resident.store(false, std::memory_order_relaxed);
-        slots[s].loading.store(false, std::memory_order_relaxed);
+        stamps[s].resident.store(false, std::memory_order_relaxed);
+        stamps[s].loading.store(false, std::memory_order_relaxed);
         freeSlots.push_back(s);
     }
 
     // Makes a filled slot evictable. No lock: only this thread touches a loading slot.
     void publishSlot(uint32_t s, uint64_t key) {
         slots[s].key.store(key, std::memory_order_relaxed);
-        slots[s].resident.store(true, std::memory_order_relaxed);
-        slots[s].loading.store(false, std::memory_order_release);
+        stamps[s].resident.store(true, std::memory_order_relaxed);
+        stamps[s].loading.store(false, std::memory_order_release);
     }
 
     // Opens t's file for the pool: checks that it is still as long as when it was registered

@@ -279,8 +279,12 @@ inline bool TextureCache::PerThread::readTexelsN(TextureHandle texture, uint32_t
             if (g == e.generationValue) {
                 const uint32_t c = C ? C : e.channels;
                 float* page = const_cast<float*>(e.data);
+                // Unrolled for the filters' constant counts (1, 2 or 4 texels of C channels):
+                // -O2 leaves these short loops rolled otherwise.
+#pragma GCC unroll 4
                 for (uint32_t i = 0; i < count; ++i) {
                     float* src = page + size_t(offsets[i]) * c;
+#pragma GCC unroll 4
                     for (uint32_t ch = 0; ch < c; ++ch)
                         out[i * c + ch] = std::atomic_ref<float>(src[ch]).load(std::memory_order_relaxed);
                 }

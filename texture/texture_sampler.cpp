@@ -332,6 +332,47 @@ bool sampleBatch(Context& c, const LookupOptions& options, const float* kernel,
     return true;
 }
 
+// The batch loop for a channel count, compiled once for the x86-64 baseline and, on x86-64, once
+// more with SSE4.1, whose roundss makes each of a bilinear lookup's four floors one instruction
+// instead of a sequence of conversions and compares. floor is exact either way (and neither
+// build contracts multiplications and additions), so both give the same bits.
+template <uint32_t C>
+bool sampleBatchBaseline(Context& c, const LookupOptions& options, const float* kernel, const LookupBatch& batch,
+                         const float* fill, uint32_t outChannels, float* const* out) {
+    return sampleBatch<C>(c, options, kernel, batch, fill, outChannels, out);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SSE4_1__)
+template <uint32_t C>
+__attribute__((target("sse4.1"), flatten)) bool sampleBatchSse41(Context& c, const LookupOptions& options,
+                                                                  const float* kernel, const LookupBatch& batch,
+                                                                  const float* fill, uint32_t outChannels,
+                                                                  float* const* out) {
+    return sampleBatch<C>(c, options, kernel, batch, fill, outChannels, out);
+}
+
+bool hasSse41() {
+    static const bool has = [] {
+        __builtin_cpu_init();  // may run before the constructor that would call it
+        return __builtin_cpu_supports("sse4.1") != 0;
+    }();
+    return has;
+}
+
+template <uint32_t C>
+bool dispatchBatch(Context& c, const LookupOptions& options, const float* kernel, const LookupBatch& batch,
+                   const float* fill, uint32_t outChannels, float* const* out) {
+    if (hasSse41()) return sampleBatchSse41<C>(c, options, kernel, batch, fill, outChannels, out);
+    return sampleBatchBaseline<C>(c, options, kernel, batch, fill, outChannels, out);
+}
+#else
+template <uint32_t C>
+bool dispatchBatch(Context& c, const LookupOptions& options, const float* kernel, const LookupBatch& batch,
+                   const float* fill, uint32_t outChannels, float* const* out) {
+    return sampleBatchBaseline<C>(c, options, kernel, batch, fill, outChannels, out);
+}
+#endif
+
 }  // namespace
 
 bool sampleTexture(TextureCache::PerThread& thread, TextureHandle texture,
@@ -357,11 +398,11 @@ bool sampleTexture(TextureCache::PerThread& thread, TextureHandle texture,
     if (options.filter == FilterMode::Kernel) kernelWeights(options.kernel, kernel);
     // Dispatch once per batch on the channel count, so the per-texel loops unroll.
     switch (c.channels) {
-    case 1: return sampleBatch<1>(c, options, kernel, batch, fill, outChannels, out);
-    case 2: return sampleBatch<2>(c, options, kernel, batch, fill, outChannels, out);
-    case 3: return sampleBatch<3>(c, options, kernel, batch, fill, outChannels, out);
-    case 4: return sampleBatch<4>(c, options, kernel, batch, fill, outChannels, out);
-    default: return sampleBatch<0>(c, options, kernel, batch, fill, outChannels, out);
+    case 1: return dispatchBatch<1>(c, options, kernel, batch, fill, outChannels, out);
+    case 2: return dispatchBatch<2>(c, options, kernel, batch, fill, outChannels, out);
+    case 3: return dispatchBatch<3>(c, options, kernel, batch, fill, outChannels, out);
+    case 4: return dispatchBatch<4>(c, options, kernel, batch, fill, outChannels, out);
+    default: return dispatchBatch<0>(c, options, kernel, batch, fill, outChannels, out);
     }
 }
 

@@ -846,7 +846,7 @@ TEST(BotWriter, RejectsBadArguments) {
 
 // ------------------------------------------------------------------ version 3
 
-// Options that write version 3 (makebot's default is version 2).
+// Options that write version 3 (also the default; the tests below say so where they depend on it).
 BotWriteOptions version3Options() {
     BotWriteOptions opt;
     opt.version = 3;

@@ -90,18 +90,34 @@ TEST(Makebot, ConvertsPngAndBotinfoReportsIt) {
     EXPECT_EQ(json.exitCode, 0);
     EXPECT_NE(json.output.find("\"levels\": ["), std::string::npos) << json.output;
     EXPECT_NE(json.output.find("\"compressedBytes\""), std::string::npos);
-    EXPECT_NE(json.output.find("\"version\": 2"), std::string::npos) << json.output;
-    EXPECT_NE(info.output.find("version 2"), std::string::npos) << info.output;
-    // --bot-version 3 writes the other version, which botinfo reads as well.
-    const fs::path bot3 = tempDir() / "small3.bot";
-    const Result r3 = run(quote(binary("makebot")) + " --bot-version 3 " + quote(png) + " " + quote(bot3));
-    ASSERT_EQ(r3.exitCode, 0) << r3.output;
-    EXPECT_EQ(pushpin::texture::BotFile::open(bot3)->version(), 3u);
-    const Result info3 = run(quote(binary("botinfo")) + " --verify " + quote(bot3));
-    EXPECT_EQ(info3.exitCode, 0) << info3.output;
-    EXPECT_NE(info3.output.find("version 3"), std::string::npos) << info3.output;
+    EXPECT_NE(json.output.find("\"version\": 3"), std::string::npos) << json.output;
+    EXPECT_NE(info.output.find("version 3"), std::string::npos) << info.output;
+    // --bot-version 2 writes the other version, which botinfo reads as well.
+    const fs::path bot2 = tempDir() / "small2.bot";
+    const Result r2 = run(quote(binary("makebot")) + " --bot-version 2 " + quote(png) + " " + quote(bot2));
+    ASSERT_EQ(r2.exitCode, 0) << r2.output;
+    EXPECT_EQ(pushpin::texture::BotFile::open(bot2)->version(), 2u);
+    const Result info2 = run(quote(binary("botinfo")) + " --verify " + quote(bot2));
+    EXPECT_EQ(info2.exitCode, 0) << info2.output;
+    EXPECT_NE(info2.output.find("version 2"), std::string::npos) << info2.output;
     for (const auto& e : fs::directory_iterator(tempDir()))
         EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+}
+
+// The default thread count runs in an arena of its own; the bytes are those of one thread.
+TEST(Makebot, WritesTheSameBytesWhateverTheThreadCount) {
+    const fs::path png = makePng("threads.png", 150, 90);
+    std::string bytes[3];
+    const char* counts[3] = {"", "--threads 1 ", "--threads 2 "};
+    for (int k = 0; k < 3; ++k) {
+        const fs::path bot = tempDir() / ("threads" + std::to_string(k) + ".bot");
+        const Result r = run(quote(binary("makebot")) + " " + counts[k] + quote(png) + " " + quote(bot));
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        bytes[k] = readAll(bot);
+    }
+    EXPECT_FALSE(bytes[0].empty());
+    EXPECT_EQ(bytes[0], bytes[1]);
+    EXPECT_EQ(bytes[0], bytes[2]);
 }
 
 TEST(Makebot, HonoursFormatWrapAndColorspaceOptions) {

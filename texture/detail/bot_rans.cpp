@@ -21,13 +21,6 @@ struct RansTableSet::Table {
     uint16_t cum[256];
 };
 
-namespace {
-// Bit 23 of a decoding block's frequency word marks a context the band has no symbols for: any use
-// of it makes the page corrupt (its frequency, 2048, keeps the state in range meanwhile).
-constexpr uint32_t kStepUnused = 1u << 23;
-constexpr uint32_t kStepOfUnused = kStepUnused | kRansScale;
-}  // namespace
-
 RansTableSet::~RansTableSet() = default;
 RansTableSet::RansTableSet(RansTableSet&&) noexcept = default;
 
@@ -283,18 +276,19 @@ void completeTable(RansTableSet::Table& t) {
 }  // namespace
 
 void RansTableSet::index() {
-    m_decode.assign(size_t(m_contexts) * kRansDecodeBlockWords, 0);
+    m_decode.assign(m_contexts, RansDecodeBlock{});
     for (uint32_t c = 0; c < m_contexts; ++c) {
-        uint32_t* freqCum = m_decode.data() + size_t(c) * kRansDecodeBlockWords;
-        uint8_t* symbols = reinterpret_cast<uint8_t*>(freqCum + 256);
+        RansDecodeBlock& block = m_decode[c];
         if (m_tableOf[c] < 0) {
-            freqCum[0] = kStepOfUnused;  // every slot decodes symbol 0, which marks the page corrupt
+            // Every slot decodes symbol 0, whose mark makes the page corrupt (its frequency, 2048,
+            // keeps the state's arithmetic in range meanwhile).
+            block.steps[0] = {uint16_t(kRansScale), kRansUnusedCum};
             continue;
         }
         const Table& t = m_tables[size_t(m_tableOf[c])];
         for (uint32_t s = 0; s < 256; ++s) {
-            std::memset(symbols + t.cum[s], int(s), t.freq[s]);
-            freqCum[s] = t.freq[s] | uint32_t(t.cum[s]) << 12;
+            std::memset(block.symbols + t.cum[s], int(s), t.freq[s]);
+            block.steps[s] = {t.freq[s], t.cum[s]};
         }
     }
 }
@@ -374,7 +368,7 @@ void RansTableSet::serialize(std::vector<uint8_t>& out) const {
 
 size_t RansTableSet::memoryBytes() const {
     return sizeof(RansTableSet) + m_tableOf.capacity() * sizeof(int32_t) + m_tables.capacity() * sizeof(Table) +
-           m_reciprocals.capacity() * sizeof(uint64_t) + m_decode.capacity() * sizeof(uint32_t);
+           m_reciprocals.capacity() * sizeof(uint64_t) + m_decode.capacity() * sizeof(RansDecodeBlock);
 }
 
 namespace {
@@ -492,29 +486,35 @@ struct PaddedStream {
     uint8_t bytes[kStreamPadding + size_t(kPageTexels) * kMaxChannels * 4 + kStreamPadding];
 };
 
-// One state of the decoder. step() decodes the symbol of slot x mod 2048 in the table `steps` (a
-// context's), then renormalises by reading 0, 1 or 2 bytes (after a step the state is at least
-// kLow / 2^11, so two always suffice), branch-free: which of the three happens follows the data, and a branch on
-// it is mispredicted on most noisy symbols.
+// One state of the decoder. step() decodes the symbol of slot x mod 2048 in a context's decoding
+// block, then renormalises by reading 0, 1 or 2 bytes (after a step the state is at least
+// kLow / 2^11, so two always suffice), branch-free: which of the three happens follows the data, and
+// a branch on it is mispredicted on most noisy symbols. The chain each symbol waits on is the
+// state's: slot, symbol, frequency, multiplication, renormalisation; everything else (the
+// cumulative frequency, the bytes to read) is formed beside it.
 template <bool kForward, uint32_t kLow>
 struct RansLane {
     uint32_t x;
     const uint8_t* p;    // A: the next byte; B: one past it
-    uint32_t marks = 0;  // ORed steps: kStepUnused when a context without symbols was used
-    // `block`: a context's decoding block (RansTableSet::m_decode).
-    inline uint32_t step(const uint32_t* block) {
-        const uint32_t slot = x & (kRansScale - 1);
-        const uint32_t sym = reinterpret_cast<const uint8_t*>(block + 256)[slot];
-        const uint32_t s = block[sym];
-        marks |= s;
-        x = (s & 0xfff) * (x >> kRansScaleBits) + slot - ((s >> 12) & 0x7ff);
+    uint32_t marks = 0;  // ORed cumulative frequencies: kRansUnusedCum when a context without symbols was used
+    inline uint32_t step(const RansDecodeBlock* block) {
+        const size_t slot = x & (kRansScale - 1);
+        const uint32_t sym = block->symbols[slot];
+        const uint32_t freq = block->steps[sym].freq, cum = block->steps[sym].cum;
+        marks |= cum;
+        uint32_t bias = uint32_t(slot) - cum;
+#if defined(__GNUC__)
+        // Keeps the compiler from reassociating the sum into two additions after the product.
+        asm("" : "+r"(bias));
+#endif
+        x = freq * (x >> kRansScaleBits) + bias;
+        const uint32_t first = kForward ? p[0] : p[-1], second = kForward ? p[1] : p[-2];
 #if defined(__x86_64__)
         // The state and position with one and with two bytes read are formed beside the
-        // comparisons, and conditional moves pick them: 3 cycles on the chain every symbol waits for
-        // instead of 6 for shifts by 8n, and fewer instructions. (GCC turns the same selections
-        // written in C++ into branches, mispredicted on most noisy symbols.)
-        const uint32_t first = kForward ? p[0] : p[-1], second = kForward ? p[1] : p[-2];
-        const uint32_t one = x << 8 | first, two = one << 8 | second;
+        // comparisons, and conditional moves pick them: fewer cycles on the chain every symbol
+        // waits for than shifts by 8n. (GCC turns the same selections written in C++ into
+        // branches, mispredicted on most noisy symbols.)
+        const uint32_t one = x << 8 | first, two = x << 16 | (first << 8 | second);
         const uint8_t* p1 = kForward ? p + 1 : p - 1;
         const uint8_t* p2 = kForward ? p + 2 : p - 2;
         uint32_t y = x;
@@ -531,7 +531,7 @@ struct RansLane {
         x = y;
 #else
         const uint32_t n = uint32_t(x < kLow) + uint32_t(x < (kLow >> 8));
-        const uint32_t next = kForward ? uint32_t(p[0]) << 8 | p[1] : uint32_t(p[-1]) << 8 | p[-2];
+        const uint32_t next = first << 8 | second;
         x = x << (8 * n) | next >> (16 - 8 * n);
         p = kForward ? p + n : p - n;
 #endif
@@ -552,12 +552,12 @@ using RansLaneB = RansLane<false, kRansLowB>;
 // walkPage<1> for decoding: both blocks' rows in step, the magnitude classes of the row above kept
 // as they come, and the decoding block of every sum of two classes looked up once a page, so that
 // a symbol's context is two loads and an addition from the symbol before.
-inline bool decodeU8(RansLaneA& a, RansLaneB& b, const uint32_t* blocks, uint32_t channels, uint8_t* planes) {
+inline bool decodeU8(RansLaneA& a, RansLaneB& b, const RansDecodeBlock* blocks, uint32_t channels, uint8_t* planes) {
     constexpr uint32_t n = kPageSizeTexels;
-    const uint32_t* byActivity[2 * 9 + 1];
+    const RansDecodeBlock* byActivity[2 * 9 + 1];
     for (uint32_t k = 0; k < std::size(byActivity); ++k)
-        byActivity[k] = blocks + std::min(k, kRansActivityBuckets - 1) * kRansDecodeBlockWords;
-    const uint32_t* const start = blocks + kRansStartContext * kRansDecodeBlockWords;
+        byActivity[k] = blocks + std::min(k, kRansActivityBuckets - 1);
+    const RansDecodeBlock* const start = blocks + kRansStartContext;
     const uint8_t* const mag = kByteMagnitude.data();
     for (uint32_t c = 0; c < channels; ++c) {
         uint8_t* top = planes + size_t(c) * kPageResiduals - 1;  // top[i]: texel i's residual
@@ -613,14 +613,14 @@ bool RansTableSet::decode(const uint8_t* stored, size_t bytes, uint32_t channels
     std::memset(begin + streamBytes, 0, kStreamPadding);
     RansLaneA a{get32le(p), begin};
     RansLaneB b{get32le(p + kRansStateBytes) & 0xffffff, begin + streamBytes};
-    const uint32_t* const blocks = m_decode.data();
+    const RansDecodeBlock* const blocks = m_decode.data();
     if (type == PixelType::U8) {
         if (!decodeU8(a, b, blocks, channels, packed + prefix)) return false;
     } else {
         uint32_t count = 0;
         bool crossed = false;
         walkPageAnyType(type, channels, packed + prefix, [&](uint32_t ctx, uint8_t, uint32_t state) -> uint8_t {
-            const uint32_t* block = blocks + ctx * kRansDecodeBlockWords;
+            const RansDecodeBlock* block = blocks + ctx;
             const uint8_t s = uint8_t(state == 0 ? a.step(block) : b.step(block));
             // Checked once every 8 symbols, well within what the padding covers.
             if ((++count & 7) == 0) crossed |= a.p > b.p;
@@ -630,7 +630,7 @@ bool RansTableSet::decode(const uint8_t* stored, size_t bytes, uint32_t channels
     }
     // A valid coding ends exactly where the encoder began, each state at kRansLow plus its payload,
     // with every byte read once.
-    if (((a.marks | b.marks) & kStepUnused) || a.p != b.p || (a.x >> 24) != 1 ||
+    if (((a.marks | b.marks) & kRansUnusedCum) || a.p != b.p || (a.x >> 24) != 1 ||
         (b.x - kRansLowB) >> kRansPayloadBitsB != 0)
         return false;
     const uint64_t payload = (a.x & ((1u << kRansPayloadBitsA) - 1)) | uint64_t(b.x - kRansLowB) << kRansPayloadBitsA;

@@ -34,8 +34,18 @@ constexpr uint32_t kRansCheckBits = 15;
 constexpr uint32_t kRansPayloadBitsA = 24, kRansPayloadBitsB = 23;
 // The first bytes of the prefix that ride in the initial states (see ransPrefixInState).
 constexpr uint32_t kRansPrefixInStateMax = (kRansPayloadBitsA + kRansPayloadBitsB - kRansCheckBits) / 8;
-// Words of a context's decoding block (see RansTableSet::m_decode).
-constexpr uint32_t kRansDecodeBlockWords = 256 + kRansScale / 4;
+// One context's decoding block (3 KiB): per symbol its frequency and cumulative frequency, then
+// the symbol of each of the kRansScale slots. The two halves of a step are read by two loads that
+// need no masking; a context without symbols has cum = kRansUnusedCum (bit 15), which marks any
+// page that uses it corrupt.
+struct RansDecodeBlock {
+    struct Step {
+        uint16_t freq, cum;
+    };
+    Step steps[256];
+    uint8_t symbols[kRansScale];
+};
+constexpr uint16_t kRansUnusedCum = 1u << 15;
 // ransCount's contexts carry the state that codes each symbol (0: A, 1: B) in this bit.
 constexpr uint32_t kRansStateBit = 7;
 
@@ -121,11 +131,9 @@ private:
     std::vector<int32_t> m_tableOf;  // per context: index into m_tables, or -1 when unused
     std::vector<Table> m_tables;
     std::vector<uint64_t> m_reciprocals;  // fit() only: 256 per table, for encoding
-    // Per context, kRansScale decoding steps (bot_rans.cpp), back to back; the steps of a context
-    // without symbols mark the page corrupt.
-    // Per context, one decoding block of kRansDecodeBlockWords: per symbol its frequency | cumulative
-    // frequency << 12 (256 words), then the symbol of each of the kRansScale slots (bytes).
-    std::vector<uint32_t> m_decode;
+    // Per context, one decoding block; a context without symbols decodes symbol 0 with the
+    // kRansUnusedCum mark.
+    std::vector<RansDecodeBlock> m_decode;
     void index();  // fills m_decode
 public:
     ~RansTableSet();
