@@ -82,15 +82,18 @@ public:
         std::shared_ptr<const Value> m_value;
     };
 
-    // The value of `key`, pinned, when it is resident now (counted as a hit); nullopt, without
-    // waiting, when it is not or another caller is making it. A caller that must make room before
-    // a value is made (and may wait for that) asks here first, so that it holds no key's making
-    // while it waits.
+    // The value of `key`, pinned, when it is resident (counted as a hit), after waiting for the
+    // caller making it, if any; nullopt when it is not resident, without making it. A caller that
+    // must make room before a value is made (and may wait for that) asks here first, so that it
+    // holds no key's making while it waits, and takes no room for a value another is making.
     std::optional<Pin> tryPin(const Key& key) {
-        std::lock_guard<std::mutex> lock(m_mutex);
+        std::unique_lock<std::mutex> lock(m_mutex);
         const auto it = m_entries.find(key);
-        if (it == m_entries.end() || !it->second.value) return std::nullopt;
-        return pinResident(it->second);
+        if (it == m_entries.end()) return std::nullopt;
+        Entry& e = it->second;
+        while (e.making) m_made.wait(lock);
+        if (!e.value) return std::nullopt;
+        return pinResident(e);
     }
 
     // The value of `key`, pinned, made by `make()` (returning Value) when it is not resident, with

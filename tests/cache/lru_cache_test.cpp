@@ -68,6 +68,34 @@ TEST(LruCache, TryPinFindsOnlyResidentValuesAndNeverMakes) {
     EXPECT_EQ(m.calls, 3);
 }
 
+TEST(LruCache, TryPinWaitsForTheCallerMakingTheValue) {
+    MemoryBudget budget;
+    Cache cache(&budget, MemoryCategory::Tessellation);
+    std::atomic<bool> making{false}, finish{false};
+    std::thread maker([&] {
+        auto pin = cache.tryAcquire(
+            4,
+            [&] {
+                making = true;
+                while (!finish) std::this_thread::yield();
+                return std::string(10, 'x');
+            },
+            sizeOf);
+        EXPECT_TRUE(pin);
+    });
+    while (!making) std::this_thread::yield();
+    std::thread finisher([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        finish = true;
+    });
+    auto found = cache.tryPin(4);  // waits for the maker instead of answering "not resident"
+    ASSERT_TRUE(found);
+    EXPECT_EQ(**found, std::string(10, 'x'));
+    maker.join();
+    finisher.join();
+    EXPECT_EQ(cache.stats().made, 1u);
+}
+
 TEST(LruCache, ConcurrentCallersOfOneKeyWaitForOneMaker) {
     MemoryBudget budget;
     Cache cache(&budget, MemoryCategory::Tessellation);
