@@ -62,7 +62,7 @@ using Clock = std::chrono::steady_clock;
 
 // Without a cap, the most crossings (a triangle's fragment in a pixel) a tile may be estimated to
 // hold before the tile is split. Larger tiles render more slowly (their fragments no longer stay
-// in the caches while they are sorted and resolved): 859,000 crossings gave 801 tiles and 38.0 s
+// in the caches while they are sorted and resolved): 859,000 crossings gave 777 tiles and 39.5 s
 // on the --detail 3 bench scene on one thread, 1,243,000 gave 531 tiles and 42.0 s.
 constexpr double kUncappedTileCrossings = 859'000;
 
@@ -130,6 +130,9 @@ private:
     template <class Take>
     bool withRoom(TileWorker& w, uint64_t bytes, Take&& take, bool copyPinned = true);
     void holdCharge(TileWorker& w, cache::MemoryCharge& charge, uint64_t bytes);
+    // `bytes` charged as geometry for something object `object` needs made, room made for it
+    // (withRoom). Throws TileDoesNotFit, naming the object, when the budget cannot hold it.
+    cache::MemoryCharge takeGeometryRoom(TileWorker& w, uint64_t bytes, uint32_t object);
     // Charges what the worker's buffers hold beyond its share, and `more` bytes about to be
     // allocated beside them.
     void chargeBuffers(TileWorker& w, uint64_t more = 0);
@@ -340,13 +343,7 @@ float floatAbove(double d) {
 const std::vector<glm::vec4>& FrameRenderer::clusterBoxes(TileWorker& w, uint32_t unit, const geom::Tessellation& g) {
     UnitView& u = m_units[unit];
     if (u.clustersReady.load(std::memory_order_acquire)) return u.clusterBoxes;
-    const uint64_t bytes = uint64_t(g.clusterBounds.size()) * sizeof(glm::vec4);
-    std::optional<cache::MemoryCharge> room;
-    if (!withRoom(w, bytes, [&] {
-            room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
-            return room.has_value();
-        }))
-        throw TileDoesNotFit{m_scene.objects[u.object].name, bytes};
+    cache::MemoryCharge room = takeGeometryRoom(w, uint64_t(g.clusterBounds.size()) * sizeof(glm::vec4), u.object);
     const ObjectView& v = m_views[u.object];
     std::call_once(u.clustersMade, [&] {
         u.clusterBoxes.resize(g.clusterBounds.size());
@@ -368,7 +365,7 @@ const std::vector<glm::vec4>& FrameRenderer::clusterBoxes(TileWorker& w, uint32_
             }
             u.clusterBoxes[c] = glm::vec4(floatBelow(box.x), floatBelow(box.y), floatAbove(box.z), floatAbove(box.w));
         }
-        u.clusterCharge = std::move(*room);
+        u.clusterCharge = std::move(room);
         u.clustersReady.store(true, std::memory_order_release);
     });
     return u.clusterBoxes;
@@ -410,6 +407,16 @@ bool FrameRenderer::withRoom(TileWorker& w, uint64_t bytes, Take&& take, bool co
         if (!turn) turn.emplace(m_gate);
         if (!turn->wait()) return false;
     }
+}
+
+cache::MemoryCharge FrameRenderer::takeGeometryRoom(TileWorker& w, uint64_t bytes, uint32_t object) {
+    std::optional<cache::MemoryCharge> room;
+    if (!withRoom(w, bytes, [&] {
+            room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
+            return room.has_value();
+        }))
+        throw TileDoesNotFit{m_scene.objects[object].name, bytes};
+    return std::move(*room);
 }
 
 // Resizes `charge` to `bytes`, making room (withRoom) for what it grows by. Throws TileDoesNotFit
@@ -603,15 +610,7 @@ void FrameRenderer::rasterizeTile(const PixelRect& base, TileWorker& w) {
         const uint32_t i = m_units[unit].object, piece = m_units[unit].piece;
         const geom::GeometryHandle* handle = m_scene.objects[i].geometry.get();
         // Room for `bytes` while something is made (withRoom).
-        auto takeRoom = [&](uint64_t bytes) {
-            std::optional<cache::MemoryCharge> room;
-            if (!withRoom(w, bytes, [&] {
-                    room = cache::MemoryCharge::tryCharge(m_budget, cache::MemoryCategory::Geometry, bytes);
-                    return room.has_value();
-                }))
-                throw TileDoesNotFit{m_scene.objects[i].name, bytes};
-            return std::move(*room);
-        };
+        auto takeRoom = [&](uint64_t bytes) { return takeGeometryRoom(w, bytes, i); };
         std::optional<LazyTessellations::Pin> pin;
         try {
             pin = m_lazy.acquire(*handle, piece, takeRoom);

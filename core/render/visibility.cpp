@@ -30,7 +30,6 @@ uint64_t TileRasterizer::bytes() const {
 
 void TileRasterizer::releaseMemory() {
     m_fragments.release();
-    m_finished = 0;
     util::release(m_pixelStart);
     util::release(m_pixelFill);
     util::release(m_rowStart);
@@ -208,7 +207,6 @@ void TileRasterizer::reserveFragments(size_t fragments) {
 void TileRasterizer::reset(const PixelRect& region) {
     m_region = region;
     m_fragments.clear();
-    m_finished = 0;
     m_pixelStart.clear();
 }
 
@@ -394,17 +392,16 @@ void TileRasterizer::finish() {
         }
     }
     m_pixelStart[pixels] = uint32_t(m_fragments.size());
-    m_finished = m_fragments.size();
 }
 
 std::span<const Fragment> TileRasterizer::sortedFragments() const {
-    if (m_finished != m_fragments.size()) return {};
+    if (!finished()) return {};
     return std::span<const Fragment>(m_fragments.data(), m_fragments.size());
 }
 
 std::span<const Fragment> TileRasterizer::fragments(int x, int y) const {
     const size_t pixels = size_t(m_region.width()) * size_t(m_region.height());
-    if (!m_region.contains(x, y) || m_pixelStart.size() != pixels + 1 || m_finished != m_fragments.size()) return {};
+    if (!m_region.contains(x, y) || m_pixelStart.size() != pixels + 1 || !finished()) return {};
     const size_t p = size_t(y - m_region.y0) * size_t(m_region.width()) + size_t(x - m_region.x0);
     return std::span<const Fragment>(m_fragments.data() + m_pixelStart[p], m_pixelStart[p + 1] - m_pixelStart[p]);
 }

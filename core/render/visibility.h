@@ -80,11 +80,12 @@ private:
     SubsamplePattern m_pattern;
     PixelRect m_region;
     util::PageArray<Fragment> m_fragments;  // in insertion order until finish(), then by pixel
-    size_t m_finished = 0;                  // fragments grouped by the last finish()
     std::vector<uint32_t> m_pixelStart;     // region pixel index → first fragment after finish() (+1 end)
     std::vector<uint32_t> m_pixelFill, m_rowStart, m_columnStart;  // finish()'s scratch
     RasterStats m_stats;
     std::function<void(uint64_t)> m_growHook;
+    // Whether every fragment is grouped by pixel (finish() since the last reset/add).
+    bool finished() const { return !m_pixelStart.empty() && m_pixelStart.back() == m_fragments.size(); }
     // Room for `fragments` fragments in m_fragments (the hook told first).
     void reserveFragments(size_t fragments);
 };
