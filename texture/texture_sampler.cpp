@@ -336,13 +336,8 @@ bool sampleBatch(Context& c, const LookupOptions& options, const float* kernel,
 // more with SSE4.1, whose roundss makes each of a bilinear lookup's four floors one instruction
 // instead of a sequence of conversions and compares. floor is exact either way (and neither
 // build contracts multiplications and additions), so both give the same bits.
-template <uint32_t C>
-bool sampleBatchBaseline(Context& c, const LookupOptions& options, const float* kernel, const LookupBatch& batch,
-                         const float* fill, uint32_t outChannels, float* const* out) {
-    return sampleBatch<C>(c, options, kernel, batch, fill, outChannels, out);
-}
-
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__SSE4_1__)
+#define PUSHPIN_SAMPLER_SSE41 1
 template <uint32_t C>
 __attribute__((target("sse4.1"), flatten)) bool sampleBatchSse41(Context& c, const LookupOptions& options,
                                                                   const float* kernel, const LookupBatch& batch,
@@ -358,20 +353,16 @@ bool hasSse41() {
     }();
     return has;
 }
+#endif
 
 template <uint32_t C>
 bool dispatchBatch(Context& c, const LookupOptions& options, const float* kernel, const LookupBatch& batch,
                    const float* fill, uint32_t outChannels, float* const* out) {
+#ifdef PUSHPIN_SAMPLER_SSE41
     if (hasSse41()) return sampleBatchSse41<C>(c, options, kernel, batch, fill, outChannels, out);
-    return sampleBatchBaseline<C>(c, options, kernel, batch, fill, outChannels, out);
-}
-#else
-template <uint32_t C>
-bool dispatchBatch(Context& c, const LookupOptions& options, const float* kernel, const LookupBatch& batch,
-                   const float* fill, uint32_t outChannels, float* const* out) {
-    return sampleBatchBaseline<C>(c, options, kernel, batch, fill, outChannels, out);
-}
 #endif
+    return sampleBatch<C>(c, options, kernel, batch, fill, outChannels, out);
+}
 
 }  // namespace
 
