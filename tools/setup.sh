@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   clang libclang-rt-14-dev
-  libopenimageio-dev openimageio-tools libopenexr-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev libwebp-dev
   libembree-dev libzstd-dev libglm-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libosd-dev

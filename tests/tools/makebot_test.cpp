@@ -2,6 +2,7 @@
 // naming the file, no output on failure, an existing output left untouched on failure.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <webp/encode.h>
 #include <signal.h>
 #include <sys/mount.h>
 #include <sys/wait.h>
@@ -131,6 +132,47 @@ TEST(Makebot, HonoursFormatWrapAndColorspaceOptions) {
     EXPECT_EQ(file->header().wrapS, pushpin::texture::WrapMode::Clamp);
     EXPECT_EQ(file->header().wrapT, pushpin::texture::WrapMode::Mirror);
     EXPECT_EQ(file->header().colorSpace, pushpin::texture::ColorSpace::Linear);
+}
+
+// A WebP still is read by libwebp as it decodes; the file is the one its pixels make through
+// OpenImageIO (here from a PNG of the same pixels, which WebP's lossless mode keeps exactly).
+TEST(Makebot, WebpIsStreamedByLibwebpAndConvertsLikeThePngOfItsPixels) {
+    const int w = 150, h = 90;
+    std::vector<uint8_t> px(size_t(w) * h * 3);
+    for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t((i * 7 + i / 450) % 253);
+    const fs::path png = tempDir() / "same.png";
+    {
+        auto out = OIIO::ImageOutput::create(png.string());
+        OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+        ASSERT_TRUE(out && out->open(png.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data()) &&
+                    out->close());
+    }
+    uint8_t* encoded = nullptr;
+    const size_t n = WebPEncodeLosslessRGB(px.data(), w, h, w * 3, &encoded);
+    ASSERT_GT(n, 0u);
+    const fs::path webp = tempDir() / "same.webp";
+    std::ofstream(webp, std::ios::binary).write(reinterpret_cast<const char*>(encoded), std::streamsize(n));
+    WebPFree(encoded);
+
+    const fs::path fromPng = tempDir() / "same-png.bot", fromWebp = tempDir() / "same-webp.bot";
+    const Result a = run(quote(binary("makebot")) + " -v " + quote(png) + " " + quote(fromPng));
+    const Result b = run(quote(binary("makebot")) + " -v " + quote(webp) + " " + quote(fromWebp));
+    ASSERT_EQ(a.exitCode, 0) << a.output;
+    ASSERT_EQ(b.exitCode, 0) << b.output;
+    EXPECT_NE(a.output.find("read by OpenImageIO"), std::string::npos) << a.output;
+    EXPECT_NE(b.output.find("read by libwebp"), std::string::npos) << b.output;
+    EXPECT_EQ(readAll(fromPng), readAll(fromWebp));
+
+    // Truncated: exit 1, the file and rows named, nothing written.
+    const std::string bytes = readAll(webp);
+    const fs::path cut = tempDir() / "cut.webp";
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
+    const fs::path cutBot = tempDir() / "cut.bot";
+    const Result c = run(quote(binary("makebot")) + " " + quote(cut) + " " + quote(cutBot));
+    EXPECT_EQ(c.exitCode, 1) << c.output;
+    EXPECT_NE(c.output.find("cut.webp"), std::string::npos) << c.output;
+    EXPECT_NE(c.output.find("truncated"), std::string::npos) << c.output;
+    EXPECT_FALSE(fs::exists(cutBot));
 }
 
 TEST(Makebot, MissingInputIsNamedAndLeavesNoOutput) {

@@ -241,8 +241,66 @@ double RansHistogram::codedBits() const {
     return bits;
 }
 
+namespace {
+
+// walkPage's contexts for one-byte samples, found without walking: a context depends only on the
+// residuals around its texel, all known when counting. Per texel i of a channel, the context is
+// min(11, left weight * class(z[i-1]) + up weight * class(z[i-8])), or the start context, with the
+// weights of walkPage's rule (2 and 0 in a block's first row, 0 and 2 in column 0, else 1 and 1).
+struct OneByteContextRule {
+    uint8_t left[kPageTexels], up[kPageTexels];
+    bool start[kPageTexels];
+    uint8_t bitLength[256];
+    OneByteContextRule() {
+        for (uint32_t i = 0; i < kPageTexels; ++i) {
+            const uint32_t x = i % kPageSizeTexels, y = i / kPageSizeTexels;
+            start[i] = i == 1 || i == kPageSizeTexels || i == 4 * kPageSizeTexels;
+            left[i] = y % 4 == 0 ? 2 : x == 0 ? 0 : 1;
+            up[i] = y % 4 == 0 ? 0 : x == 0 ? 2 : 1;
+        }
+        for (uint32_t v = 0; v < 256; ++v) bitLength[v] = uint8_t(magnitudeOf(v));
+    }
+};
+
+// Contexts of texels 1..63 of one channel's residual plane (plane[i - 1] is texel i's), at ctx[i].
+inline void oneByteContexts(const OneByteContextRule& rule, const uint8_t* plane, uint8_t* ctx) {
+    uint8_t mag[kPageTexels];
+    mag[0] = 0;
+    for (uint32_t i = 1; i < kPageTexels; ++i) mag[i] = rule.bitLength[plane[i - 1]];
+    for (uint32_t i = 1; i < kPageTexels; ++i) {
+        const uint32_t l = rule.left[i] * mag[i - 1];
+        const uint32_t u = i >= kPageSizeTexels ? rule.up[i] * mag[i - kPageSizeTexels] : 0;
+        const uint32_t act = std::min(l + u, kRansActivityBuckets - 1);
+        ctx[i] = rule.start[i] ? uint8_t(kRansStartContext) : uint8_t(act);
+    }
+}
+
+void ransCountOneByte(const uint8_t* planes, uint32_t channels, uint32_t* counts, uint8_t* contexts) {
+    static const OneByteContextRule rule;
+    constexpr uint32_t kHalf = 4 * kPageSizeTexels;
+    for (uint32_t c = 0; c < channels; ++c) {
+        const uint8_t* plane = planes + size_t(c) * kPageResiduals;
+        uint8_t ctx[kPageTexels];
+        oneByteContexts(rule, plane, ctx);
+        for (uint32_t i = 1; i < kPageTexels; ++i) ++counts[ctx[i] * 256u + plane[i - 1]];
+        if (!contexts) continue;
+        // walkPage's order: texel 32 (state B), then texels t (A) and t + 32 (B) in turn.
+        *contexts++ = uint8_t(ctx[kHalf] | 1u << kRansStateBit);
+        for (uint32_t t = 1; t < kHalf; ++t) {
+            *contexts++ = ctx[t];
+            *contexts++ = uint8_t(ctx[t + kHalf] | 1u << kRansStateBit);
+        }
+    }
+}
+
+}  // namespace
+
 void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram,
                uint8_t* contexts) {
+    if (bytesPerSample(type) == 1) {
+        ransCountOneByte(packed + pagePrefixBytes(channels, type), channels, histogram.counts.data(), contexts);
+        return;
+    }
     // walkPage stores each byte back into its plane; counting passes a copy.
     thread_local std::array<uint8_t, size_t(kPageSizeTexels) * kPageSizeTexels * kMaxChannels * 4> copy;
     const uint32_t prefix = pagePrefixBytes(channels, type);
@@ -304,10 +362,20 @@ std::shared_ptr<const RansTableSet> RansTableSet::fit(const RansHistogram& histo
         completeTable(t);
         set->m_tableOf[c] = int32_t(set->m_tables.size());
         set->m_tables.push_back(t);
-        // ceil(2^44 / freq), so that x / freq is (x * rcp) >> 44 exactly for every 32-bit x and
-        // freq <= 2^11 (the error x * (rcp - 2^44/freq) / 2^44 stays below 2^-12 < 1/freq).
-        for (int k = 0; k < 256; ++k)
-            set->m_reciprocals.push_back(t.freq[k] ? ((uint64_t(1) << 44) + t.freq[k] - 1) / t.freq[k] : 0);
+    }
+    // Every context gets 256 entries, an unused one all zero frequencies, so that encode indexes
+    // them by context and symbol alone.
+    set->m_encode.assign(size_t(set->m_contexts) * 256, EncodeEntry{});
+    for (uint32_t c = 0; c < set->m_contexts; ++c) {
+        if (set->m_tableOf[c] < 0) continue;
+        const Table& t = set->m_tables[size_t(set->m_tableOf[c])];
+        for (int k = 0; k < 256; ++k) {
+            if (!t.freq[k]) continue;
+            // ceil(2^44 / freq), so that x / freq is (x * rcp) >> 44 exactly for every 32-bit x and
+            // freq <= 2^11 (the error x * (rcp - 2^44/freq) / 2^44 stays below 2^-12 < 1/freq).
+            set->m_encode[size_t(c) * 256 + size_t(k)] = {((uint64_t(1) << 44) + t.freq[k] - 1) / t.freq[k],
+                                                          t.freq[k], t.cum[k]};
+        }
     }
     set->index();
     return set;
@@ -368,7 +436,7 @@ void RansTableSet::serialize(std::vector<uint8_t>& out) const {
 
 size_t RansTableSet::memoryBytes() const {
     return sizeof(RansTableSet) + m_tableOf.capacity() * sizeof(int32_t) + m_tables.capacity() * sizeof(Table) +
-           m_reciprocals.capacity() * sizeof(uint64_t) + m_decode.capacity() * sizeof(RansDecodeBlock);
+           m_encode.capacity() * sizeof(EncodeEntry) + m_decode.capacity() * sizeof(RansDecodeBlock);
 }
 
 namespace {
@@ -396,78 +464,107 @@ inline uint32_t get32le(const uint8_t* p) {
 
 size_t RansTableSet::encode(const uint8_t* packed, uint32_t channels, PixelType type, uint16_t check, uint8_t* out,
                             size_t capacity, const uint8_t* knownContexts) const {
+    if (m_encode.empty()) return 0;  // tables that were parsed, not fitted
     constexpr size_t kMaxSymbols = size_t(kPageResiduals) * kMaxChannels * 4;
-    thread_local std::array<uint8_t, kMaxSymbols> planes, contexts, symbols;
+    // Each state's symbols and contexts in coding order (state B has one texel more per channel).
+    thread_local std::array<uint8_t, kMaxSymbols> planes, symbolsA, contextsA, symbolsB, contextsB;
     // Renormalisation emits at most two bytes a symbol (11 bits of frequency precision), per state.
     thread_local std::array<uint8_t, 2 * kMaxSymbols + 8> emittedA, emittedB;
     const uint32_t prefix = pagePrefixBytes(channels, type);
     const uint32_t raw = pageRawBytes(channels, type);
+    constexpr uint8_t kContextMask = (1u << kRansStateBit) - 1;
     // Contexts come from the symbols before each one, so they are found front to back; rANS codes
     // back to front so that the decoder reads front to back.
-    size_t n = 0;
+    size_t nA = 0, nB = 0;
     if (knownContexts) {
-        // The symbols in walkPage's order, without finding their contexts again.
+        // The symbols in walkPage's order, without finding their contexts again: per channel,
+        // texel 32 (B), then texels t (A) and t + 32 (B) byte by byte in turn.
         const uint32_t bytes = bytesPerSample(type);
+        const uint8_t* ctx = knownContexts;
         for (uint32_t c = 0; c < channels; ++c) {
             const uint8_t* plane = packed + prefix + size_t(c) * bytes * kPageResiduals;
             auto residualByte = [&](uint32_t texel, uint32_t k) {
                 return plane[(bytes - 1 - k) * kPageResiduals + texel - 1];
             };
-            for (uint32_t k = 0; k < bytes; ++k) symbols[n++] = residualByte(4 * kPageSizeTexels, k);
+            for (uint32_t k = 0; k < bytes; ++k) {
+                symbolsB[nB] = residualByte(4 * kPageSizeTexels, k);
+                contextsB[nB++] = *ctx++ & kContextMask;
+            }
             for (uint32_t t = 1; t < 4 * kPageSizeTexels; ++t)
                 for (uint32_t k = 0; k < bytes; ++k) {
-                    symbols[n++] = residualByte(t, k);
-                    symbols[n++] = residualByte(t + 4 * kPageSizeTexels, k);
+                    symbolsA[nA] = residualByte(t, k);
+                    contextsA[nA++] = *ctx++ & kContextMask;
+                    symbolsB[nB] = residualByte(t + 4 * kPageSizeTexels, k);
+                    contextsB[nB++] = *ctx++ & kContextMask;
                 }
         }
     } else {
         std::memcpy(planes.data(), packed + prefix, raw - prefix);
         walkPageAnyType(type, channels, planes.data(), [&](uint32_t ctx, uint8_t byte, uint32_t state) {
-            contexts[n] = uint8_t(ctx | state << kRansStateBit);
-            symbols[n] = byte;
-            ++n;
+            if (state == 0) {
+                symbolsA[nA] = byte;
+                contextsA[nA++] = uint8_t(ctx);
+            } else {
+                symbolsB[nB] = byte;
+                contextsB[nB++] = uint8_t(ctx);
+            }
             return byte;
         });
     }
-    const uint8_t* ctxOf = knownContexts ? knownContexts : contexts.data();
     // The check value and the first prefix bytes ride in the initial states: the decoder ends in
     // them and reads them back.
     const uint32_t inState = ransPrefixInState(prefix);
     const StatePayload payload(check, packed, inState);
-    uint32_t x[2] = {payload.stateA(), payload.stateB()};
-    const uint32_t lowShift[2] = {0, 8};  // kRansLow >> kRansLowB
-    // State A's bytes are read front to back from the start of the stream, state B's back to front
-    // from its end: each is emitted last byte first, A's into the end of emittedA (so it reads in
-    // order there), B's in emission order.
+    // The two states are independent: both are kept in registers and stepped in the same loop, so
+    // that one's multiply overlaps the other's. State A's bytes are read front to back from the
+    // start of the stream, state B's back to front from its end: each is emitted last byte first,
+    // A's into the end of emittedA (so it reads in order there), B's in emission order.
+    uint32_t xA = payload.stateA(), xB = payload.stateB();
     uint8_t* const endA = emittedA.data() + emittedA.size();
     uint8_t* pA = endA;
     uint8_t* pB = emittedB.data();
-    for (size_t i = n; i-- > 0;) {
-        const uint32_t state = ctxOf[i] >> kRansStateBit;
-        const int32_t ti = m_tableOf[ctxOf[i] & ((1u << kRansStateBit) - 1)];
-        if (ti < 0) return 0;
-        const Table& t = m_tables[size_t(ti)];
-        const uint32_t s = symbols[i], f = t.freq[s];
-        if (f == 0) return 0;
-        uint32_t& xs = x[state];
-        // Keep the state below 256 times its lower bound after coding: x < (low / scale) * 256 * f.
-        const uint64_t xMax = uint64_t(kRansLow >> kRansScaleBits << 8 >> lowShift[state]) * f;
-        while (xs >= xMax) {
-            if (state == 0) *--pA = uint8_t(xs);
-            else *pB++ = uint8_t(xs);
-            xs >>= 8;
+    const EncodeEntry* entries = m_encode.data();
+    // x / freq by the reciprocal, then the rANS step C(s, x) = (x / f) * scale + x % f + cum.
+    auto step = [](uint32_t x, const EncodeEntry& e) __attribute__((always_inline)) {
+        const uint32_t q = uint32_t((static_cast<unsigned __int128>(x) * e.rcp) >> 44);
+        return (q << kRansScaleBits) + (x - q * e.freq) + e.cum;
+    };
+    // Keep a state below 256 times its lower bound after coding: x < (low / scale) * 256 * f, that
+    // is 2^21 f for state A and 2^13 f for state B.
+    for (size_t k = nA; k-- > 0;) {
+        const size_t kB = k + (nB - nA);
+        const EncodeEntry& a = entries[size_t(contextsA[k]) * 256 + symbolsA[k]];
+        const EncodeEntry& b = entries[size_t(contextsB[kB]) * 256 + symbolsB[kB]];
+        if (a.freq == 0 || b.freq == 0) return 0;
+        const uint64_t maxA = uint64_t(a.freq) << 21, maxB = uint64_t(b.freq) << 13;
+        while (xA >= maxA) {
+            *--pA = uint8_t(xA);
+            xA >>= 8;
         }
-        const uint64_t rcp = m_reciprocals[size_t(ti) * 256 + s];
-        const uint32_t q = uint32_t((static_cast<unsigned __int128>(xs) * rcp) >> 44);
-        xs = (q << kRansScaleBits) + (xs - q * f) + t.cum[s];
+        while (xB >= maxB) {
+            *pB++ = uint8_t(xB);
+            xB >>= 8;
+        }
+        xA = step(xA, a);
+        xB = step(xB, b);
+    }
+    for (size_t kB = nB - nA; kB-- > 0;) {
+        const EncodeEntry& b = entries[size_t(contextsB[kB]) * 256 + symbolsB[kB]];
+        if (b.freq == 0) return 0;
+        const uint64_t maxB = uint64_t(b.freq) << 13;
+        while (xB >= maxB) {
+            *pB++ = uint8_t(xB);
+            xB >>= 8;
+        }
+        xB = step(xB, b);
     }
     const size_t bytesA = size_t(endA - pA), bytesB = size_t(pB - emittedB.data());
     const size_t total = (prefix - inState) + kRansStateBytes + kRansStateBytesB + bytesA + bytesB;
     if (total > capacity) return 0;
     std::memcpy(out, packed + inState, prefix - inState);
     uint8_t* o = out + (prefix - inState);
-    put32le(o, x[0]);
-    for (uint32_t j = 0; j < kRansStateBytesB; ++j) o[kRansStateBytes + j] = uint8_t(x[1] >> (8 * j));
+    put32le(o, xA);
+    for (uint32_t j = 0; j < kRansStateBytesB; ++j) o[kRansStateBytes + j] = uint8_t(xB >> (8 * j));
     o += kRansStateBytes + kRansStateBytesB;
     std::memcpy(o, pA, bytesA);
     std::memcpy(o + bytesA, emittedB.data(), bytesB);

@@ -7,8 +7,8 @@
 // A RansTableSet is immutable once built and may be read by any number of threads; the page
 // functions work on caller-owned buffers and never allocate.
 // Memory: a RansTableSet holds RansTableSet::memoryBytes() (8 KiB of decoding steps per context, 14
-// contexts a byte of a sample, and 1 KiB per context in use; those built by fit() also 2 KiB per
-// context of reciprocals for encoding).
+// contexts a byte of a sample, and 1 KiB per context in use; those built by fit() also 4 KiB per
+// context of encoding steps).
 #pragma once
 
 #include <cstddef>
@@ -130,7 +130,13 @@ private:
     uint32_t m_contexts = 0;
     std::vector<int32_t> m_tableOf;  // per context: index into m_tables, or -1 when unused
     std::vector<Table> m_tables;
-    std::vector<uint64_t> m_reciprocals;  // fit() only: 256 per table, for encoding
+    // fit() only: per context and symbol, what a coding step needs (all zero for symbols and
+    // contexts without a frequency).
+    struct EncodeEntry {
+        uint64_t rcp;  // ceil(2^44 / freq)
+        uint32_t freq, cum;
+    };
+    std::vector<EncodeEntry> m_encode;
     // Per context, one decoding block; a context without symbols decodes symbol 0 with the
     // kRansUnusedCum mark.
     std::vector<RansDecodeBlock> m_decode;

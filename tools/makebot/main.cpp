@@ -1,9 +1,8 @@
 // makebot: converts any image OpenImageIO reads into a BOT texture (texture/BOT_FORMAT.md).
-// The input is read in bands of scanlines (or tile rows) and streamed through the mip cascade, so
-// memory stays bounded whatever the image size; reading the next band overlaps the work on the
-// current one. The output is written under a temporary name and renamed into place; on any error
+// The input is read in bands of scanlines (or tile rows; WebP stills by libwebp as they decode,
+// texture/row_source.h) and streamed through the mip cascade, so memory stays bounded whatever the
+// image size; reading the next band overlaps the work on the current one. The output is written under a temporary name and renamed into place; on any error
 // nothing is left behind and an existing output is untouched.
-#include <OpenImageIO/imageio.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -18,14 +17,13 @@
 #include "cache/error.h"
 #include "cache/output_file.h"
 #include "texture/bot_file.h"
-#include "texture/image_input.h"
 #include "texture/mipmap.h"
+#include "texture/row_source.h"
 
 namespace {
 
 using namespace pushpin;
 using namespace pushpin::texture;
-namespace OIIO = OIIO_NAMESPACE;
 
 struct Options {
     std::string input, output;
@@ -164,69 +162,31 @@ Options parseArgs(int argc, char** argv) {
     return o;
 }
 
-PixelType pixelTypeOf(OIIO::TypeDesc t) {
-    switch (t.basetype) {
-        case OIIO::TypeDesc::UINT8:
-        case OIIO::TypeDesc::INT8: return PixelType::U8;
-        case OIIO::TypeDesc::UINT16:
-        case OIIO::TypeDesc::INT16: return PixelType::U16;
-        case OIIO::TypeDesc::HALF: return PixelType::Half;
-        default: return PixelType::Float;
-    }
-}
-
-ColorSpace defaultColorSpace(const OIIO::ImageSpec& spec) {
-    std::string cs = spec.get_string_attribute("oiio:ColorSpace");
-    std::transform(cs.begin(), cs.end(), cs.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (cs.find("srgb") != std::string::npos) return ColorSpace::SRGB;
-    const bool eightBit = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::INT8;
-    return (eightBit && cs.empty()) ? ColorSpace::SRGB : ColorSpace::Linear;
-}
-
 int run(const Options& o) {
     const auto start = std::chrono::steady_clock::now();
-    auto in = openImageInput(o.input);
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.depth > 1 || spec.deep) throw FormatError(o.input, "volume and deep images are not supported");
-    if (spec.width <= 0 || spec.height <= 0 || uint64_t(spec.width) > kMaxDimension ||
-        uint64_t(spec.height) > kMaxDimension)
-        throw FormatError(o.input, "unsupported image size " + std::to_string(spec.width) + "x" +
-                                       std::to_string(spec.height));
-    if (spec.nchannels <= 0 || uint32_t(spec.nchannels) > kMaxChannels)
-        throw FormatError(o.input, "unsupported channel count " + std::to_string(spec.nchannels));
-    const uint32_t width = uint32_t(spec.width), height = uint32_t(spec.height), channels = uint32_t(spec.nchannels);
+    const std::unique_ptr<RowSource> source = openRowSource(o.input);
+    const RowSourceInfo& info = source->info();
+    const uint32_t width = info.width, height = info.height, channels = info.channels;
 
     BotWriteOptions wo;
-    wo.pixelType = o.format ? *o.format : pixelTypeOf(spec.format);
-    wo.colorSpace = o.colorSpace ? *o.colorSpace : defaultColorSpace(spec);
+    wo.pixelType = o.format ? *o.format : info.pixelType;
+    wo.colorSpace = o.colorSpace ? *o.colorSpace : info.colorSpace;
     wo.wrapS = o.wrapS;
     wo.wrapT = o.wrapT;
     wo.filter = mipFilterName(o.filter);
     wo.threads = o.threads;
-    wo.alphaChannel = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
+    wo.alphaChannel = info.alphaChannel;
     wo.compressionLevel = o.compressionLevel;
     wo.dictionary = o.dictionary;
     wo.pageFilter = o.pageFilter;
     wo.version = o.version;
 
-    // Band height: whole tile rows for tiled files, otherwise 64 scanlines.
-    const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
-    uint32_t band = 64;
-    if (tiled) band = uint32_t(spec.tile_height) * std::max(1u, 64u / uint32_t(spec.tile_height));
+    const uint32_t band = info.bandRows;
     const size_t stride = size_t(width) * channels;
-
     auto readBand = [&](uint32_t y0, std::vector<float>& buf) {
         const uint32_t rows = std::min(band, height - y0);
         buf.resize(stride * rows);
-        bool ok;
-        if (tiled) {
-            ok = in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + int(y0), spec.y + int(y0 + rows), spec.z,
-                                spec.z + 1, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, buf.data());
-        } else {
-            ok = in->read_scanlines(0, 0, spec.y + int(y0), spec.y + int(y0 + rows), spec.z, 0, spec.nchannels,
-                                    OIIO::TypeDesc::FLOAT, buf.data());
-        }
-        requireCleanRead(*in, ok, o.input, "rows " + std::to_string(y0) + "-" + std::to_string(y0 + rows - 1));
+        source->read(y0, rows, buf.data());
     };
 
     BotWriteStats stats;
@@ -259,12 +219,12 @@ int run(const Options& o) {
     // an arena of two on two cores).
     tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
     arena.execute(convert);
-    in->close();
 
     if (o.verbose) {
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::printf("%s: %ux%u, %u channels, %s, %s, filter %s\n", o.input.c_str(), width, height, channels,
-                    pixelTypeName(wo.pixelType), colorSpaceName(wo.colorSpace), wo.filter.c_str());
+        std::printf("%s: %ux%u, %u channels, %s, %s, filter %s, read by %s\n", o.input.c_str(), width, height,
+                    channels, pixelTypeName(wo.pixelType), colorSpaceName(wo.colorSpace), wo.filter.c_str(),
+                    info.reader);
         for (size_t l = 0; l < levels.size(); ++l)
             std::printf("  level %2zu: %6u x %-6u %6u x %-6u pages\n", l, levels[l].width, levels[l].height,
                         levels[l].pagesX, levels[l].pagesY);

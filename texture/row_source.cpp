@@ -1,0 +1,314 @@
+// texture/row_source.cpp: the libwebp and OpenImageIO row readers behind RowSource.
+#include "texture/row_source.h"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <webp/decode.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cache/error.h"
+#include "texture/detail/mapped_file.h"
+#include "texture/image_input.h"
+
+namespace pushpin::texture {
+namespace {
+
+std::string rowsText(uint32_t y0, uint32_t rows) {
+    return "rows " + std::to_string(y0) + "-" + std::to_string(y0 + rows - 1);
+}
+
+void requireSize(const std::filesystem::path& path, int64_t width, int64_t height, int64_t channels) {
+    if (width <= 0 || height <= 0 || uint64_t(width) > kMaxDimension || uint64_t(height) > kMaxDimension)
+        throw FormatError(path, "unsupported image size " + std::to_string(width) + "x" + std::to_string(height));
+    if (channels <= 0 || uint64_t(channels) > kMaxChannels)
+        throw FormatError(path, "unsupported channel count " + std::to_string(channels));
+}
+
+// 8-bit value -> float exactly as OpenImageIO converts it (v * (1/255), not v / 255).
+const std::array<float, 256>& unitTable() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int v = 0; v < 256; ++v) t[size_t(v)] = float(v) * (1.0f / 255.0f);
+        return t;
+    }();
+    return table;
+}
+
+// ------------------------------------------------------------------------------------ libwebp
+
+const char* webpStatusText(VP8StatusCode status) {
+    switch (status) {
+        case VP8_STATUS_OK: return "ok";
+        case VP8_STATUS_OUT_OF_MEMORY: return "out of memory";
+        case VP8_STATUS_INVALID_PARAM: return "invalid parameter";
+        case VP8_STATUS_BITSTREAM_ERROR: return "damaged bitstream";
+        case VP8_STATUS_UNSUPPORTED_FEATURE: return "unsupported feature";
+        case VP8_STATUS_SUSPENDED: return "suspended";
+        case VP8_STATUS_USER_ABORT: return "aborted";
+        case VP8_STATUS_NOT_ENOUGH_DATA: return "not enough data (truncated header)";
+    }
+    return "unknown error";
+}
+
+bool hasWebpMagic(const uint8_t* data, size_t size) {
+    return size >= 12 && std::memcmp(data, "RIFF", 4) == 0 && std::memcmp(data + 8, "WEBP", 4) == 0;
+}
+
+// The file's bytes: a read-only mapping, or a copy where the file system cannot map.
+class FileBytes {
+public:
+    explicit FileBytes(const std::filesystem::path& path) {
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0) throw IoError(path, "open image", errno);
+        struct stat st {};
+        if (::fstat(fd, &st) != 0) {
+            const int err = errno;
+            ::close(fd);
+            throw IoError(path, "stat image", err);
+        }
+        m_size = size_t(st.st_size);
+        if (m_size > 0) m_mapped = detail::mapFile(fd, m_size);
+        if (m_size > 0 && !m_mapped) {
+            m_copy.resize(m_size);
+            size_t done = 0;
+            while (done < m_size) {
+                const ssize_t n = ::pread(fd, m_copy.data() + done, m_size - done, off_t(done));
+                if (n < 0 && errno == EINTR) continue;
+                if (n <= 0) {
+                    const int err = n < 0 ? errno : 0;
+                    ::close(fd);
+                    if (err) throw IoError(path, "read image", err);
+                    throw FormatError(path, "the file shrank while it was read");
+                }
+                done += size_t(n);
+            }
+        }
+        ::close(fd);
+    }
+    ~FileBytes() {
+        if (m_mapped) detail::unmapFile(m_mapped, m_size);
+    }
+    FileBytes(const FileBytes&) = delete;
+    FileBytes& operator=(const FileBytes&) = delete;
+    const uint8_t* data() const { return m_mapped ? m_mapped : m_copy.data(); }
+    size_t size() const { return m_size; }
+
+private:
+    const uint8_t* m_mapped = nullptr;
+    std::vector<uint8_t> m_copy;
+    size_t m_size = 0;
+};
+
+class WebpRowSource final : public RowSource {
+public:
+    // Throws FormatError when the file is not a WebP still (animations included).
+    WebpRowSource(const std::filesystem::path& path, std::unique_ptr<FileBytes> bytes, size_t sliceBytes)
+        : m_path(path), m_bytes(std::move(bytes)), m_slice(std::max<size_t>(1, sliceBytes)) {
+        const uint8_t* data = m_bytes->data();
+        const size_t size = m_bytes->size();
+        if (!hasWebpMagic(data, size)) throw FormatError(path, "not a WebP file");
+        WebPBitstreamFeatures features;
+        const VP8StatusCode status = WebPGetFeatures(data, size, &features);
+        if (status != VP8_STATUS_OK)
+            throw FormatError(path, std::string("cannot read the WebP header: ") + webpStatusText(status));
+        if (features.has_animation) throw FormatError(path, "animated WebP (read through OpenImageIO instead)");
+        const uint32_t channels = features.has_alpha ? 4 : 3;
+        requireSize(path, features.width, features.height, channels);
+        m_info.width = uint32_t(features.width);
+        m_info.height = uint32_t(features.height);
+        m_info.channels = channels;
+        m_info.pixelType = PixelType::U8;
+        m_info.colorSpace = ColorSpace::SRGB;  // WebP holds sRGB values (OpenImageIO says so too)
+        m_info.alphaChannel = features.has_alpha ? 3 : -1;
+        m_info.bandRows = 64;
+        m_info.reader = "libwebp";
+
+        m_stride = size_t(m_info.width) * channels;
+        m_outBytes = m_stride * m_info.height;
+        // Address space for the whole decoded image; only the rows between handed out and decoded
+        // are ever resident, as handed-out pages are given back (read()).
+        void* out = ::mmap(nullptr, m_outBytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE,
+                           -1, 0);
+        if (out == MAP_FAILED) throw std::bad_alloc();
+        m_out = static_cast<uint8_t*>(out);
+        m_decoder = WebPINewRGB(features.has_alpha ? MODE_RGBA : MODE_RGB, m_out, m_outBytes, int(m_stride));
+        if (!m_decoder) {
+            ::munmap(m_out, m_outBytes);
+            throw std::bad_alloc();
+        }
+        m_page = size_t(::sysconf(_SC_PAGESIZE));
+    }
+    ~WebpRowSource() override {
+        WebPIDelete(m_decoder);
+        ::munmap(m_out, m_outBytes);
+    }
+    WebpRowSource(const WebpRowSource&) = delete;
+    WebpRowSource& operator=(const WebpRowSource&) = delete;
+
+    void read(uint32_t y0, uint32_t rows, float* out) override {
+        if (y0 != m_next || rows == 0 || rows > m_info.height - y0)
+            throw std::logic_error("WebpRowSource::read: rows out of order");
+        const uint32_t end = y0 + rows;
+        while (m_decoded < end) decodeSlice(y0, rows);
+
+        const auto& unit = unitTable();
+        const size_t values = m_stride * rows;
+        const uint8_t* src = m_out + size_t(y0) * m_stride;
+        if (m_info.channels == 3) {
+            for (size_t i = 0; i < values; ++i) out[i] = unit[src[i]];
+        } else {
+            // Premultiplied in 8 bits, as OpenImageIO hands out WebP with alpha.
+            for (size_t i = 0; i < values; i += 4) {
+                const uint32_t a = src[i + 3];
+                out[i + 0] = unit[(src[i + 0] * a + 127) / 255];
+                out[i + 1] = unit[(src[i + 1] * a + 127) / 255];
+                out[i + 2] = unit[(src[i + 2] * a + 127) / 255];
+                out[i + 3] = unit[a];
+            }
+        }
+        // The decoder never writes a finished row again: give the pages of handed-out rows back.
+        const size_t done = (size_t(end) * m_stride) / m_page * m_page;
+        if (done > m_released) {
+            ::madvise(m_out + m_released, done - m_released, MADV_DONTNEED);
+            m_released = done;
+        }
+        m_next = end;
+    }
+
+private:
+    // Gives the decoder the next slice of the file and notes how many rows it has finished.
+    void decodeSlice(uint32_t y0, uint32_t rows) {
+        if (m_finished || m_fed == m_bytes->size())
+            throw FormatError(m_path, "cannot read " + rowsText(y0, rows) + ": the WebP data ends after row " +
+                                          std::to_string(m_decoded) + " of " + std::to_string(m_info.height) +
+                                          " (the file is truncated)");
+        m_fed = std::min(m_bytes->size(), m_fed + m_slice);
+        const VP8StatusCode status = WebPIUpdate(m_decoder, m_bytes->data(), m_fed);
+        if (status == VP8_STATUS_OK) {
+            m_finished = true;
+        } else if (status != VP8_STATUS_SUSPENDED) {
+            throw FormatError(m_path, "cannot read " + rowsText(y0, rows) + ": " + webpStatusText(status) +
+                                          " after row " + std::to_string(m_decoded) +
+                                          " (the file may be truncated or damaged)");
+        }
+        int lastY = 0;
+        if (WebPIDecGetRGB(m_decoder, &lastY, nullptr, nullptr, nullptr) && lastY > 0)
+            m_decoded = std::max(m_decoded, std::min(uint32_t(lastY), m_info.height));
+    }
+
+    std::filesystem::path m_path;
+    std::unique_ptr<FileBytes> m_bytes;
+    size_t m_slice;
+    size_t m_stride = 0, m_outBytes = 0, m_page = 4096;
+    uint8_t* m_out = nullptr;
+    WebPIDecoder* m_decoder = nullptr;
+    size_t m_fed = 0;        // bytes of the file given to the decoder
+    size_t m_released = 0;   // bytes at the start of m_out given back to the kernel
+    uint32_t m_decoded = 0;  // rows the decoder has finished
+    uint32_t m_next = 0;     // first row not yet handed out
+    bool m_finished = false;
+};
+
+// ------------------------------------------------------------------------------- OpenImageIO
+
+PixelType pixelTypeOf(OIIO::TypeDesc t) {
+    switch (t.basetype) {
+        case OIIO::TypeDesc::UINT8:
+        case OIIO::TypeDesc::INT8: return PixelType::U8;
+        case OIIO::TypeDesc::UINT16:
+        case OIIO::TypeDesc::INT16: return PixelType::U16;
+        case OIIO::TypeDesc::HALF: return PixelType::Half;
+        default: return PixelType::Float;
+    }
+}
+
+ColorSpace colorSpaceOf(const OIIO::ImageSpec& spec) {
+    std::string cs = spec.get_string_attribute("oiio:ColorSpace");
+    std::transform(cs.begin(), cs.end(), cs.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (cs.find("srgb") != std::string::npos) return ColorSpace::SRGB;
+    const bool eightBit = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::INT8;
+    return (eightBit && cs.empty()) ? ColorSpace::SRGB : ColorSpace::Linear;
+}
+
+class OiioRowSource final : public RowSource {
+public:
+    explicit OiioRowSource(const std::filesystem::path& path) : m_path(path), m_in(openImageInput(path)) {
+        const OIIO::ImageSpec& spec = m_in->spec();
+        if (spec.depth > 1 || spec.deep) throw FormatError(path, "volume and deep images are not supported");
+        requireSize(path, spec.width, spec.height, spec.nchannels);
+        m_info.width = uint32_t(spec.width);
+        m_info.height = uint32_t(spec.height);
+        m_info.channels = uint32_t(spec.nchannels);
+        m_info.pixelType = pixelTypeOf(spec.format);
+        m_info.colorSpace = colorSpaceOf(spec);
+        m_info.alphaChannel = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
+        m_tiled = spec.tile_width > 0 && spec.tile_height > 0;
+        // Whole tile rows for tiled files, otherwise 64 scanlines.
+        m_info.bandRows =
+            m_tiled ? uint32_t(spec.tile_height) * std::max(1u, 64u / uint32_t(spec.tile_height)) : 64u;
+        m_info.reader = "OpenImageIO";
+    }
+    ~OiioRowSource() override { m_in->close(); }
+
+    void read(uint32_t y0, uint32_t rows, float* out) override {
+        if (rows == 0 || y0 >= m_info.height || rows > m_info.height - y0)
+            throw std::logic_error("OiioRowSource::read: rows outside the image");
+        const OIIO::ImageSpec& spec = m_in->spec();
+        bool ok;
+        if (m_tiled) {
+            ok = m_in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + int(y0), spec.y + int(y0 + rows), spec.z,
+                                  spec.z + 1, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out);
+        } else {
+            ok = m_in->read_scanlines(0, 0, spec.y + int(y0), spec.y + int(y0 + rows), spec.z, 0, spec.nchannels,
+                                      OIIO::TypeDesc::FLOAT, out);
+        }
+        requireCleanRead(*m_in, ok, m_path, rowsText(y0, rows));
+    }
+
+private:
+    std::filesystem::path m_path;
+    std::unique_ptr<OIIO::ImageInput> m_in;
+    bool m_tiled = false;
+};
+
+}  // namespace
+
+std::unique_ptr<RowSource> openWebpRowSource(const std::filesystem::path& path, size_t sliceBytes) {
+    return std::make_unique<WebpRowSource>(path, std::make_unique<FileBytes>(path), sliceBytes);
+}
+
+std::unique_ptr<RowSource> openOiioRowSource(const std::filesystem::path& path) {
+    return std::make_unique<OiioRowSource>(path);
+}
+
+std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path) {
+    // A WebP still by its bytes; an animation (VP8X flag, or an ANIM chunk) goes to OpenImageIO.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd >= 0) {
+        uint8_t head[32] = {};
+        const ssize_t n = ::pread(fd, head, sizeof head, 0);
+        ::close(fd);
+        if (n >= 12 && hasWebpMagic(head, size_t(n))) {
+            auto bytes = std::make_unique<FileBytes>(path);
+            WebPBitstreamFeatures features;
+            const bool animated = WebPGetFeatures(bytes->data(), bytes->size(), &features) == VP8_STATUS_OK &&
+                                  features.has_animation;
+            if (!animated) return std::make_unique<WebpRowSource>(path, std::move(bytes), 32 * 1024);
+        }
+    }
+    return openOiioRowSource(path);
+}
+
+}  // namespace pushpin::texture

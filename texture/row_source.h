@@ -1,0 +1,57 @@
+// texture/row_source.h: a source image read top to bottom in bands of rows, as float, for
+// conversions that stream (makebot). Two readers sit behind one interface:
+//  - WebP stills are decoded by libwebp's incremental decoder while the file is fed to it a slice
+//    at a time, and the decoded rows are handed out and dropped as the decoder finishes them, so a
+//    4096x4096 WebP is never resident whole (OpenImageIO 2.4's reader decodes the whole image
+//    into RGBA on the first scanline read, 64 MiB at that size);
+//  - every other image, animated WebP included, goes through OpenImageIO a band at a time.
+// Both hand out the values OpenImageIO's float read would: 8-bit values times 1/255, and a WebP
+// with alpha premultiplied in 8 bits as (c * a + 127) / 255 first, which is what OpenImageIO does.
+// Errors: IoError when the file cannot be opened or read, FormatError (naming the file and the
+// rows) when it is not an image, is truncated or is damaged.
+// Thread safety: one RowSource is read by one thread at a time.
+// Memory: the WebP reader holds the file's mapping (page cache), libwebp's per-row state and the
+// decoded rows not yet handed out (a slice's worth, tens of rows); lossless WebP also makes libwebp
+// keep a 4-byte-per-pixel copy of the image, as its back-references may reach any earlier pixel.
+// The OpenImageIO reader holds what its format reader keeps.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+
+#include "texture/bot_file.h"
+
+namespace pushpin::texture {
+
+struct RowSourceInfo {
+    uint32_t width = 0, height = 0, channels = 0;
+    PixelType pixelType = PixelType::U8;         // the stored type closest to the source's
+    ColorSpace colorSpace = ColorSpace::Linear;  // what the file says or, without a word, its type implies
+    int alphaChannel = -1;                       // -1: none
+    uint32_t bandRows = 64;                      // rows per read that suit the file's layout
+    const char* reader = "";                     // "libwebp" or "OpenImageIO"
+};
+
+class RowSource {
+public:
+    virtual ~RowSource() = default;
+    const RowSourceInfo& info() const { return m_info; }
+    // Writes rows y0 .. y0 + rows - 1 (width * channels floats each) to out. Rows are read in
+    // order: y0 is the row after the last one read (0 at first).
+    virtual void read(uint32_t y0, uint32_t rows, float* out) = 0;
+
+protected:
+    RowSourceInfo m_info;
+};
+
+// The reader that suits the file: libwebp for a still WebP (by its bytes, not its name),
+// OpenImageIO otherwise.
+std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path);
+// One reader or the other whatever the file (the WebP one throws FormatError for anything else,
+// animations included). sliceBytes: how much of the file libwebp is given per step.
+std::unique_ptr<RowSource> openWebpRowSource(const std::filesystem::path& path, size_t sliceBytes = 32 * 1024);
+std::unique_ptr<RowSource> openOiioRowSource(const std::filesystem::path& path);
+
+}  // namespace pushpin::texture
