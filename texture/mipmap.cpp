@@ -284,21 +284,21 @@ void MipCascade::pushRows(const float* rows, uint32_t rowCount) {
                 for (size_t i = 0; i < stride; ++i) d[i] = sanitize(s[i]);
                 continue;
             }
-            for (size_t i = 0; i < stride; i += channels) {
-                for (uint32_t c = 0; c < channels; ++c) {
-                    float v = sanitize(s[i + c]);
-                    if (int(c) != alpha) {
-                        // 8-bit inputs arrive as exact k/255 values: use the table for them.
-                        const float k = v * 255.0f;
-                        const float kr = roundToInteger(k);
-                        if (kr >= 0.0f && kr <= 255.0f && std::fabs(k - kr) < 1e-3f)
-                            v = lut[int(kr)];
-                        else
-                            v = detail::srgbToLinear(v);
-                    }
-                    d[i + c] = v;
-                }
+            // 8-bit inputs arrive as exact k/255 values: use the table for them.
+            auto decode = [lut](float raw) __attribute__((always_inline)) {
+                const float v = sanitize(raw);
+                const float k = v * 255.0f;
+                const float kr = roundToInteger(k);
+                if (kr >= 0.0f && kr <= 255.0f && std::fabs(k - kr) < 1e-3f) return lut[int(kr)];
+                return detail::srgbToLinear(v);
+            };
+            if (alpha < 0 || alpha >= int(channels)) {
+                for (size_t i = 0; i < stride; ++i) d[i] = decode(s[i]);
+                continue;
             }
+            for (size_t i = 0; i < stride; i += channels)
+                for (uint32_t c = 0; c < channels; ++c)
+                    d[i + c] = int(c) == alpha ? sanitize(s[i + c]) : decode(s[i + c]);
         }
     });
 

@@ -285,6 +285,67 @@ private:
 
 }  // namespace
 
+RowPrefetcher::RowPrefetcher(RowSource& source, uint32_t depth) : m_source(source) {
+    const RowSourceInfo& info = source.info();
+    const uint32_t band = std::max(1u, info.bandRows);
+    m_bands = (info.height + band - 1) / band;
+    m_slots.resize(std::max(1u, std::min(depth, m_bands)));
+    m_slotRows.resize(m_slots.size());
+    for (auto& slot : m_slots) slot.resize(size_t(info.width) * info.channels * band);
+    m_thread = std::thread([this] { readAll(); });
+}
+
+RowPrefetcher::~RowPrefetcher() {
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_stop = true;
+    }
+    m_changed.notify_all();
+    m_thread.join();
+}
+
+void RowPrefetcher::readAll() {
+    const uint32_t band = std::max(1u, m_source.info().bandRows), height = m_source.info().height;
+    for (uint32_t b = 0; b < m_bands; ++b) {
+        {
+            // Wait for the slot's previous band to be let go of.
+            std::unique_lock<std::mutex> lock(m_mutex);
+            m_changed.wait(lock, [&] { return m_stop || b < m_consumedBands + m_slots.size(); });
+            if (m_stop) return;
+        }
+        const size_t slot = b % m_slots.size();
+        const uint32_t y0 = b * band, rows = std::min(band, height - y0);
+        try {
+            m_source.read(y0, rows, m_slots[slot].data());
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            m_error = std::current_exception();
+            m_changed.notify_all();
+            return;
+        }
+        {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            m_slotRows[slot] = rows;
+            m_readBands = b + 1;
+        }
+        m_changed.notify_all();
+    }
+}
+
+RowPrefetcher::Band RowPrefetcher::next() {
+    std::unique_lock<std::mutex> lock(m_mutex);
+    if (m_handedOut > 0) {
+        m_consumedBands = m_handedOut;  // the band returned last time is free again
+        m_changed.notify_all();
+    }
+    if (m_handedOut == m_bands) return {};
+    m_changed.wait(lock, [&] { return m_readBands > m_handedOut || m_error; });
+    if (m_readBands <= m_handedOut) std::rethrow_exception(m_error);
+    const uint32_t b = m_handedOut++;
+    const size_t slot = b % m_slots.size();
+    return {b * std::max(1u, m_source.info().bandRows), m_slotRows[slot], m_slots[slot].data()};
+}
+
 std::unique_ptr<RowSource> openWebpRowSource(const std::filesystem::path& path, size_t sliceBytes) {
     return std::make_unique<WebpRowSource>(path, std::make_unique<FileBytes>(path), sliceBytes);
 }

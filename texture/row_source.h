@@ -16,10 +16,15 @@
 // The OpenImageIO reader holds what its format reader keeps.
 #pragma once
 
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
 
 #include "texture/bot_file.h"
 
@@ -44,6 +49,40 @@ public:
 
 protected:
     RowSourceInfo m_info;
+};
+
+// Reads a RowSource's bands (info().bandRows rows each, the last one shorter) on a thread of its
+// own, up to `depth` bands ahead of the caller, so that decoding overlaps the work on the bands
+// already read. An error of the source is thrown by the next() that would have returned the band.
+// Memory: depth bands of width * channels floats per row.
+class RowPrefetcher {
+public:
+    RowPrefetcher(RowSource& source, uint32_t depth);
+    ~RowPrefetcher();  // stops the thread (after the band it is reading)
+    RowPrefetcher(const RowPrefetcher&) = delete;
+    RowPrefetcher& operator=(const RowPrefetcher&) = delete;
+
+    struct Band {
+        uint32_t firstRow = 0, rows = 0;
+        const float* values = nullptr;  // valid until the next call of next()
+    };
+    // The next band in order; rows == 0 after the last one.
+    Band next();
+
+private:
+    void readAll();
+    RowSource& m_source;
+    std::vector<std::vector<float>> m_slots;
+    std::vector<uint32_t> m_slotRows;
+    uint32_t m_bands = 0;
+    uint32_t m_readBands = 0;      // bands the thread has finished (guarded by m_mutex)
+    uint32_t m_consumedBands = 0;  // bands the caller has let go of (guarded by m_mutex)
+    uint32_t m_handedOut = 0;      // bands next() has returned
+    bool m_stop = false;
+    std::exception_ptr m_error;
+    std::mutex m_mutex;
+    std::condition_variable m_changed;
+    std::thread m_thread;
 };
 
 // The reader that suits the file: libwebp for a still WebP (by its bytes, not its name),

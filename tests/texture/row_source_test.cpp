@@ -210,3 +210,67 @@ TEST(RowSource, RowsMustComeInOrder) {
 
 }  // namespace
 }  // namespace pushpin::texture
+
+namespace pushpin::texture {
+namespace {
+
+// Rows whose values say where they are; fails on the band starting at failAt.
+class CountingSource final : public RowSource {
+public:
+    CountingSource(uint32_t height, uint32_t band, uint32_t failAt = ~0u) : m_failAt(failAt) {
+        m_info.width = 3;
+        m_info.height = height;
+        m_info.channels = 2;
+        m_info.bandRows = band;
+    }
+    void read(uint32_t y0, uint32_t rows, float* out) override {
+        EXPECT_EQ(y0, m_next);
+        if (y0 == m_failAt) throw FormatError("counting", "band at " + std::to_string(y0) + " is damaged");
+        for (uint32_t r = 0; r < rows; ++r)
+            for (uint32_t i = 0; i < 6; ++i) out[r * 6 + i] = float((y0 + r) * 10 + i);
+        m_next = y0 + rows;
+    }
+
+private:
+    uint32_t m_failAt, m_next = 0;
+};
+
+TEST(RowPrefetcher, HandsOutEveryBandInOrderWhateverTheDepth) {
+    for (uint32_t depth : {1u, 2u, 4u, 50u}) {
+        CountingSource source(37, 8);
+        RowPrefetcher bands(source, depth);
+        uint32_t expect = 0;
+        for (RowPrefetcher::Band b = bands.next(); b.rows; b = bands.next()) {
+            EXPECT_EQ(b.firstRow, expect);
+            EXPECT_EQ(b.rows, std::min(8u, 37u - expect));
+            for (uint32_t r = 0; r < b.rows; ++r) EXPECT_EQ(b.values[r * 6 + 5], float((expect + r) * 10 + 5));
+            expect += b.rows;
+        }
+        EXPECT_EQ(expect, 37u);
+        EXPECT_EQ(bands.next().rows, 0u);
+    }
+}
+
+TEST(RowPrefetcher, ASourceErrorReachesTheCallerAtItsBand) {
+    CountingSource source(64, 8, 24);
+    RowPrefetcher bands(source, 4);
+    EXPECT_EQ(bands.next().firstRow, 0u);
+    EXPECT_EQ(bands.next().firstRow, 8u);
+    EXPECT_EQ(bands.next().firstRow, 16u);
+    try {
+        bands.next();
+        ADD_FAILURE() << "the damaged band was handed out";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("band at 24"), std::string::npos) << e.what();
+    }
+}
+
+TEST(RowPrefetcher, CanBeLeftBeforeTheEnd) {
+    CountingSource source(1000, 4);
+    RowPrefetcher bands(source, 3);
+    EXPECT_EQ(bands.next().firstRow, 0u);
+    // Destroyed here with the thread waiting for a free slot.
+}
+
+}  // namespace
+}  // namespace pushpin::texture

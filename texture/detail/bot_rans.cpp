@@ -225,18 +225,29 @@ bool readVarint(const uint8_t*& at, const uint8_t* end, uint32_t& v) {
     return false;
 }
 
+const uint32_t* RansHistogram::contextCounts(uint32_t c, uint32_t* scratch) const {
+    const uint32_t* a = counts.data() + size_t(c) * 256;
+    if (lane1.size() != counts.size()) return a;
+    const uint32_t* b = lane1.data() + size_t(c) * 256;
+    for (uint32_t s = 0; s < 256; ++s) scratch[s] = a[s] + b[s];
+    return scratch;
+}
+
 void RansHistogram::add(const RansHistogram& other) {
-    for (size_t k = 0; k < counts.size(); ++k) counts[k] += other.counts[k];
+    const bool otherLane = other.lane1.size() == other.counts.size();
+    for (size_t k = 0; k < counts.size(); ++k) counts[k] += other.counts[k] + (otherLane ? other.lane1[k] : 0);
 }
 
 double RansHistogram::codedBits() const {
     double bits = 0;
     uint16_t freq[256];
-    for (size_t c = 0; c + 256 <= counts.size(); c += 256) {
-        normalize(counts.data() + c, freq);
+    uint32_t scratch[256];
+    for (uint32_t c = 0; c < contexts(); ++c) {
+        const uint32_t* n = contextCounts(c, scratch);
+        normalize(n, freq);
         bits += storedTableBits(freq);
         for (int s = 0; s < 256; ++s)
-            if (counts[c + s]) bits += double(counts[c + s]) * (kRansScaleBits - std::log2(double(freq[s])));
+            if (n[s]) bits += double(n[s]) * (kRansScaleBits - std::log2(double(freq[s])));
     }
     return bits;
 }
@@ -275,14 +286,20 @@ inline void oneByteContexts(const OneByteContextRule& rule, const uint8_t* plane
     }
 }
 
-void ransCountOneByte(const uint8_t* planes, uint32_t channels, uint32_t* counts, uint8_t* contexts) {
+void ransCountOneByte(const uint8_t* planes, uint32_t channels, uint32_t* counts, uint32_t* lane1, uint8_t* contexts) {
     static const OneByteContextRule rule;
     constexpr uint32_t kHalf = 4 * kPageSizeTexels;
     for (uint32_t c = 0; c < channels; ++c) {
         const uint8_t* plane = planes + size_t(c) * kPageResiduals;
         uint8_t ctx[kPageTexels];
         oneByteContexts(rule, plane, ctx);
-        for (uint32_t i = 1; i < kPageTexels; ++i) ++counts[ctx[i] * 256u + plane[i - 1]];
+        // Texels 1..31 count in one lane and 32..63 in the other, the two interleaved.
+        constexpr uint32_t kPairs = kHalf - 1;
+        for (uint32_t i = 1; i <= kPairs; ++i) {
+            ++counts[ctx[i] * 256u + plane[i - 1]];
+            ++lane1[ctx[i + kPairs] * 256u + plane[i + kPairs - 1]];
+        }
+        ++lane1[ctx[kPageTexels - 1] * 256u + plane[kPageTexels - 2]];
         if (!contexts) continue;
         // walkPage's order: texel 32 (state B), then texels t (A) and t + 32 (B) in turn.
         *contexts++ = uint8_t(ctx[kHalf] | 1u << kRansStateBit);
@@ -298,7 +315,9 @@ void ransCountOneByte(const uint8_t* planes, uint32_t channels, uint32_t* counts
 void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram,
                uint8_t* contexts) {
     if (bytesPerSample(type) == 1) {
-        ransCountOneByte(packed + pagePrefixBytes(channels, type), channels, histogram.counts.data(), contexts);
+        if (histogram.lane1.size() != histogram.counts.size()) histogram.lane1.assign(histogram.counts.size(), 0);
+        ransCountOneByte(packed + pagePrefixBytes(channels, type), channels, histogram.counts.data(),
+                         histogram.lane1.data(), contexts);
         return;
     }
     // walkPage stores each byte back into its plane; counting passes a copy.
@@ -353,11 +372,12 @@ void RansTableSet::index() {
 
 std::shared_ptr<const RansTableSet> RansTableSet::fit(const RansHistogram& histogram) {
     std::shared_ptr<RansTableSet> set(new RansTableSet());
-    set->m_contexts = uint32_t(histogram.counts.size() / 256);
+    set->m_contexts = histogram.contexts();
     set->m_tableOf.assign(set->m_contexts, -1);
+    uint32_t scratch[256];
     for (uint32_t c = 0; c < set->m_contexts; ++c) {
         Table t{};
-        normalize(histogram.counts.data() + size_t(c) * 256, t.freq);
+        normalize(histogram.contextCounts(c, scratch), t.freq);
         if (t.freq[0] == 0 && std::all_of(t.freq, t.freq + 256, [](uint16_t f) { return f == 0; })) continue;
         completeTable(t);
         set->m_tableOf[c] = int32_t(set->m_tables.size());

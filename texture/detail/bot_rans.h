@@ -74,8 +74,15 @@ bool readVarint(const uint8_t*& at, const uint8_t* end, uint32_t& v);
 
 // Symbol counts per context, gathered from packed pages (the layout of detail::packPage).
 struct RansHistogram {
-    std::vector<uint32_t> counts;  // contexts * 256
-    explicit RansHistogram(uint32_t contexts = 0) : counts(size_t(contexts) * 256, 0) {}
+    // contexts * 256 counts in two lanes, summed wherever they are used: counting one-byte symbols
+    // alternates between them, so that runs of one symbol (the zero residuals of smooth pages) are
+    // not one chain of increments of one counter.
+    std::vector<uint32_t> counts, lane1;
+    explicit RansHistogram(uint32_t contexts = 0)
+        : counts(size_t(contexts) * 256, 0), lane1(size_t(contexts) * 256, 0) {}
+    uint32_t contexts() const { return uint32_t(counts.size() / 256); }
+    // Context c's 256 counts, both lanes summed (in `scratch` when needed).
+    const uint32_t* contextCounts(uint32_t c, uint32_t* scratch) const;
     void add(const RansHistogram& other);
     // Bits the counts would take coded with tables fitted to them, plus the tables' stored bytes.
     double codedBits() const;

@@ -9,7 +9,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <future>
 #include <optional>
 #include <string>
 #include <vector>
@@ -181,14 +180,6 @@ int run(const Options& o) {
     wo.pageFilter = o.pageFilter;
     wo.version = o.version;
 
-    const uint32_t band = info.bandRows;
-    const size_t stride = size_t(width) * channels;
-    auto readBand = [&](uint32_t y0, std::vector<float>& buf) {
-        const uint32_t rows = std::min(band, height - y0);
-        buf.resize(stride * rows);
-        source->read(y0, rows, buf.data());
-    };
-
     BotWriteStats stats;
     std::vector<BotLevel> levels;
     auto convert = [&] {
@@ -197,20 +188,9 @@ int run(const Options& o) {
                            [&](uint32_t level, uint32_t firstRow, uint32_t rowCount, const float* rows, bool linear) {
                                writer.addRows(level, firstRow, rowCount, rows, linear);
                            });
-        std::vector<float> bufs[2];
-        readBand(0, bufs[0]);
-        for (uint32_t y = 0, k = 0; y < height; y += band, k ^= 1) {
-            const uint32_t next = y + band;
-            std::future<void> ahead;
-            if (next < height) ahead = std::async(std::launch::async, [&, next, k] { readBand(next, bufs[k ^ 1]); });
-            try {
-                cascade.pushRows(bufs[k].data(), std::min(band, height - y));
-            } catch (...) {
-                if (ahead.valid()) ahead.wait();
-                throw;
-            }
-            if (ahead.valid()) ahead.get();
-        }
+        // Four bands ahead: decoding keeps going while a finished band of pages is coded.
+        RowPrefetcher bands(*source, 4);
+        for (RowPrefetcher::Band b = bands.next(); b.rows; b = bands.next()) cascade.pushRows(b.values, b.rows);
         levels = writer.header().levels;
         stats = writer.finish();
     };
