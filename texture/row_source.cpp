@@ -1,4 +1,4 @@
-// texture/row_source.cpp: the libwebp and OpenImageIO row readers behind RowSource.
+// texture/row_source.cpp: the libwebp row reader, the choice of reader and the band prefetcher.
 #include "texture/row_source.h"
 
 #include <fcntl.h>
@@ -6,8 +6,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <webp/decode.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <array>
@@ -20,21 +18,13 @@
 
 #include "cache/error.h"
 #include "texture/detail/mapped_file.h"
-#include "texture/image_input.h"
+#include "texture/detail/row_checks.h"
 
 namespace pushpin::texture {
 namespace {
 
-std::string rowsText(uint32_t y0, uint32_t rows) {
-    return "rows " + std::to_string(y0) + "-" + std::to_string(y0 + rows - 1);
-}
-
-void requireSize(const std::filesystem::path& path, int64_t width, int64_t height, int64_t channels) {
-    if (width <= 0 || height <= 0 || uint64_t(width) > kMaxDimension || uint64_t(height) > kMaxDimension)
-        throw FormatError(path, "unsupported image size " + std::to_string(width) + "x" + std::to_string(height));
-    if (channels <= 0 || uint64_t(channels) > kMaxChannels)
-        throw FormatError(path, "unsupported channel count " + std::to_string(channels));
-}
+using detail::requireConvertibleSize;
+using detail::rowsText;
 
 // 8-bit value -> float exactly as OpenImageIO converts it (v * (1/255), not v / 255).
 const std::array<float, 256>& unitTable() {
@@ -125,7 +115,7 @@ public:
             throw FormatError(path, std::string("cannot read the WebP header: ") + webpStatusText(status));
         if (features.has_animation) throw FormatError(path, "animated WebP (read through OpenImageIO instead)");
         const uint32_t channels = features.has_alpha ? 4 : 3;
-        requireSize(path, features.width, features.height, channels);
+        requireConvertibleSize(path, features.width, features.height, channels);
         m_info.width = uint32_t(features.width);
         m_info.height = uint32_t(features.height);
         m_info.channels = channels;
@@ -221,68 +211,6 @@ private:
     bool m_finished = false;
 };
 
-// ------------------------------------------------------------------------------- OpenImageIO
-
-PixelType pixelTypeOf(OIIO::TypeDesc t) {
-    switch (t.basetype) {
-        case OIIO::TypeDesc::UINT8:
-        case OIIO::TypeDesc::INT8: return PixelType::U8;
-        case OIIO::TypeDesc::UINT16:
-        case OIIO::TypeDesc::INT16: return PixelType::U16;
-        case OIIO::TypeDesc::HALF: return PixelType::Half;
-        default: return PixelType::Float;
-    }
-}
-
-ColorSpace colorSpaceOf(const OIIO::ImageSpec& spec) {
-    std::string cs = spec.get_string_attribute("oiio:ColorSpace");
-    std::transform(cs.begin(), cs.end(), cs.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (cs.find("srgb") != std::string::npos) return ColorSpace::SRGB;
-    const bool eightBit = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::INT8;
-    return (eightBit && cs.empty()) ? ColorSpace::SRGB : ColorSpace::Linear;
-}
-
-class OiioRowSource final : public RowSource {
-public:
-    explicit OiioRowSource(const std::filesystem::path& path) : m_path(path), m_in(openImageInput(path)) {
-        const OIIO::ImageSpec& spec = m_in->spec();
-        if (spec.depth > 1 || spec.deep) throw FormatError(path, "volume and deep images are not supported");
-        requireSize(path, spec.width, spec.height, spec.nchannels);
-        m_info.width = uint32_t(spec.width);
-        m_info.height = uint32_t(spec.height);
-        m_info.channels = uint32_t(spec.nchannels);
-        m_info.pixelType = pixelTypeOf(spec.format);
-        m_info.colorSpace = colorSpaceOf(spec);
-        m_info.alphaChannel = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
-        m_tiled = spec.tile_width > 0 && spec.tile_height > 0;
-        // Whole tile rows for tiled files, otherwise 64 scanlines.
-        m_info.bandRows =
-            m_tiled ? uint32_t(spec.tile_height) * std::max(1u, 64u / uint32_t(spec.tile_height)) : 64u;
-        m_info.reader = "OpenImageIO";
-    }
-    ~OiioRowSource() override { m_in->close(); }
-
-    void read(uint32_t y0, uint32_t rows, float* out) override {
-        if (rows == 0 || y0 >= m_info.height || rows > m_info.height - y0)
-            throw std::logic_error("OiioRowSource::read: rows outside the image");
-        const OIIO::ImageSpec& spec = m_in->spec();
-        bool ok;
-        if (m_tiled) {
-            ok = m_in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + int(y0), spec.y + int(y0 + rows), spec.z,
-                                  spec.z + 1, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out);
-        } else {
-            ok = m_in->read_scanlines(0, 0, spec.y + int(y0), spec.y + int(y0 + rows), spec.z, 0, spec.nchannels,
-                                      OIIO::TypeDesc::FLOAT, out);
-        }
-        requireCleanRead(*m_in, ok, m_path, rowsText(y0, rows));
-    }
-
-private:
-    std::filesystem::path m_path;
-    std::unique_ptr<OIIO::ImageInput> m_in;
-    bool m_tiled = false;
-};
-
 }  // namespace
 
 RowPrefetcher::RowPrefetcher(RowSource& source, uint32_t depth) : m_source(source) {
@@ -350,11 +278,7 @@ std::unique_ptr<RowSource> openWebpRowSource(const std::filesystem::path& path, 
     return std::make_unique<WebpRowSource>(path, std::make_unique<FileBytes>(path), sliceBytes);
 }
 
-std::unique_ptr<RowSource> openOiioRowSource(const std::filesystem::path& path) {
-    return std::make_unique<OiioRowSource>(path);
-}
-
-std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path) {
+std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path, const RowSourceOpener& otherFormats) {
     // A WebP still by its bytes; an animation (VP8X flag, or an ANIM chunk) goes to OpenImageIO.
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd >= 0) {
@@ -369,7 +293,7 @@ std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path) {
             if (!animated) return std::make_unique<WebpRowSource>(path, std::move(bytes), 32 * 1024);
         }
     }
-    return openOiioRowSource(path);
+    return otherFormats(path);
 }
 
 }  // namespace pushpin::texture

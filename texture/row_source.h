@@ -4,7 +4,9 @@
 //    at a time, and the decoded rows are handed out and dropped as the decoder finishes them, so a
 //    4096x4096 WebP is never resident whole (OpenImageIO 2.4's reader decodes the whole image
 //    into RGBA on the first scanline read, 64 MiB at that size);
-//  - every other image, animated WebP included, goes through OpenImageIO a band at a time.
+//  - every other image, animated WebP included, goes through OpenImageIO a band at a time
+//    (texture/oiio_row_source.h, kept apart so that a program reading only WebP need not load
+//    OpenImageIO and the libraries it brings, 130 MB and 0.18 s at start here).
 // Both hand out the values OpenImageIO's float read would: 8-bit values times 1/255, and a WebP
 // with alpha premultiplied in 8 bits as (c * a + 127) / 255 first, which is what OpenImageIO does.
 // Errors: IoError when the file cannot be opened or read, FormatError (naming the file and the
@@ -21,6 +23,7 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -85,12 +88,15 @@ private:
     std::thread m_thread;
 };
 
-// The reader that suits the file: libwebp for a still WebP (by its bytes, not its name),
-// OpenImageIO otherwise.
-std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path);
-// One reader or the other whatever the file (the WebP one throws FormatError for anything else,
+// Opens the reader for every file that is not a WebP still (openOiioRowSource, or makebot's loader
+// of it, tools/makebot/oiio_module.h).
+using RowSourceOpener = std::function<std::unique_ptr<RowSource>(const std::filesystem::path&)>;
+
+// The reader that suits the file: libwebp for a WebP still (by its bytes, not its name),
+// otherFormats for everything else.
+std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path, const RowSourceOpener& otherFormats);
+// The libwebp reader whatever the file (it throws FormatError for anything but a WebP still,
 // animations included). sliceBytes: how much of the file libwebp is given per step.
 std::unique_ptr<RowSource> openWebpRowSource(const std::filesystem::path& path, size_t sliceBytes = 32 * 1024);
-std::unique_ptr<RowSource> openOiioRowSource(const std::filesystem::path& path);
 
 }  // namespace pushpin::texture

@@ -12,6 +12,7 @@
 
 #include "cache/error.h"
 #include "tests/support/temp_folder.h"
+#include "texture/oiio_row_source.h"
 #include "texture/row_source.h"
 
 namespace pushpin::texture {
@@ -116,8 +117,8 @@ TEST(RowSource, PicksTheReaderByTheFilesBytes) {
     // A WebP under another name is still read by libwebp.
     const fs::path renamed = dir.path / "texture.png";
     fs::copy_file(webp, renamed);
-    EXPECT_STREQ(openRowSource(webp)->info().reader, "libwebp");
-    EXPECT_STREQ(openRowSource(renamed)->info().reader, "libwebp");
+    EXPECT_STREQ(openRowSource(webp, openOiioRowSource)->info().reader, "libwebp");
+    EXPECT_STREQ(openRowSource(renamed, openOiioRowSource)->info().reader, "libwebp");
 
     const fs::path png = dir.path / "b.png";
     auto out = OIIO::ImageOutput::create(png.string());
@@ -125,7 +126,7 @@ TEST(RowSource, PicksTheReaderByTheFilesBytes) {
     std::vector<uint8_t> px(32 * 24 * 3, 77);
     ASSERT_TRUE(out && out->open(png.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data()) &&
                 out->close());
-    auto source = openRowSource(png);
+    auto source = openRowSource(png, openOiioRowSource);
     EXPECT_STREQ(source->info().reader, "OpenImageIO");
     std::vector<float> row(32 * 3 * 24);
     source->read(0, 24, row.data());

@@ -175,6 +175,35 @@ TEST(Makebot, WebpIsStreamedByLibwebpAndConvertsLikeThePngOfItsPixels) {
     EXPECT_FALSE(fs::exists(cutBot));
 }
 
+// makebot loads OpenImageIO only through makebot-oiio.so, for inputs libwebp does not read: on its
+// own it converts WebP, and says which file it misses for anything else.
+TEST(Makebot, LoadsOpenImageIOOnlyForFormatsOtherThanWebp) {
+    const Result ldd = run("ldd " + quote(binary("makebot")));
+    ASSERT_EQ(ldd.exitCode, 0) << ldd.output;
+    EXPECT_EQ(ldd.output.find("libOpenImageIO"), std::string::npos) << ldd.output;
+    EXPECT_NE(ldd.output.find("libwebp"), std::string::npos) << ldd.output;
+
+    const fs::path alone = tempDir() / "alone";
+    fs::create_directories(alone);
+    fs::copy_file(binary("makebot"), alone / "makebot", fs::copy_options::overwrite_existing);
+    const int w = 40, h = 30;
+    std::vector<uint8_t> px(size_t(w) * h * 3, 90);
+    uint8_t* encoded = nullptr;
+    const size_t n = WebPEncodeLosslessRGB(px.data(), w, h, w * 3, &encoded);
+    ASSERT_GT(n, 0u);
+    const fs::path webp = tempDir() / "alone.webp";
+    std::ofstream(webp, std::ios::binary).write(reinterpret_cast<const char*>(encoded), std::streamsize(n));
+    WebPFree(encoded);
+    const Result a = run(quote(alone / "makebot") + " " + quote(webp) + " " + quote(tempDir() / "alone-webp.bot"));
+    EXPECT_EQ(a.exitCode, 0) << a.output;
+    const fs::path png = makePng("alone.png", 20, 10);
+    const fs::path pngBot = tempDir() / "alone-png.bot";
+    const Result b = run(quote(alone / "makebot") + " " + quote(png) + " " + quote(pngBot));
+    EXPECT_EQ(b.exitCode, 1) << b.output;
+    EXPECT_NE(b.output.find("makebot-oiio.so"), std::string::npos) << b.output;
+    EXPECT_FALSE(fs::exists(pngBot));
+}
+
 TEST(Makebot, MissingInputIsNamedAndLeavesNoOutput) {
     const fs::path missing = tempDir() / "no_such_image.png";
     const fs::path bot = tempDir() / "missing.bot";

@@ -18,6 +18,7 @@
 #include "texture/bot_file.h"
 #include "texture/mipmap.h"
 #include "texture/row_source.h"
+#include "tools/makebot/oiio_module.h"
 
 namespace {
 
@@ -163,7 +164,7 @@ Options parseArgs(int argc, char** argv) {
 
 int run(const Options& o) {
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<RowSource> source = openRowSource(o.input);
+    const std::unique_ptr<RowSource> source = openRowSource(o.input, makebot::openOiioRowSourceFromModule);
     const RowSourceInfo& info = source->info();
     const uint32_t width = info.width, height = info.height, channels = info.channels;
 
