@@ -10,7 +10,7 @@ packages=(
   libembree-dev libzstd-dev libglm-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libosd-dev
-  gnome-backgrounds
+  gnome-backgrounds blender-data
 )
 
 missing=()

@@ -1,4 +1,4 @@
-// makebot: converts any image OpenImageIO reads into a BOT texture (texture/BOT_FORMAT.md).
+// makebot: converts any image OpenImageIO or libwebp reads into a BOT texture (texture/BOT_FORMAT.md).
 // The input is read in bands of scanlines (or tile rows; WebP stills by libwebp as they decode,
 // texture/row_source.h) and streamed through the mip cascade, so memory stays bounded whatever the
 // image size; reading the next band overlaps the work on the current one. The output is written under a temporary name and renamed into place; on any error
@@ -41,6 +41,8 @@ struct Options {
 
 const char* kUsage =
     "usage: makebot [options] input output.bot\n"
+    "Converts an image into a BOT texture. WebP stills are read by libwebp; every other format\n"
+    "OpenImageIO reads, through makebot-oiio.so beside makebot.\n"
     "  --filter box|triangle|lanczos3   mip filter (default box)\n"
     "  --format u8|u16|half|float       stored pixel type (default: the input's)\n"
     "  --wrap MODE | --wrap S,T         periodic|clamp|black|mirror (default periodic)\n"
