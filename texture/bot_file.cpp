@@ -712,6 +712,7 @@ struct BotWriter::Impl {
     size_t pendingBytes = 0;
     std::optional<tbb::enumerable_thread_specific<std::unique_ptr<cache::ZstdCompressor>>> compressors;
     std::vector<uint8_t> rowBuffer;
+    std::vector<uint8_t> bandPacked, bandContexts;  // version 3: the band being coded (encodeBand)
     std::vector<uint32_t> rowSizes;
 
     // Gathers page (px) of a row band (nRows rows of level `level`) into a padded 8x8 block and
@@ -909,8 +910,12 @@ struct BotWriter::Impl {
                     }
                 }
         }
-        std::vector<uint8_t> packed(size_t(pages) * rawBytes);
-        std::vector<uint8_t> pageContexts(size_t(pages) * symbolsPerPage);
+        // Kept from band to band (every byte is written before it is read), so that the pages of
+        // each band are not faulted in and zeroed again.
+        std::vector<uint8_t>& packed = bandPacked;
+        std::vector<uint8_t>& pageContexts = bandContexts;
+        packed.resize(std::max(packed.size(), size_t(pages) * rawBytes));
+        pageContexts.resize(std::max(pageContexts.size(), size_t(pages) * symbolsPerPage));
         const auto tables = detail::RansTableSet::fit(
             bandHistogram(samples, pages, 1, filter, decorrelateTo, packed.data(), pageContexts.data()));
         std::vector<uint8_t>& stored = bandTables[band];
