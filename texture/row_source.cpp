@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "cache/error.h"
-#include "texture/detail/mapped_file.h"
 #include "texture/detail/row_checks.h"
 
 namespace pushpin::texture {
@@ -56,7 +55,9 @@ bool hasWebpMagic(const uint8_t* data, size_t size) {
     return size >= 12 && std::memcmp(data, "RIFF", 4) == 0 && std::memcmp(data + 8, "WEBP", 4) == 0;
 }
 
-// The file's bytes: a read-only mapping, or a copy where the file system cannot map.
+// The file's bytes, read whole: libwebp needs what it has been given so far in one piece, and a
+// copy (unlike a mapping) cannot fault if the file is cut short while it is decoded. A WebP file is
+// a few MB where its image is tens.
 class FileBytes {
 public:
     explicit FileBytes(const std::filesystem::path& path) {
@@ -68,37 +69,26 @@ public:
             ::close(fd);
             throw IoError(path, "stat image", err);
         }
-        m_size = size_t(st.st_size);
-        if (m_size > 0) m_mapped = detail::mapFile(fd, m_size);
-        if (m_size > 0 && !m_mapped) {
-            m_copy.resize(m_size);
-            size_t done = 0;
-            while (done < m_size) {
-                const ssize_t n = ::pread(fd, m_copy.data() + done, m_size - done, off_t(done));
-                if (n < 0 && errno == EINTR) continue;
-                if (n <= 0) {
-                    const int err = n < 0 ? errno : 0;
-                    ::close(fd);
-                    if (err) throw IoError(path, "read image", err);
-                    throw FormatError(path, "the file shrank while it was read");
-                }
-                done += size_t(n);
+        m_bytes.resize(size_t(st.st_size));
+        size_t done = 0;
+        while (done < m_bytes.size()) {
+            const ssize_t n = ::pread(fd, m_bytes.data() + done, m_bytes.size() - done, off_t(done));
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) {
+                const int err = n < 0 ? errno : 0;
+                ::close(fd);
+                if (err) throw IoError(path, "read image", err);
+                throw FormatError(path, "the file shrank while it was read");
             }
+            done += size_t(n);
         }
         ::close(fd);
     }
-    ~FileBytes() {
-        if (m_mapped) detail::unmapFile(m_mapped, m_size);
-    }
-    FileBytes(const FileBytes&) = delete;
-    FileBytes& operator=(const FileBytes&) = delete;
-    const uint8_t* data() const { return m_mapped ? m_mapped : m_copy.data(); }
-    size_t size() const { return m_size; }
+    const uint8_t* data() const { return m_bytes.data(); }
+    size_t size() const { return m_bytes.size(); }
 
 private:
-    const uint8_t* m_mapped = nullptr;
-    std::vector<uint8_t> m_copy;
-    size_t m_size = 0;
+    std::vector<uint8_t> m_bytes;
 };
 
 class WebpRowSource final : public RowSource {
