@@ -1,8 +1,9 @@
-// makebot: converts any image OpenImageIO or libwebp reads into a BOT texture (texture/BOT_FORMAT.md).
-// The input is read in bands of scanlines (or tile rows; WebP stills by libwebp as they decode,
-// texture/row_source.h) and streamed through the mip cascade, so memory stays bounded whatever the
-// image size; reading the next band overlaps the work on the current one. The output is written under a temporary name and renamed into place; on any error
-// nothing is left behind and an existing output is untouched.
+// makebot: converts any image OpenImageIO or libwebp reads into a BOT texture
+// (texture/BOT_FORMAT.md). The input is read in bands of rows (texture/row_source.h: WebP stills by
+// libwebp as they decode, the rest through OpenImageIO, loaded only then) and streamed through the
+// mip cascade, so memory stays bounded whatever the image size; reading ahead overlaps the work on
+// the bands already read. The output is written under a temporary name and renamed into place; on
+// any error nothing is left behind and an existing output is untouched.
 #include <tbb/task_arena.h>
 
 #include <algorithm>
