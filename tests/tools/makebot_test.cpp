@@ -66,6 +66,17 @@ fs::path makePng(const std::string& name, int w, int h) {
     return path;
 }
 
+// An 8-bit RGB WebP of `px` in WebP's lossless mode, which keeps every value.
+fs::path makeLosslessWebp(const std::string& name, int w, int h, const std::vector<uint8_t>& px) {
+    const fs::path path = tempDir() / name;
+    uint8_t* encoded = nullptr;
+    const size_t n = WebPEncodeLosslessRGB(px.data(), w, h, w * 3, &encoded);
+    EXPECT_GT(n, 0u);
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(encoded), std::streamsize(n));
+    WebPFree(encoded);
+    return path;
+}
+
 std::string readAll(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -147,12 +158,7 @@ TEST(Makebot, WebpIsStreamedByLibwebpAndConvertsLikeThePngOfItsPixels) {
         ASSERT_TRUE(out && out->open(png.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data()) &&
                     out->close());
     }
-    uint8_t* encoded = nullptr;
-    const size_t n = WebPEncodeLosslessRGB(px.data(), w, h, w * 3, &encoded);
-    ASSERT_GT(n, 0u);
-    const fs::path webp = tempDir() / "same.webp";
-    std::ofstream(webp, std::ios::binary).write(reinterpret_cast<const char*>(encoded), std::streamsize(n));
-    WebPFree(encoded);
+    const fs::path webp = makeLosslessWebp("same.webp", w, h, px);
 
     const fs::path fromPng = tempDir() / "same-png.bot", fromWebp = tempDir() / "same-webp.bot";
     const Result a = run(quote(binary("makebot")) + " -v " + quote(png) + " " + quote(fromPng));
@@ -188,12 +194,7 @@ TEST(Makebot, LoadsOpenImageIOOnlyForFormatsOtherThanWebp) {
     fs::copy_file(binary("makebot"), alone / "makebot", fs::copy_options::overwrite_existing);
     const int w = 40, h = 30;
     std::vector<uint8_t> px(size_t(w) * h * 3, 90);
-    uint8_t* encoded = nullptr;
-    const size_t n = WebPEncodeLosslessRGB(px.data(), w, h, w * 3, &encoded);
-    ASSERT_GT(n, 0u);
-    const fs::path webp = tempDir() / "alone.webp";
-    std::ofstream(webp, std::ios::binary).write(reinterpret_cast<const char*>(encoded), std::streamsize(n));
-    WebPFree(encoded);
+    const fs::path webp = makeLosslessWebp("alone.webp", w, h, px);
     const Result a = run(quote(alone / "makebot") + " " + quote(webp) + " " + quote(tempDir() / "alone-webp.bot"));
     EXPECT_EQ(a.exitCode, 0) << a.output;
     const fs::path png = makePng("alone.png", 20, 10);
