@@ -67,13 +67,6 @@ private:
     size_t m_pending = 0;
 };
 
-PixelType pixelTypeFor(const OIIO::TypeDesc& t) {
-    if (t.basetype == OIIO::TypeDesc::UINT8 || t.basetype == OIIO::TypeDesc::INT8) return PixelType::U8;
-    if (t.basetype == OIIO::TypeDesc::UINT16 || t.basetype == OIIO::TypeDesc::INT16) return PixelType::U16;
-    if (t.basetype == OIIO::TypeDesc::HALF) return PixelType::Half;
-    return PixelType::Float;
-}
-
 std::string uniqueSuffix() {
     static std::atomic<uint64_t> counter{0};
     std::random_device rd;
@@ -174,7 +167,7 @@ AutoConvertResult convertToBot(const std::filesystem::path& image, const AutoCon
         BotWriteOptions bot = options.bot;
         if (options.matchSourcePixelType) {
             auto in = OIIO::ImageInput::open(image.string());
-            bot.pixelType = in ? pixelTypeFor(in->spec().format) : PixelType::Float;
+            bot.pixelType = in ? pixelTypeOf(in->spec().format) : PixelType::Float;
         }
         temp = dir / (final.filename().string() + ".tmp-" + uniqueSuffix());
         if (options.writer)

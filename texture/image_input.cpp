@@ -42,4 +42,15 @@ void requireCleanRead(OIIO::ImageInput& in, bool ok, const std::filesystem::path
                                 " (the file may be truncated or damaged)");
 }
 
+PixelType pixelTypeOf(const OIIO::TypeDesc& type) {
+    switch (type.basetype) {
+        case OIIO::TypeDesc::UINT8:
+        case OIIO::TypeDesc::INT8: return PixelType::U8;
+        case OIIO::TypeDesc::UINT16:
+        case OIIO::TypeDesc::INT16: return PixelType::U16;
+        case OIIO::TypeDesc::HALF: return PixelType::Half;
+        default: return PixelType::Float;
+    }
+}
+
 }  // namespace pushpin::texture

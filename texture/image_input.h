@@ -13,6 +13,8 @@
 #include <memory>
 #include <string>
 
+#include "texture/bot_file.h"
+
 namespace pushpin::texture {
 
 // Opens `path`; throws IoError naming the path and OpenImageIO's message when it cannot.
@@ -22,5 +24,9 @@ std::unique_ptr<OIIO::ImageInput> openImageInput(const std::filesystem::path& pa
 // value: throws FormatError naming `path`, `what` ("rows 64-127") and the reader's message when the
 // call failed or the reader reported any error during it. Consumes the reader's error text.
 void requireCleanRead(OIIO::ImageInput& in, bool ok, const std::filesystem::path& path, const std::string& what);
+
+// The stored pixel type closest to an OpenImageIO type: 8-bit -> U8, 16-bit -> U16, half -> Half,
+// anything else -> Float.
+PixelType pixelTypeOf(const OIIO::TypeDesc& type);
 
 }  // namespace pushpin::texture

@@ -18,17 +18,6 @@ namespace {
 using detail::requireConvertibleSize;
 using detail::rowsText;
 
-PixelType pixelTypeOf(OIIO::TypeDesc t) {
-    switch (t.basetype) {
-        case OIIO::TypeDesc::UINT8:
-        case OIIO::TypeDesc::INT8: return PixelType::U8;
-        case OIIO::TypeDesc::UINT16:
-        case OIIO::TypeDesc::INT16: return PixelType::U16;
-        case OIIO::TypeDesc::HALF: return PixelType::Half;
-        default: return PixelType::Float;
-    }
-}
-
 ColorSpace colorSpaceOf(const OIIO::ImageSpec& spec) {
     std::string cs = spec.get_string_attribute("oiio:ColorSpace");
     std::transform(cs.begin(), cs.end(), cs.begin(), [](unsigned char c) { return char(std::tolower(c)); });

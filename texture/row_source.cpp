@@ -91,19 +91,23 @@ private:
     std::vector<uint8_t> m_bytes;
 };
 
+// The header of the WebP file in `bytes`; throws FormatError when it is not one or its header
+// cannot be read.
+WebPBitstreamFeatures webpFeatures(const std::filesystem::path& path, const FileBytes& bytes) {
+    if (!hasWebpMagic(bytes.data(), bytes.size())) throw FormatError(path, "not a WebP file");
+    WebPBitstreamFeatures features;
+    const VP8StatusCode status = WebPGetFeatures(bytes.data(), bytes.size(), &features);
+    if (status != VP8_STATUS_OK)
+        throw FormatError(path, std::string("cannot read the WebP header: ") + webpStatusText(status));
+    return features;
+}
+
 class WebpRowSource final : public RowSource {
 public:
-    // Throws FormatError when the file is not a WebP still (animations included).
-    WebpRowSource(const std::filesystem::path& path, std::unique_ptr<FileBytes> bytes, size_t sliceBytes)
+    // `features`: webpFeatures of `bytes`, a still.
+    WebpRowSource(const std::filesystem::path& path, std::unique_ptr<FileBytes> bytes,
+                  const WebPBitstreamFeatures& features, size_t sliceBytes)
         : m_path(path), m_bytes(std::move(bytes)), m_slice(std::max<size_t>(1, sliceBytes)) {
-        const uint8_t* data = m_bytes->data();
-        const size_t size = m_bytes->size();
-        if (!hasWebpMagic(data, size)) throw FormatError(path, "not a WebP file");
-        WebPBitstreamFeatures features;
-        const VP8StatusCode status = WebPGetFeatures(data, size, &features);
-        if (status != VP8_STATUS_OK)
-            throw FormatError(path, std::string("cannot read the WebP header: ") + webpStatusText(status));
-        if (features.has_animation) throw FormatError(path, "animated WebP (read through OpenImageIO instead)");
         const uint32_t channels = features.has_alpha ? 4 : 3;
         requireConvertibleSize(path, features.width, features.height, channels);
         m_info.width = uint32_t(features.width);
@@ -203,14 +207,17 @@ private:
 
 }  // namespace
 
-RowPrefetcher::RowPrefetcher(RowSource& source, uint32_t depth) : m_source(source) {
+RowPrefetcher::RowPrefetcher(RowSource& source, uint32_t depth)
+    : m_source(source), m_bandRows(std::max(1u, source.info().bandRows)) {
     const RowSourceInfo& info = source.info();
-    const uint32_t band = std::max(1u, info.bandRows);
-    m_bands = (info.height + band - 1) / band;
+    m_bands = (info.height + m_bandRows - 1) / m_bandRows;
     m_slots.resize(std::max(1u, std::min(depth, m_bands)));
-    m_slotRows.resize(m_slots.size());
-    for (auto& slot : m_slots) slot.resize(size_t(info.width) * info.channels * band);
+    for (auto& slot : m_slots) slot.resize(size_t(info.width) * info.channels * m_bandRows);
     m_thread = std::thread([this] { readAll(); });
+}
+
+uint32_t RowPrefetcher::rowsOf(uint32_t band) const {
+    return std::min(m_bandRows, m_source.info().height - band * m_bandRows);
 }
 
 RowPrefetcher::~RowPrefetcher() {
@@ -223,7 +230,6 @@ RowPrefetcher::~RowPrefetcher() {
 }
 
 void RowPrefetcher::readAll() {
-    const uint32_t band = std::max(1u, m_source.info().bandRows), height = m_source.info().height;
     for (uint32_t b = 0; b < m_bands; ++b) {
         {
             // Wait for the slot's previous band to be let go of.
@@ -231,10 +237,8 @@ void RowPrefetcher::readAll() {
             m_changed.wait(lock, [&] { return m_stop || b < m_consumedBands + m_slots.size(); });
             if (m_stop) return;
         }
-        const size_t slot = b % m_slots.size();
-        const uint32_t y0 = b * band, rows = std::min(band, height - y0);
         try {
-            m_source.read(y0, rows, m_slots[slot].data());
+            m_source.read(b * m_bandRows, rowsOf(b), m_slots[b % m_slots.size()].data());
         } catch (...) {
             std::lock_guard<std::mutex> lock(m_mutex);
             m_error = std::current_exception();
@@ -243,7 +247,6 @@ void RowPrefetcher::readAll() {
         }
         {
             std::lock_guard<std::mutex> lock(m_mutex);
-            m_slotRows[slot] = rows;
             m_readBands = b + 1;
         }
         m_changed.notify_all();
@@ -260,12 +263,14 @@ RowPrefetcher::Band RowPrefetcher::next() {
     m_changed.wait(lock, [&] { return m_readBands > m_handedOut || m_error; });
     if (m_readBands <= m_handedOut) std::rethrow_exception(m_error);
     const uint32_t b = m_handedOut++;
-    const size_t slot = b % m_slots.size();
-    return {b * std::max(1u, m_source.info().bandRows), m_slotRows[slot], m_slots[slot].data()};
+    return {b * m_bandRows, rowsOf(b), m_slots[b % m_slots.size()].data()};
 }
 
 std::unique_ptr<RowSource> openWebpRowSource(const std::filesystem::path& path, size_t sliceBytes) {
-    return std::make_unique<WebpRowSource>(path, std::make_unique<FileBytes>(path), sliceBytes);
+    auto bytes = std::make_unique<FileBytes>(path);
+    const WebPBitstreamFeatures features = webpFeatures(path, *bytes);
+    if (features.has_animation) throw FormatError(path, "animated WebP (read through OpenImageIO instead)");
+    return std::make_unique<WebpRowSource>(path, std::move(bytes), features, sliceBytes);
 }
 
 std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path, const RowSourceOpener& otherFormats) {
@@ -277,10 +282,9 @@ std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path, cons
         ::close(fd);
         if (n >= 12 && hasWebpMagic(head, size_t(n))) {
             auto bytes = std::make_unique<FileBytes>(path);
-            WebPBitstreamFeatures features;
-            const bool animated = WebPGetFeatures(bytes->data(), bytes->size(), &features) == VP8_STATUS_OK &&
-                                  features.has_animation;
-            if (!animated) return std::make_unique<WebpRowSource>(path, std::move(bytes), 32 * 1024);
+            const WebPBitstreamFeatures features = webpFeatures(path, *bytes);
+            if (!features.has_animation)
+                return std::make_unique<WebpRowSource>(path, std::move(bytes), features, kWebpSliceBytes);
         }
     }
     return otherFormats(path);

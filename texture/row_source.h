@@ -75,9 +75,10 @@ public:
 
 private:
     void readAll();
+    uint32_t rowsOf(uint32_t band) const;
     RowSource& m_source;
-    std::vector<std::vector<float>> m_slots;
-    std::vector<uint32_t> m_slotRows;
+    const uint32_t m_bandRows;
+    std::vector<std::vector<float>> m_slots;  // band b is read into slot b % size
     uint32_t m_bands = 0;
     uint32_t m_readBands = 0;      // bands the thread has finished (guarded by m_mutex)
     uint32_t m_consumedBands = 0;  // bands the caller has let go of (guarded by m_mutex)
@@ -96,8 +97,10 @@ using RowSourceOpener = std::function<std::unique_ptr<RowSource>(const std::file
 // The reader that suits the file: libwebp for a WebP still (by its bytes, not its name),
 // otherFormats for everything else.
 std::unique_ptr<RowSource> openRowSource(const std::filesystem::path& path, const RowSourceOpener& otherFormats);
+// How much of a WebP file libwebp is given per step.
+constexpr size_t kWebpSliceBytes = 32 * 1024;
 // The libwebp reader whatever the file (it throws FormatError for anything but a WebP still,
-// animations included). sliceBytes: how much of the file libwebp is given per step.
-std::unique_ptr<RowSource> openWebpRowSource(const std::filesystem::path& path, size_t sliceBytes = 32 * 1024);
+// animations included).
+std::unique_ptr<RowSource> openWebpRowSource(const std::filesystem::path& path, size_t sliceBytes = kWebpSliceBytes);
 
 }  // namespace pushpin::texture

@@ -227,15 +227,13 @@ bool readVarint(const uint8_t*& at, const uint8_t* end, uint32_t& v) {
 
 const uint32_t* RansHistogram::contextCounts(uint32_t c, uint32_t* scratch) const {
     const uint32_t* a = counts.data() + size_t(c) * 256;
-    if (lane1.size() != counts.size()) return a;
     const uint32_t* b = lane1.data() + size_t(c) * 256;
     for (uint32_t s = 0; s < 256; ++s) scratch[s] = a[s] + b[s];
     return scratch;
 }
 
 void RansHistogram::add(const RansHistogram& other) {
-    const bool otherLane = other.lane1.size() == other.counts.size();
-    for (size_t k = 0; k < counts.size(); ++k) counts[k] += other.counts[k] + (otherLane ? other.lane1[k] : 0);
+    for (size_t k = 0; k < counts.size(); ++k) counts[k] += other.counts[k] + other.lane1[k];
 }
 
 double RansHistogram::codedBits() const {
@@ -315,7 +313,6 @@ void ransCountOneByte(const uint8_t* planes, uint32_t channels, uint32_t* counts
 void ransCount(const uint8_t* packed, uint32_t channels, PixelType type, RansHistogram& histogram,
                uint8_t* contexts) {
     if (bytesPerSample(type) == 1) {
-        if (histogram.lane1.size() != histogram.counts.size()) histogram.lane1.assign(histogram.counts.size(), 0);
         ransCountOneByte(packed + pagePrefixBytes(channels, type), channels, histogram.counts.data(),
                          histogram.lane1.data(), contexts);
         return;
@@ -549,34 +546,35 @@ size_t RansTableSet::encode(const uint8_t* packed, uint32_t channels, PixelType 
         const uint32_t q = uint32_t((static_cast<unsigned __int128>(x) * e.rcp) >> 44);
         return (q << kRansScaleBits) + (x - q * e.freq) + e.cum;
     };
-    // Keep a state below 256 times its lower bound after coding: x < (low / scale) * 256 * f, that
-    // is 2^21 f for state A and 2^13 f for state B.
+    // Each codes one symbol after keeping its state below 256 times its lower bound once coded:
+    // x < (low / scale) * 256 * f, that is 2^21 f for state A and 2^13 f for state B.
+    auto codeA = [&](const EncodeEntry& e) __attribute__((always_inline)) {
+        while (xA >= uint64_t(e.freq) << 21) {
+            *--pA = uint8_t(xA);
+            xA >>= 8;
+        }
+        xA = step(xA, e);
+    };
+    auto codeB = [&](const EncodeEntry& e) __attribute__((always_inline)) {
+        while (xB >= uint64_t(e.freq) << 13) {
+            *pB++ = uint8_t(xB);
+            xB >>= 8;
+        }
+        xB = step(xB, e);
+    };
+    // Back to front: the pairs, then state B's extra symbols at the start of its list.
     for (size_t k = nA; k-- > 0;) {
         const size_t kB = k + (nB - nA);
         const EncodeEntry& a = entries[size_t(contextsA[k]) * 256 + symbolsA[k]];
         const EncodeEntry& b = entries[size_t(contextsB[kB]) * 256 + symbolsB[kB]];
         if (a.freq == 0 || b.freq == 0) return 0;
-        const uint64_t maxA = uint64_t(a.freq) << 21, maxB = uint64_t(b.freq) << 13;
-        while (xA >= maxA) {
-            *--pA = uint8_t(xA);
-            xA >>= 8;
-        }
-        while (xB >= maxB) {
-            *pB++ = uint8_t(xB);
-            xB >>= 8;
-        }
-        xA = step(xA, a);
-        xB = step(xB, b);
+        codeA(a);
+        codeB(b);
     }
     for (size_t kB = nB - nA; kB-- > 0;) {
         const EncodeEntry& b = entries[size_t(contextsB[kB]) * 256 + symbolsB[kB]];
         if (b.freq == 0) return 0;
-        const uint64_t maxB = uint64_t(b.freq) << 13;
-        while (xB >= maxB) {
-            *pB++ = uint8_t(xB);
-            xB >>= 8;
-        }
-        xB = step(xB, b);
+        codeB(b);
     }
     const size_t bytesA = size_t(endA - pA), bytesB = size_t(pB - emittedB.data());
     const size_t total = (prefix - inState) + kRansStateBytes + kRansStateBytesB + bytesA + bytesB;

@@ -6,7 +6,7 @@
 // them side by side.
 // A RansTableSet is immutable once built and may be read by any number of threads; the page
 // functions work on caller-owned buffers and never allocate.
-// Memory: a RansTableSet holds RansTableSet::memoryBytes() (8 KiB of decoding steps per context, 14
+// Memory: a RansTableSet holds RansTableSet::memoryBytes() (a 3 KiB decoding block per context, 14
 // contexts a byte of a sample, and 1 KiB per context in use; those built by fit() also 4 KiB per
 // context of encoding steps).
 #pragma once
@@ -74,9 +74,9 @@ bool readVarint(const uint8_t*& at, const uint8_t* end, uint32_t& v);
 
 // Symbol counts per context, gathered from packed pages (the layout of detail::packPage).
 struct RansHistogram {
-    // contexts * 256 counts in two lanes, summed wherever they are used: counting one-byte symbols
-    // alternates between them, so that runs of one symbol (the zero residuals of smooth pages) are
-    // not one chain of increments of one counter.
+    // contexts * 256 counts in two lanes of the same size, summed wherever they are used: counting
+    // one-byte symbols alternates between them, so that runs of one symbol (the zero residuals of
+    // smooth pages) are not one chain of increments of one counter.
     std::vector<uint32_t> counts, lane1;
     explicit RansHistogram(uint32_t contexts = 0)
         : counts(size_t(contexts) * 256, 0), lane1(size_t(contexts) * 256, 0) {}
